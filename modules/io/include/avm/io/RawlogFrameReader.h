@@ -1,0 +1,69 @@
+// Streams an MRPT rawlog (either format: action/sensory-frame pairs, or a plain
+// sequence of observations) as RGB-D frames. A CObservationRobotPose with the
+// timestamp of a CObservation3DRangeScan, just before or after it, is taken as
+// that frame's ground-truth camera pose.
+#pragma once
+
+#include <mrpt/obs/CObservation.h>
+#include <mrpt/system/COutputLogger.h>
+
+#include <deque>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "avm/io/RgbdFrame.h"
+
+namespace mrpt::io
+{
+class CFileGZInputStream;
+}
+namespace mrpt::serialization
+{
+class CArchive;
+}
+
+namespace avm::io
+{
+class RawlogFrameReader : public mrpt::system::COutputLogger
+{
+   public:
+	/** Opens the rawlog and points MRPT's external-image base at its images
+	 *  folder (`<name>_Images`, `_images`, `_IMAGES` or `Images`, as MRPT names it).
+	 *  Throws std::runtime_error naming the file if it is missing or unreadable. */
+	explicit RawlogFrameReader(const std::filesystem::path& rawlog);
+	~RawlogFrameReader() override;
+	RawlogFrameReader(const RawlogFrameReader&) = delete;
+	RawlogFrameReader& operator=(const RawlogFrameReader&) = delete;
+
+	/** The next frame, or nothing at the end of the rawlog. A frame whose
+	 *  images cannot be loaded is skipped with a warning (see skipped()).
+	 *  Throws std::runtime_error naming the file and entry on corrupt or
+	 *  truncated data. */
+	std::optional<RgbdFrame> next();
+
+	/** Frames left out so far, one message each (index, file, reason). */
+	const std::vector<std::string>& skipped() const { return m_skipped; }
+	const std::filesystem::path& path() const { return m_path; }
+	const std::filesystem::path& imagesDirectory() const { return m_imagesDir; }
+
+   private:
+	/** Next observation of the stream, flattening sensory frames. */
+	mrpt::obs::CObservation::Ptr nextObservation();
+	mrpt::obs::CObservation::Ptr peekObservation();
+	bool readEntry();
+
+	std::filesystem::path m_path, m_imagesDir;
+	std::unique_ptr<mrpt::io::CFileGZInputStream> m_file;
+	std::unique_ptr<mrpt::serialization::CArchive> m_archive;
+	std::deque<mrpt::obs::CObservation::Ptr> m_pending;
+	std::size_t m_entries = 0, m_frames = 0;
+	bool m_atEnd = false;
+	std::vector<std::string> m_skipped;
+};
+
+/** Number of RGB-D frames in a rawlog (reads it through). */
+std::size_t countFrames(const std::filesystem::path& rawlog);
+}  // namespace avm::io

@@ -1,0 +1,42 @@
+// Converts a TUM RGB-D layout folder into an MRPT rawlog of
+// CObservation3DRangeScan (+ CObservationRobotPose ground truth).
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "avm/io/TumDataset.h"
+
+namespace avm::io
+{
+struct TumConversionOptions
+{
+	RgbdCameraModel camera;          //!< intrinsics and depth scale
+	double maxTimeDifference = 0.02; //!< [s] RGB/depth association tolerance
+	bool embedImages = false;        //!< colour inside the rawlog instead of <out>_Images/
+	/** Pose of the camera optical frame in the ground-truth body frame;
+	 *  identity when the ground truth is already the camera's. */
+	mrpt::poses::CPose3D groundTruthBodyToCamera;
+	bool useGroundTruth = true;      //!< read groundtruth.txt when present
+};
+
+struct TumConversionSummary
+{
+	std::size_t frames = 0;
+	std::vector<std::string> skipped;  //!< pairs left out, with the reason
+	bool withGroundTruth = false;
+	std::filesystem::path rawlog, imagesDir, groundTruthFile;
+};
+
+/** Writes `outRawlog` (and `<stem>_Images/`, `<stem>_groundtruth.txt`). Every
+ *  output appears only when complete; on error (std::runtime_error naming the
+ *  file and line) none is left behind and earlier outputs are untouched.
+ *  progress(done, total) is called after every frame. */
+TumConversionSummary convertTumToRawlog(
+	const std::filesystem::path& datasetDir, const std::filesystem::path& outRawlog,
+	const TumConversionOptions& options,
+	const std::function<void(std::size_t, std::size_t)>& progress = {});
+}  // namespace avm::io

@@ -1,0 +1,164 @@
+#include "avm/io/RawlogFrameReader.h"
+
+#include <mrpt/img/CImage.h>
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CObservation3DRangeScan.h>
+#include <mrpt/obs/CObservationRobotPose.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace avm::io
+{
+namespace fs = std::filesystem;
+using namespace mrpt::obs;
+
+namespace
+{
+// Ground truth and depth are written with the same timestamp; allow for
+// rounding by other writers.
+constexpr double kSameTimeTolerance = 1e-3;  // [s]
+
+/** The external-images folder of a rawlog, trying the names MRPT's
+ *  CRawlog::detectImagesDirectory tries. MRPT 2.5.8's own function drops the
+ *  path separator for absolute paths ("/a/bImages"), so it is not used. */
+fs::path imagesDirectoryOf(const fs::path& rawlog)
+{
+	const fs::path dir = rawlog.parent_path();
+	const std::string stem = rawlog.stem().string();
+	for (const std::string& name : {stem + "_Images", stem + "_images", stem + "_IMAGES", std::string("Images")})
+		if (fs::is_directory(dir / name)) return dir / name;
+	return dir / (stem + "_Images");
+}
+
+bool sameTime(const CObservation& a, const CObservation& b)
+{
+	return std::abs(mrpt::Clock::toDouble(a.timestamp) - mrpt::Clock::toDouble(b.timestamp)) <
+		   kSameTimeTolerance;
+}
+}  // namespace
+
+RawlogFrameReader::RawlogFrameReader(const fs::path& rawlog)
+	: mrpt::system::COutputLogger("RawlogFrameReader"), m_path(rawlog)
+{
+	if (!fs::exists(rawlog)) throw std::runtime_error(rawlog.string() + ": rawlog not found");
+	if (fs::is_directory(rawlog)) throw std::runtime_error(rawlog.string() + ": is a folder, not a rawlog");
+	m_file = std::make_unique<mrpt::io::CFileGZInputStream>();
+	if (!m_file->open(rawlog.string()))
+		throw std::runtime_error(rawlog.string() + ": cannot open rawlog");
+	m_archive = std::make_unique<mrpt::serialization::CArchiveStreamBase<mrpt::io::CFileGZInputStream>>(
+		*m_file);
+	m_imagesDir = imagesDirectoryOf(rawlog);
+	mrpt::img::CImage::setImagesPathBase(m_imagesDir.string());
+}
+
+RawlogFrameReader::~RawlogFrameReader() = default;
+
+bool RawlogFrameReader::readEntry()
+{
+	if (m_atEnd) return false;
+	const auto start = m_file->getPosition();
+	mrpt::serialization::CSerializable::Ptr obj;
+	try
+	{
+		obj = m_archive->ReadObject();
+	}
+	catch (const std::exception& e)
+	{
+		// A stream that ends exactly between two entries is the normal end;
+		// anything else is a damaged file.
+		if (m_file->getPosition() == start && m_file->checkEOF())
+		{
+			m_atEnd = true;
+			return false;
+		}
+		throw std::runtime_error(
+			m_path.string() + ": corrupt or truncated rawlog at entry " + std::to_string(m_entries) +
+			" (" + std::string(e.what()).substr(0, 300) + ")");
+	}
+	++m_entries;
+	if (auto obs = std::dynamic_pointer_cast<CObservation>(obj))
+		m_pending.push_back(obs);
+	else if (auto sf = std::dynamic_pointer_cast<CSensoryFrame>(obj))
+		for (const auto& o : *sf) m_pending.push_back(o);
+	// Actions (odometry increments) carry nothing avm uses.
+	return true;
+}
+
+CObservation::Ptr RawlogFrameReader::peekObservation()
+{
+	while (m_pending.empty())
+		if (!readEntry()) return {};
+	return m_pending.front();
+}
+
+CObservation::Ptr RawlogFrameReader::nextObservation()
+{
+	auto obs = peekObservation();
+	if (obs) m_pending.pop_front();
+	return obs;
+}
+
+std::optional<RgbdFrame> RawlogFrameReader::next()
+{
+	CObservationRobotPose::Ptr lastPose;
+	while (auto obs = nextObservation())
+	{
+		if (auto pose = std::dynamic_pointer_cast<CObservationRobotPose>(obs))
+		{
+			lastPose = pose;
+			continue;
+		}
+		auto scan = std::dynamic_pointer_cast<CObservation3DRangeScan>(obs);
+		if (!scan) continue;
+
+		RgbdFrame frame;
+		frame.index = m_frames++;
+		frame.observation = scan;
+		if (auto after = std::dynamic_pointer_cast<CObservationRobotPose>(peekObservation());
+			after && sameTime(*after, *scan))
+			lastPose = std::dynamic_pointer_cast<CObservationRobotPose>(nextObservation());
+		if (lastPose && sameTime(*lastPose, *scan))
+		{
+			const auto p = lastPose->pose.getMeanVal();
+			if (isFinite(p))
+				frame.groundTruth = p;
+			else
+				logFmt(mrpt::system::LVL_WARN, "frame %zu: ground-truth pose is not finite, ignored\n", frame.index);
+		}
+		lastPose.reset();
+
+		try
+		{
+			scan->load();
+			if (scan->hasIntensityImage) scan->intensityImage.forceLoad();
+		}
+		catch (const std::exception& e)
+		{
+			const std::string why = "frame " + std::to_string(frame.index) + " skipped: " +
+									std::string(e.what()).substr(0, 300);
+			m_skipped.push_back(why);
+			logStr(mrpt::system::LVL_WARN, why + "\n");
+			continue;
+		}
+		if (!scan->hasRangeImage)
+		{
+			m_skipped.push_back("frame " + std::to_string(frame.index) + " skipped: no depth image");
+			continue;
+		}
+		return frame;
+	}
+	return {};
+}
+
+std::size_t countFrames(const fs::path& rawlog)
+{
+	RawlogFrameReader reader(rawlog);
+	std::size_t n = 0;
+	while (reader.next()) ++n;
+	return n;
+}
+}  // namespace avm::io

@@ -1,0 +1,187 @@
+#include "avm/io/TumToRawlog.h"
+
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/math/CMatrixFixed.h>
+#include <mrpt/obs/CObservation3DRangeScan.h>
+#include <mrpt/obs/CObservationRobotPose.h>
+#include <mrpt/serialization/CArchive.h>
+#include <mrpt/system/datetime.h>
+
+#include <opencv2/imgcodecs.hpp>
+#include <sstream>
+#include <stdexcept>
+
+#include "avm/io/AtomicFile.h"
+#include "avm/io/RgbdFrame.h"
+#include "avm/io/Trajectory.h"
+
+namespace avm::io
+{
+namespace fs = std::filesystem;
+
+namespace
+{
+std::vector<RgbdPair> readPairs(const fs::path& dir, double maxDifference, std::vector<std::string>& skipped)
+{
+	if (!fs::is_directory(dir)) throw std::runtime_error(dir.string() + ": dataset folder not found");
+	if (fs::exists(dir / "associations.txt")) return readAssociations(dir / "associations.txt");
+	for (const char* list : {"rgb.txt", "depth.txt"})
+		if (!fs::exists(dir / list))
+			throw std::runtime_error(
+				(dir / list).string() + ": not found (need associations.txt, or rgb.txt and depth.txt)");
+	auto assoc = associateNearest(
+		readTumFileList(dir / "rgb.txt"), readTumFileList(dir / "depth.txt"), maxDifference);
+	skipped = std::move(assoc.skipped);
+	return std::move(assoc.pairs);
+}
+
+cv::Mat readImage(const fs::path& file, int flags, int expectedType, const mrpt::img::TCamera& cam)
+{
+	if (!fs::exists(file)) throw std::runtime_error(file.string() + ": image not found");
+	cv::Mat img = cv::imread(file.string(), flags);
+	if (img.empty()) throw std::runtime_error(file.string() + ": unreadable image");
+	if (img.type() != expectedType)
+		throw std::runtime_error(
+			file.string() + (expectedType == CV_16UC1 ? ": depth image is not 16-bit single channel"
+													  : ": colour image is not 8-bit"));
+	if (img.cols != static_cast<int>(cam.ncols) || img.rows != static_cast<int>(cam.nrows))
+	{
+		std::ostringstream s;
+		s << file.string() << ": image is " << img.cols << "x" << img.rows << ", the camera is "
+		  << cam.ncols << "x" << cam.nrows;
+		throw std::runtime_error(s.str());
+	}
+	return img;
+}
+
+mrpt::obs::CObservation3DRangeScan::Ptr makeObservation(
+	const RgbdPair& pair, const fs::path& dir, const TumConversionOptions& opt,
+	const std::optional<fs::path>& imagesDir)
+{
+	const auto& cam = opt.camera.intrinsics;
+	const cv::Mat depth = readImage(dir / pair.depth.file, cv::IMREAD_ANYDEPTH, CV_16UC1, cam);
+	const fs::path rgbFile = dir / pair.rgb.file;
+	cv::Mat rgb = readImage(rgbFile, cv::IMREAD_COLOR, CV_8UC3, cam);
+
+	auto obs = mrpt::obs::CObservation3DRangeScan::Create();
+	obs->sensorLabel = "RGBD";
+	obs->timestamp = mrpt::Clock::fromDouble(pair.depth.timestamp);
+	obs->range_is_depth = true;
+	obs->hasRangeImage = true;
+	obs->rangeUnits = static_cast<float>(1.0 / opt.camera.depthFactor);
+	obs->maxRange = static_cast<float>(65535.0 / opt.camera.depthFactor);
+	obs->rangeImage.resize(depth.rows, depth.cols);
+	for (int y = 0; y < depth.rows; ++y)
+	{
+		const auto* row = depth.ptr<uint16_t>(y);
+		for (int x = 0; x < depth.cols; ++x) obs->rangeImage(y, x) = row[x];
+	}
+	// Registered pair: both images share one pinhole model and one position.
+	obs->cameraParams = cam;
+	obs->cameraParamsIntensity = cam;
+	obs->relativePoseIntensityWRTDepth = opticalToSensorPose().getOppositeScalar();
+	obs->sensorPose = opticalToSensorPose();
+	obs->hasIntensityImage = true;
+	if (imagesDir)
+	{
+		// The PNG is copied byte for byte: lossless, and RawLogViewer shows it.
+		const std::string name = fs::path(pair.rgb.file).filename().string();
+		fs::copy_file(rgbFile, *imagesDir / name, fs::copy_options::overwrite_existing);
+		obs->intensityImage.setExternalStorage(name);
+	}
+	else
+		obs->intensityImage = mrpt::img::CImage(rgb, mrpt::img::DEEP_COPY);
+	return obs;
+}
+
+/** Moves `from` onto `to`, replacing a previous folder or file. */
+void replace(const fs::path& from, const fs::path& to)
+{
+	fs::remove_all(to);
+	fs::rename(from, to);
+}
+}  // namespace
+
+TumConversionSummary convertTumToRawlog(
+	const fs::path& dir, const fs::path& outRawlog, const TumConversionOptions& opt,
+	const std::function<void(std::size_t, std::size_t)>& progress)
+{
+	TumConversionSummary summary;
+	const auto pairs = readPairs(dir, opt.maxTimeDifference, summary.skipped);
+	if (pairs.empty()) throw std::runtime_error(dir.string() + ": no RGB-D pairs to convert");
+
+	std::optional<Trajectory> groundTruth;
+	const fs::path gtFile = dir / "groundtruth.txt";
+	if (opt.useGroundTruth && fs::exists(gtFile))
+	{
+		groundTruth = readTumTrajectory(gtFile);
+		if (groundTruth->empty()) throw std::runtime_error(gtFile.string() + ": no poses");
+	}
+
+	const fs::path outDir = outRawlog.parent_path().empty() ? fs::path(".") : outRawlog.parent_path();
+	if (!fs::is_directory(outDir)) throw std::runtime_error(outDir.string() + ": output folder not found");
+	const std::string stem = outRawlog.stem().string();
+	summary.rawlog = outRawlog;
+	summary.imagesDir = outDir / (stem + "_Images");
+	summary.groundTruthFile = outDir / (stem + "_groundtruth.txt");
+
+	std::optional<fs::path> partialImages;
+	if (!opt.embedImages)
+	{
+		partialImages = outDir / ("." + stem + "_Images.partial");
+		fs::remove_all(*partialImages);
+		fs::create_directories(*partialImages);
+	}
+	Trajectory cameraTrajectory;
+	try
+	{
+		writeFileAtomically(outRawlog, [&](const fs::path& tmp) {
+			mrpt::io::CFileGZOutputStream file;
+			if (!file.open(tmp.string())) throw std::runtime_error(outRawlog.string() + ": cannot write");
+			auto out = mrpt::serialization::archiveFrom(file);
+			for (std::size_t i = 0; i < pairs.size(); ++i)
+			{
+				auto obs = makeObservation(pairs[i], dir, opt, partialImages);
+				out << *obs;
+				if (groundTruth)
+				{
+					const double t = pairs[i].depth.timestamp;
+					const auto body = interpolatePose(*groundTruth, t);
+					if (!body)
+					{
+						std::ostringstream s;
+						s.precision(16);
+						s << gtFile.string() << ": ground truth (" << groundTruth->front().timestamp
+						  << " .. " << groundTruth->back().timestamp << ") does not cover frame " << i
+						  << " (" << dir / pairs[i].depth.file << ", t=" << t << ")";
+						throw std::runtime_error(s.str());
+					}
+					const mrpt::poses::CPose3D camera = *body + opt.groundTruthBodyToCamera;
+					auto gt = mrpt::obs::CObservationRobotPose::Create();
+					gt->sensorLabel = "GROUND_TRUTH";
+					gt->timestamp = obs->timestamp;
+					gt->pose = mrpt::poses::CPose3DPDFGaussian(camera);
+					out << *gt;
+					cameraTrajectory.push_back({t, camera});
+				}
+				if (progress) progress(i + 1, pairs.size());
+			}
+		});
+	}
+	catch (...)
+	{
+		if (partialImages) fs::remove_all(*partialImages);
+		throw;
+	}
+	if (partialImages) replace(*partialImages, summary.imagesDir);
+	if (groundTruth)
+	{
+		writeTumTrajectory(
+			summary.groundTruthFile, cameraTrajectory,
+			"camera optical-frame ground truth of " + outRawlog.filename().string());
+		summary.withGroundTruth = true;
+	}
+	summary.frames = pairs.size();
+	return summary;
+}
+}  // namespace avm::io

@@ -1,0 +1,49 @@
+// Paths of the real data the tests run on. ../shared is read-only; whatever a
+// test makes goes below build/test-data.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+namespace avm::test
+{
+/// The shared data folder: $AVM_SHARED_DIR when set, else ../shared beside the repo.
+inline std::filesystem::path sharedDir()
+{
+	if (const char* env = std::getenv("AVM_SHARED_DIR"); env && *env) return env;
+	return AVM_SHARED_DIR;
+}
+inline std::filesystem::path sharedFile(const std::string& relative)
+{
+	const auto p = sharedDir() / relative;
+	if (!std::filesystem::exists(p))
+		throw std::runtime_error(
+			"test data missing: " + p.string() +
+			" (the tests need ../shared beside the repository, or AVM_SHARED_DIR)");
+	return p;
+}
+inline std::filesystem::path bonnDatasetDir() { return sharedFile("datasets/bonn_crowd_sub300"); }
+/// The Bonn sequence converted by avm-tum2rawlog (ctest fixture "bonn_rawlog").
+inline std::filesystem::path bonnRawlog()
+{
+	const std::filesystem::path p = AVM_BONN_RAWLOG;
+	if (!std::filesystem::exists(p))
+		throw std::runtime_error("fixture rawlog missing: " + p.string() + " (run the whole ctest suite)");
+	return p;
+}
+/// A fresh, empty folder for one test's outputs.
+inline std::filesystem::path scratchDir(const std::string& name)
+{
+	const auto p = std::filesystem::path(AVM_TEST_DATA_DIR) / "scratch" / name;
+	std::filesystem::remove_all(p);
+	std::filesystem::create_directories(p);
+	return p;
+}
+inline std::filesystem::path binary(const std::string& name)
+{
+	return std::filesystem::path(AVM_BIN_DIR) / name;
+}
+}  // namespace avm::test
