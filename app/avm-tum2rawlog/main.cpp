@@ -58,7 +58,7 @@ int main(int argc, char** argv)
 		const bool bar = !argQuiet.getValue();
 		const bool terminal = ::isatty(STDERR_FILENO);
 		const auto summary = avm::io::convertTumToRawlog(
-			argDir.getValue(), argOut.getValue(), opt, [bar](std::size_t done, std::size_t total) {
+			argDir.getValue(), argOut.getValue(), opt, [bar, terminal](std::size_t done, std::size_t total) {
 				if (!bar || (!terminal && done != total)) return;
 				std::fprintf(
 					stderr, "\r%s %zu/%zu", mrpt::system::progress(double(done) / total, 40).c_str(), done, total);
