@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -60,7 +61,14 @@ Trajectory readTumTrajectory(const fs::path& file)
 		std::istringstream ss(text);
 		double v[8];
 		for (double& x : v)
-			if (!(ss >> x)) fail(file, lineNo, "expected 'timestamp tx ty tz qx qy qz qw'");
+		{
+			// strtod, unlike operator>>, reads "nan" and "inf", so they are
+			// reported as such rather than as a malformed line.
+			std::string token;
+			char* end = nullptr;
+			if (!(ss >> token) || (x = std::strtod(token.c_str(), &end), *end != '\0'))
+				fail(file, lineNo, "expected 'timestamp tx ty tz qx qy qz qw'");
+		}
 		if (!std::all_of(std::begin(v), std::end(v), [](double x) { return std::isfinite(x); }))
 			fail(file, lineNo, "non-finite value");
 		Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);

@@ -1,0 +1,84 @@
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "TestData.h"
+#include "avm/io/RawlogFrameReader.h"
+
+using namespace avm;
+namespace fs = std::filesystem;
+
+TEST(RawlogFrameReader, ConvertedBonnSequenceHas300FramesInTimeOrderWithGroundTruth)
+{
+	io::RawlogFrameReader reader(test::bonnRawlog());
+	std::size_t n = 0;
+	double last = 0;
+	while (auto f = reader.next())
+	{
+		EXPECT_EQ(f->index, n);
+		EXPECT_GT(f->timestamp(), last) << "frame " << n;
+		last = f->timestamp();
+		ASSERT_TRUE(f->groundTruth.has_value()) << "frame " << n;
+		EXPECT_TRUE(f->observation->hasIntensityImage);
+		EXPECT_EQ(io::colourImage(*f->observation).size(), cv::Size(640, 480));
+		++n;
+	}
+	EXPECT_EQ(n, 300u);
+	EXPECT_TRUE(reader.skipped().empty());
+}
+
+TEST(RawlogFrameReader, MrptTestRawlogIsOneRgbdFrame)
+{
+	io::RawlogFrameReader reader(test::sharedFile("datasets/tests_rgbd.rawlog"));
+	auto f = reader.next();
+	ASSERT_TRUE(f);
+	EXPECT_TRUE(f->observation->hasRangeImage);
+	EXPECT_EQ(f->observation->rangeImage.cols(), 640);
+	EXPECT_EQ(f->observation->rangeImage.rows(), 480);
+	EXPECT_FALSE(f->groundTruth);
+	EXPECT_FALSE(reader.next());
+}
+
+TEST(RawlogFrameReader, MissingRawlogNamesTheFile)
+{
+	try
+	{
+		io::RawlogFrameReader reader("no/such/file.rawlog");
+		FAIL() << "no exception";
+	}
+	catch (const std::runtime_error& e)
+	{
+		EXPECT_NE(std::string(e.what()).find("no/such/file.rawlog"), std::string::npos) << e.what();
+	}
+}
+
+TEST(RawlogFrameReader, TruncatedRawlogIsReportedNotTakenAsTheEnd)
+{
+	const auto dir = test::scratchDir("truncated-rawlog");
+	const auto cut = dir / "cut.rawlog";
+	{
+		std::ifstream in(test::sharedFile("datasets/tests_rgbd.rawlog"), std::ios::binary);
+		std::string bytes((std::istreambuf_iterator<char>(in)), {});
+		std::ofstream(cut, std::ios::binary).write(bytes.data(), bytes.size() / 2);
+	}
+	io::RawlogFrameReader reader(cut);
+	try
+	{
+		reader.next();
+		FAIL() << "a truncated rawlog read as if complete";
+	}
+	catch (const std::runtime_error& e)
+	{
+		const std::string what = e.what();
+		EXPECT_NE(what.find("cut.rawlog"), std::string::npos) << what;
+		EXPECT_NE(what.find("truncated"), std::string::npos) << what;
+	}
+}
+
+TEST(RawlogFrameReader, GarbageFileIsReportedAsCorrupt)
+{
+	const auto file = test::scratchDir("garbage-rawlog") / "garbage.rawlog";
+	std::ofstream(file) << "this is not a rawlog, just some text that goes on for a while\n";
+	io::RawlogFrameReader reader(file);
+	EXPECT_THROW(reader.next(), std::runtime_error);
+}

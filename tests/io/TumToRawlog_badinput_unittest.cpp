@@ -1,0 +1,188 @@
+// Bad input to avm-tum2rawlog: each case names the file and the problem, exits
+// non-zero, and leaves no output behind (an earlier output stays intact).
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <sstream>
+
+#include "TestData.h"
+#include "avm/io/TumDataset.h"
+
+using namespace avm;
+namespace fs = std::filesystem;
+
+namespace
+{
+struct RunResult
+{
+	int exitCode;
+	std::string output;
+};
+
+RunResult runConverter(
+	const fs::path& dataset, const fs::path& out, const std::string& options = "--camera bonn --gt-body bonn")
+{
+	const fs::path log = out.parent_path() / "converter.log";
+	const std::string cmd = test::binary("avm-tum2rawlog").string() + " " + options + " '" + dataset.string() + "' '" + out.string() + "' > '" + log.string() +
+							"' 2>&1";
+	const int status = std::system(cmd.c_str());
+	std::ifstream in(log);
+	std::stringstream ss;
+	ss << in.rdbuf();
+	fs::remove(log);
+	return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ss.str()};
+}
+
+/** A 3-frame copy of the Bonn dataset to damage. */
+fs::path smallDataset(const std::string& name)
+{
+	const fs::path dir = test::scratchDir(name) / "dataset";
+	fs::create_directories(dir / "rgb");
+	fs::create_directories(dir / "depth");
+	const fs::path src = test::bonnDatasetDir();
+	std::ifstream in(src / "associations.txt");
+	std::ofstream out(dir / "associations.txt");
+	std::string line;
+	for (int n = 0; n < 3 && std::getline(in, line); ++n)
+	{
+		out << line << "\n";
+		std::istringstream ss(line);
+		std::string t1, rgb, t2, depth;
+		ss >> t1 >> rgb >> t2 >> depth;
+		fs::copy_file(src / rgb, dir / rgb);
+		fs::copy_file(src / depth, dir / depth);
+	}
+	fs::copy_file(src / "groundtruth.txt", dir / "groundtruth.txt");
+	return dir;
+}
+
+std::vector<std::string> lines(const fs::path& file)
+{
+	std::ifstream in(file);
+	std::vector<std::string> out;
+	for (std::string l; std::getline(in, l);) out.push_back(l);
+	return out;
+}
+
+void writeLines(const fs::path& file, const std::vector<std::string>& ls)
+{
+	std::ofstream out(file);
+	for (const auto& l : ls) out << l << "\n";
+}
+
+std::string depthFile(const fs::path& dataset, int row)
+{
+	std::istringstream ss(lines(dataset / "associations.txt")[row]);
+	std::string t1, rgb, t2, depth;
+	ss >> t1 >> rgb >> t2 >> depth;
+	return depth;
+}
+
+/** Runs the converter on a damaged dataset over an earlier good output and
+ *  checks the error text, the exit code and that nothing changed on disk. */
+void expectRejected(const fs::path& dataset, const std::string& expectedInMessage)
+{
+	const fs::path outDir = dataset.parent_path() / "out";
+	fs::create_directories(outDir);
+	const fs::path out = outDir / "run.rawlog";
+	std::ofstream(out) << "earlier output";
+	const auto r = runConverter(dataset, out);
+	EXPECT_NE(r.exitCode, 0) << r.output;
+	EXPECT_NE(r.output.find(expectedInMessage), std::string::npos)
+		<< "expected '" << expectedInMessage << "' in: " << r.output;
+	std::ifstream in(out);
+	std::string kept;
+	std::getline(in, kept);
+	EXPECT_EQ(kept, "earlier output") << "the earlier output was touched";
+	std::vector<std::string> left;
+	for (const auto& e : fs::directory_iterator(outDir)) left.push_back(e.path().filename().string());
+	EXPECT_EQ(left, std::vector<std::string>{"run.rawlog"}) << "partial outputs left behind";
+}
+}  // namespace
+
+TEST(TumToRawlogBadInput, SmallDatasetConverts)
+{
+	const auto ds = smallDataset("bad-none");
+	const fs::path out = ds.parent_path() / "ok.rawlog";
+	const auto r = runConverter(ds, out);
+	EXPECT_EQ(r.exitCode, 0) << r.output;
+	EXPECT_NE(r.output.find("frames:       3"), std::string::npos) << r.output;
+	EXPECT_TRUE(fs::exists(out));
+	EXPECT_TRUE(fs::exists(ds.parent_path() / "ok_Images"));
+	EXPECT_TRUE(fs::exists(ds.parent_path() / "ok_groundtruth.txt"));
+}
+
+TEST(TumToRawlogBadInput, MissingFolder)
+{
+	const auto base = test::scratchDir("bad-missing-folder");
+	fs::create_directories(base / "out");
+	const auto r = runConverter(base / "nowhere", base / "out" / "x.rawlog");
+	EXPECT_NE(r.exitCode, 0);
+	EXPECT_NE(r.output.find("nowhere: dataset folder not found"), std::string::npos) << r.output;
+	EXPECT_TRUE(fs::is_empty(base / "out"));
+}
+
+TEST(TumToRawlogBadInput, MissingLists)
+{
+	const auto ds = smallDataset("bad-lists");
+	fs::remove(ds / "associations.txt");
+	expectRejected(ds, "rgb.txt: not found");
+}
+
+TEST(TumToRawlogBadInput, MissingImage)
+{
+	const auto ds = smallDataset("bad-missing-image");
+	fs::remove(ds / depthFile(ds, 1));
+	expectRejected(ds, depthFile(ds, 1) + ": image not found");
+}
+
+TEST(TumToRawlogBadInput, UnreadableImage)
+{
+	const auto ds = smallDataset("bad-unreadable");
+	std::ofstream(ds / depthFile(ds, 2)) << "not a png";
+	expectRejected(ds, depthFile(ds, 2) + ": unreadable image");
+}
+
+TEST(TumToRawlogBadInput, MismatchedImageSize)
+{
+	const auto ds = smallDataset("bad-size");
+	cv::imwrite((ds / depthFile(ds, 0)).string(), cv::Mat(240, 320, CV_16UC1, cv::Scalar(5000)));
+	expectRejected(ds, "image is 320x240, the camera is 640x480");
+}
+
+TEST(TumToRawlogBadInput, TimestampsOutOfOrder)
+{
+	const auto ds = smallDataset("bad-order");
+	auto ls = lines(ds / "associations.txt");
+	std::swap(ls[1], ls[2]);
+	writeLines(ds / "associations.txt", ls);
+	expectRejected(ds, "associations.txt:3: timestamps out of order");
+}
+
+TEST(TumToRawlogBadInput, MalformedListLine)
+{
+	const auto ds = smallDataset("bad-line");
+	auto ls = lines(ds / "associations.txt");
+	ls[1] = "1548339824.93624 rgb/only-one-file.png";
+	writeLines(ds / "associations.txt", ls);
+	expectRejected(ds, "associations.txt:2: expected");
+}
+
+TEST(TumToRawlogBadInput, GroundTruthNotCoveringTheFrames)
+{
+	const auto ds = smallDataset("bad-gt");
+	auto ls = lines(ds / "groundtruth.txt");
+	ls.resize(6);  // two comment lines and four poses, all before the first frame
+	writeLines(ds / "groundtruth.txt", ls);
+	expectRejected(ds, "does not cover frame 0");
+}
+
+TEST(TumToRawlogBadInput, UnknownCameraPresetListsTheKnownOnes)
+{
+	const auto ds = smallDataset("bad-camera");
+	const auto r = runConverter(ds, ds.parent_path() / "x.rawlog", "--camera kinect9 --gt-body bonn");
+	EXPECT_NE(r.exitCode, 0);
+	EXPECT_NE(r.output.find("unknown camera preset 'kinect9' (known: bonn, tum-fr1"), std::string::npos) << r.output;
+}
