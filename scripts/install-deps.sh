@@ -12,6 +12,7 @@ packages=(
   libceres-dev
   libgtest-dev
   xauth xvfb          # stock GUI apps (RawLogViewer) run headless in tests
+  curl unzip ca-certificates   # scripts/get-data.sh without ../shared
   clang libclang-rt-14-dev   # sanitizer and fuzzing builds
 )
 
