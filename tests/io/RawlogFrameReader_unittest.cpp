@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <mrpt/io/CFileOutputStream.h>
+#include <mrpt/serialization/CArchive.h>
+
 #include <fstream>
 
 #include "TestData.h"
@@ -73,6 +76,33 @@ TEST(RawlogFrameReader, TruncatedRawlogIsReportedNotTakenAsTheEnd)
 		EXPECT_NE(what.find("cut.rawlog"), std::string::npos) << what;
 		EXPECT_NE(what.find("truncated"), std::string::npos) << what;
 	}
+}
+
+TEST(RawlogFrameReader, UncompressedRawlogCutInsideAnEntryIsReported)
+{
+	// Plain rawlogs have no gzip trailer to betray the cut: the reader must
+	// tell the end between entries from an entry that stops half way.
+	const auto dir = test::scratchDir("truncated-plain-rawlog");
+	io::RawlogFrameReader source(test::sharedFile("datasets/tests_rgbd.rawlog"));
+	const auto frame = source.next();
+	ASSERT_TRUE(frame);
+	const auto whole = dir / "whole.rawlog";
+	{
+		mrpt::io::CFileOutputStream out(whole.string());
+		auto archive = mrpt::serialization::archiveFrom(out);
+		archive << *frame->observation << *frame->observation;
+	}
+	io::RawlogFrameReader complete(whole);
+	EXPECT_TRUE(complete.next());
+	EXPECT_TRUE(complete.next());
+	EXPECT_FALSE(complete.next());
+
+	const auto cut = dir / "cut.rawlog";
+	fs::copy_file(whole, cut);
+	fs::resize_file(cut, fs::file_size(whole) * 3 / 4);
+	io::RawlogFrameReader reader(cut);
+	EXPECT_TRUE(reader.next());
+	EXPECT_THROW(reader.next(), std::runtime_error);
 }
 
 TEST(RawlogFrameReader, GarbageFileIsReportedAsCorrupt)

@@ -8,6 +8,7 @@
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/serialization/CArchive.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -15,6 +16,46 @@ namespace avm::io
 {
 namespace fs = std::filesystem;
 using namespace mrpt::obs;
+
+/** The rawlog file with one byte of look-ahead, so that the end of the data is
+ *  seen before an entry is read: an entry that then fails to read is damage,
+ *  never the normal end. */
+class RawlogFrameReader::PeekableFile : public mrpt::io::CStream
+{
+   public:
+	explicit PeekableFile(const fs::path& file)
+	{
+		if (!m_file.open(file.string())) throw std::runtime_error(file.string() + ": cannot open rawlog");
+	}
+	bool atEnd()
+	{
+		if (m_peeked) return false;
+		m_peeked = m_file.Read(&m_byte, 1) == 1;
+		return !m_peeked;
+	}
+	size_t Read(void* buffer, size_t count) override
+	{
+		if (count == 0) return 0;
+		auto* out = static_cast<uint8_t*>(buffer);
+		size_t n = 0;
+		if (m_peeked)
+		{
+			*out++ = m_byte;
+			m_peeked = false;
+			n = 1;
+		}
+		return n + m_file.Read(out, count - n);
+	}
+	size_t Write(const void*, size_t) override { throw std::logic_error("rawlog opened for reading"); }
+	uint64_t Seek(int64_t, TSeekOrigin) override { throw std::logic_error("rawlog stream cannot seek"); }
+	uint64_t getTotalBytesCount() const override { return m_file.getTotalBytesCount(); }
+	uint64_t getPosition() const override { return m_file.getPosition(); }
+
+   private:
+	mrpt::io::CFileGZInputStream m_file;
+	uint8_t m_byte = 0;
+	bool m_peeked = false;
+};
 
 namespace
 {
@@ -46,11 +87,8 @@ RawlogFrameReader::RawlogFrameReader(const fs::path& rawlog)
 {
 	if (!fs::exists(rawlog)) throw std::runtime_error(rawlog.string() + ": rawlog not found");
 	if (fs::is_directory(rawlog)) throw std::runtime_error(rawlog.string() + ": is a folder, not a rawlog");
-	m_file = std::make_unique<mrpt::io::CFileGZInputStream>();
-	if (!m_file->open(rawlog.string()))
-		throw std::runtime_error(rawlog.string() + ": cannot open rawlog");
-	m_archive = std::make_unique<mrpt::serialization::CArchiveStreamBase<mrpt::io::CFileGZInputStream>>(
-		*m_file);
+	m_file = std::make_unique<PeekableFile>(rawlog);
+	m_archive = std::make_unique<mrpt::serialization::CArchiveStreamBase<PeekableFile>>(*m_file);
 	m_imagesDir = imagesDirectoryOf(rawlog);
 	mrpt::img::CImage::setImagesPathBase(m_imagesDir.string());
 }
@@ -59,8 +97,7 @@ RawlogFrameReader::~RawlogFrameReader() = default;
 
 bool RawlogFrameReader::readEntry()
 {
-	if (m_atEnd) return false;
-	const auto start = m_file->getPosition();
+	if (m_file->atEnd()) return false;
 	mrpt::serialization::CSerializable::Ptr obj;
 	try
 	{
@@ -68,13 +105,6 @@ bool RawlogFrameReader::readEntry()
 	}
 	catch (const std::exception& e)
 	{
-		// A stream that ends exactly between two entries is the normal end;
-		// anything else is a damaged file.
-		if (m_file->getPosition() == start && m_file->checkEOF())
-		{
-			m_atEnd = true;
-			return false;
-		}
 		throw std::runtime_error(
 			m_path.string() + ": corrupt or truncated rawlog at entry " + std::to_string(m_entries) +
 			" (" + std::string(e.what()).substr(0, 300) + ")");
@@ -152,6 +182,12 @@ std::optional<RgbdFrame> RawlogFrameReader::next()
 		return frame;
 	}
 	return {};
+}
+
+double RawlogFrameReader::progress() const
+{
+	const auto total = m_file->getTotalBytesCount();
+	return total ? std::min(1.0, double(m_file->getPosition()) / double(total)) : 1.0;
 }
 
 std::size_t countFrames(const fs::path& rawlog)

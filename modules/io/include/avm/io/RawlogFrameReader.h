@@ -16,10 +16,6 @@
 
 #include "avm/io/RgbdFrame.h"
 
-namespace mrpt::io
-{
-class CFileGZInputStream;
-}
 namespace mrpt::serialization
 {
 class CArchive;
@@ -48,6 +44,8 @@ class RawlogFrameReader : public mrpt::system::COutputLogger
 	const std::vector<std::string>& skipped() const { return m_skipped; }
 	const std::filesystem::path& path() const { return m_path; }
 	const std::filesystem::path& imagesDirectory() const { return m_imagesDir; }
+	/** Fraction of the file read so far, 0..1 (by compressed bytes). */
+	double progress() const;
 
    private:
 	/** Next observation of the stream, flattening sensory frames. */
@@ -56,11 +54,11 @@ class RawlogFrameReader : public mrpt::system::COutputLogger
 	bool readEntry();
 
 	std::filesystem::path m_path, m_imagesDir;
-	std::unique_ptr<mrpt::io::CFileGZInputStream> m_file;
+	class PeekableFile;
+	std::unique_ptr<PeekableFile> m_file;
 	std::unique_ptr<mrpt::serialization::CArchive> m_archive;
 	std::deque<mrpt::obs::CObservation::Ptr> m_pending;
 	std::size_t m_entries = 0, m_frames = 0;
-	bool m_atEnd = false;
 	std::vector<std::string> m_skipped;
 };
 
