@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/io/CFileOutputStream.h>
 #include <mrpt/serialization/CArchive.h>
 
@@ -111,4 +112,44 @@ TEST(RawlogFrameReader, GarbageFileIsReportedAsCorrupt)
 	std::ofstream(file) << "this is not a rawlog, just some text that goes on for a while\n";
 	io::RawlogFrameReader reader(file);
 	EXPECT_THROW(reader.next(), std::runtime_error);
+}
+
+TEST(RawlogFrameReader, OneMissingImageSkipsThatFrameOnly)
+{
+	const auto dir = test::scratchDir("missing-image");
+	// Three frames of the Bonn rawlog with external images; remove one image.
+	io::RawlogFrameReader source(test::bonnRawlog());
+	const auto rawlog = dir / "three.rawlog";
+	fs::create_directories(dir / "three_Images");
+	{
+		mrpt::io::CFileGZOutputStream out(rawlog.string());
+		auto archive = mrpt::serialization::archiveFrom(out);
+		for (int i = 0; i < 3; ++i)
+		{
+			auto f = source.next();
+			ASSERT_TRUE(f);
+			const auto name = f->observation->intensityImage.getExternalStorageFile();
+			fs::copy_file(source.imagesDirectory() / name, dir / "three_Images" / name);
+			archive << *f->observation;
+			if (i == 1) fs::remove(dir / "three_Images" / name);
+		}
+	}
+	io::RawlogFrameReader reader(rawlog);
+	std::vector<std::size_t> read;
+	while (auto f = reader.next()) read.push_back(f->index);
+	EXPECT_EQ(read, (std::vector<std::size_t>{0, 2}));
+	ASSERT_EQ(reader.skipped().size(), 1u);
+	EXPECT_NE(reader.skipped()[0].find("frame 1 skipped"), std::string::npos) << reader.skipped()[0];
+
+	fs::remove_all(dir / "three_Images");
+	io::RawlogFrameReader noImages(rawlog);
+	try
+	{
+		noImages.next();
+		FAIL() << "a missing images folder went unnoticed";
+	}
+	catch (const std::runtime_error& e)
+	{
+		EXPECT_NE(std::string(e.what()).find("three_Images not found"), std::string::npos) << e.what();
+	}
 }

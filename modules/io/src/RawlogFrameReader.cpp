@@ -168,6 +168,11 @@ std::optional<RgbdFrame> RawlogFrameReader::next()
 		}
 		catch (const std::exception& e)
 		{
+			// One missing image costs one frame; a missing folder costs them all.
+			if (scan->hasIntensityImage && scan->intensityImage.isExternallyStored() &&
+				!fs::is_directory(m_imagesDir))
+				throw std::runtime_error(
+					m_path.string() + ": external images folder " + m_imagesDir.string() + " not found");
 			const std::string why = "frame " + std::to_string(frame.index) + " skipped: " +
 									std::string(e.what()).substr(0, 300);
 			m_skipped.push_back(why);

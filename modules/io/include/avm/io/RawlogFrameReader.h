@@ -37,7 +37,8 @@ class RawlogFrameReader : public mrpt::system::COutputLogger
 	/** The next frame, or nothing at the end of the rawlog. A frame whose
 	 *  images cannot be loaded is skipped with a warning (see skipped()).
 	 *  Throws std::runtime_error naming the file and entry on corrupt or
-	 *  truncated data. */
+	 *  truncated data, and naming the folder when the external images folder
+	 *  is missing altogether. */
 	std::optional<RgbdFrame> next();
 
 	/** Frames left out so far, one message each (index, file, reason). */
