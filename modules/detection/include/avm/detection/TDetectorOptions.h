@@ -1,0 +1,61 @@
+// Options of the person detector and of the 3-D regions made from its boxes,
+// section [detection] of an avm .ini (see ini/detect.ini for every key).
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace avm::detection
+{
+/** How a model's output tensor is laid out (see OutputDecoders.h). */
+enum class OutputLayout
+{
+	Auto,    //!< recognised from the output shape and input size
+	Yolox,   //!< 1xNx85, raw grid outputs (Megvii YOLOX export)
+	Yolov5,  //!< 1xNx85, decoded boxes with objectness (YOLOv5/v7)
+	Yolov8   //!< 1x84xN, decoded boxes, no objectness (YOLOv8/YOLO11)
+};
+/** "auto", "yolox", "yolov5", "yolov8". */
+std::string toString(OutputLayout layout);
+/** Throws std::invalid_argument listing the accepted names. */
+OutputLayout parseOutputLayout(const std::string& name);
+
+struct TDetectorOptions : public mrpt::config::CLoadableOptions
+{
+	/** ONNX model file as the ini gives it ("" = OpenCV's HOG people detector,
+	 *  no weights). A relative path is resolved by resolveModelPath(). */
+	std::string model = "datasets/models/yolox_nano.onnx";
+	OutputLayout layout = OutputLayout::Auto;
+	/** COCO class names to keep, comma separated (e.g. "person, dog"). */
+	std::string classes = "person";
+	double score_threshold = 0.3;  //!< keep detections scoring at least this (0..1)
+	double nms_threshold = 0.45;   //!< IoU above which the weaker box of a class is dropped
+	int input_width = 416;         //!< [px] network input; YOLOX-Nano 416, YOLOv5/v8 usually 640
+	int input_height = 416;        //!< [px]
+	/** OpenCV worker threads (cv::setNumThreads, process-wide, set by the
+	 *  application, not the detector); 0 = OpenCV's default. */
+	int threads = 0;
+	double hog_hit_threshold = 0.0;  //!< HOG only: SVM margin a window needs to count
+
+	double region_margin = 0.3;              //!< [m] added on every side of a person's 3-D box
+	double person_depth_band = 0.5;          //!< [m] half-width of the depth band around a person's robust depth
+	double min_valid_depth_fraction = 0.2;   //!< share of box pixels with depth needed for a 3-D region
+	int min_region_points = 200;             //!< depth pixels in the band needed for a 3-D region
+
+	void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
+	void saveToConfigFile(mrpt::config::CConfigFileBase& target, const std::string& section) const override;
+	/** Throws std::invalid_argument naming "[section] key" and the bad value. */
+	void validate(const std::string& section = "detection") const;
+
+	/** COCO ids of `classes`; throws std::invalid_argument naming
+	 *  "[section] classes" and the unknown name. */
+	std::vector<int> classIds(const std::string& section = "detection") const;
+};
+
+/** The model file to open: `model` if absolute, else `root / model`. The
+ *  application passes the project root; "" stays "" (HOG). */
+std::filesystem::path resolveModelPath(const std::string& model, const std::filesystem::path& root);
+}  // namespace avm::detection

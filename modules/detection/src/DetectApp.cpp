@@ -1,0 +1,89 @@
+#include "avm/detection/DetectApp.h"
+
+#include <mrpt/config/CConfigFile.h>
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <stdexcept>
+
+#include "avm/io/AtomicFile.h"
+
+namespace avm::detection
+{
+namespace fs = std::filesystem;
+
+TDetectorOptions loadDetectorOptions(const fs::path& ini, const std::string& section, std::vector<std::string>& unknownKeys)
+{
+	if (!fs::is_regular_file(ini)) throw std::runtime_error(ini.string() + ": config file not found");
+	mrpt::config::CConfigFile cfg(ini.string());
+	if (!cfg.sectionExists(section)) throw std::runtime_error(ini.string() + ": no section [" + section + "]");
+	TDetectorOptions options;
+	mrpt::config::CConfigFileMemory known;
+	options.saveToConfigFile(known, section);
+	std::vector<std::string> knownKeys, userKeys;
+	known.getAllKeys(section, knownKeys);
+	cfg.getAllKeys(section, userKeys);
+	for (const auto& k : userKeys)
+		if (std::find(knownKeys.begin(), knownKeys.end(), k) == knownKeys.end()) unknownKeys.push_back(k);
+	try
+	{
+		options.loadFromConfigFile(cfg, section);
+	}
+	catch (const std::invalid_argument& e)
+	{
+		throw std::invalid_argument(ini.string() + ": " + e.what());
+	}
+	return options;
+}
+
+cv::Mat drawDetections(const cv::Mat& bgr, const std::vector<Detection>& detections)
+{
+	cv::Mat out = bgr.clone();
+	for (const auto& d : detections)
+	{
+		const cv::Scalar colour = d.className == "person" ? cv::Scalar(0, 0, 255) : cv::Scalar(255, 128, 0);
+		cv::rectangle(out, d.box, colour, 2);
+		char label[96];
+		std::snprintf(label, sizeof(label), "%s %.2f", d.className.c_str(), d.score);
+		const cv::Point at(static_cast<int>(d.box.x), std::max(12, static_cast<int>(d.box.y) - 4));
+		cv::putText(out, label, at, cv::FONT_HERSHEY_SIMPLEX, 0.5, colour, 1, cv::LINE_AA);
+	}
+	return out;
+}
+
+void writeImage(const fs::path& file, const cv::Mat& image)
+{
+	io::writeFileAtomically(file, [&](const fs::path& tmp) {
+		bool ok = false;
+		try
+		{
+			ok = cv::imwrite(tmp.string(), image);
+		}
+		catch (const cv::Exception& e)
+		{
+			throw std::runtime_error(file.string() + ": cannot write image (" + e.err + ")");
+		}
+		if (!ok) throw std::runtime_error(file.string() + ": cannot write image (unknown extension or folder?)");
+	});
+}
+
+std::string benchmarkTable(const std::vector<DetectorBenchmark>& rows)
+{
+	std::string s =
+		"| threads | frames | frames with a person | persons | mean [ms] | median [ms] | p95 [ms] | max [ms] |\n"
+		"|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+	for (const auto& b : rows)
+	{
+		char line[256];
+		std::snprintf(
+			line, sizeof(line), "| %d | %zu | %zu | %zu | %.1f | %.1f | %.1f | %.1f |\n", b.threads, b.frames,
+			b.framesWithPerson, b.persons, b.meanMs, b.medianMs, b.p95Ms, b.maxMs);
+		s += line;
+	}
+	return s;
+}
+}  // namespace avm::detection

@@ -1,0 +1,239 @@
+#include "avm/detection/RawlogDetection.h"
+
+#include <mrpt/img/CImage.h>
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/obs/CObservation3DRangeScan.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <opencv2/core/utility.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <stdexcept>
+
+#include "avm/detection/PersonLabels.h"
+#include "avm/detection/PersonRegion.h"
+#include "avm/io/AtomicFile.h"
+#include "avm/io/RawlogFrameReader.h"
+#include "avm/io/RgbdFrame.h"
+
+namespace avm::detection
+{
+namespace fs = std::filesystem;
+using mrpt::obs::CObservation3DRangeScan;
+
+namespace
+{
+/** Points `link` at `target` unless it already is that folder. Returns
+ *  whether a link was made (so it can be removed on failure). */
+bool linkImagesFolder(const fs::path& target, const fs::path& link)
+{
+	if (fs::exists(link) || fs::is_symlink(link))
+	{
+		if (fs::exists(link) && fs::equivalent(link, target)) return false;
+		throw std::runtime_error(
+			link.string() + ": exists and is not the input's images folder " + target.string() +
+			" (remove it or choose another output name)");
+	}
+	fs::create_directory_symlink(fs::absolute(target), link);
+	return true;
+}
+
+class LabellingPass
+{
+   public:
+	LabellingPass(DetectorBase& d, const TDetectorOptions& o, std::size_t every, LabelRawlogSummary& s)
+		: m_detector(d), m_options(o), m_every(every), m_summary(s)
+	{
+	}
+
+	void process(CObservation3DRangeScan& obs)
+	{
+		const std::size_t index = m_summary.frames++;
+		if (index % m_every != 0) return;
+		try
+		{
+			obs.load();
+			if (obs.hasIntensityImage) obs.intensityImage.forceLoad();
+			const cv::Mat bgr = io::colourImage(obs);
+			if (!obs.hasRangeImage) throw std::runtime_error("no depth image");
+			const auto detections = m_detector.detect(bgr);
+			writePersonLabels(obs, detections, m_options);
+			const cv::Mat depth = io::depthInMetres(obs);
+			const auto persons = personsOnly(detections);
+			++m_summary.detectedFrames;
+			m_summary.persons += persons.size();
+			if (!persons.empty()) ++m_summary.framesWithPerson;
+			for (const auto& d : detections)
+			{
+				const auto z = robustPersonDepth(depth, pixelBox(d.box, depth.size()), m_options.person_depth_band);
+				char line[64];
+				std::snprintf(line, sizeof(line), "%zu %.6f ", index, mrpt::Clock::toDouble(obs.timestamp));
+				m_lines << line << formatDetection(d) << " " << (z ? std::to_string(*z) : std::string("nan")) << "\n";
+			}
+		}
+		catch (const std::exception& e)
+		{
+			m_summary.skipped.push_back(
+				"frame " + std::to_string(index) + " not labelled: " + std::string(e.what()).substr(0, 300));
+		}
+		obs.unload();  // external images are re-read from disk if needed; the rawlog keeps only their names
+	}
+
+	std::string text() const { return m_lines.str(); }
+
+   private:
+	DetectorBase& m_detector;
+	const TDetectorOptions& m_options;
+	std::size_t m_every;
+	LabelRawlogSummary& m_summary;
+	std::ostringstream m_lines;
+};
+}  // namespace
+
+std::string formatDetection(const Detection& d)
+{
+	char buf[160];
+	std::snprintf(
+		buf, sizeof(buf), "%s %.3f %.1f %.1f %.1f %.1f", d.className.c_str(), d.score, d.box.x, d.box.y, d.box.width,
+		d.box.height);
+	std::string s = buf;
+	std::replace(s.begin(), s.begin() + static_cast<long>(d.className.size()), ' ', '_');  // "traffic light"
+	return s;
+}
+
+LabelRawlogSummary labelRawlog(
+	DetectorBase& detector, const TDetectorOptions& options, const fs::path& in, const fs::path& out,
+	std::size_t every, const std::function<void(double)>& progress)
+{
+	if (every == 0) throw std::invalid_argument("detection interval must be >= 1 frame");
+	// The reader checks the input and points MRPT at its external images.
+	const fs::path inImages = io::RawlogFrameReader(in).imagesDirectory();
+	if (fs::exists(out) && fs::equivalent(in, out))
+		throw std::runtime_error(out.string() + ": the output would overwrite the input rawlog");
+	if (!out.parent_path().empty()) fs::create_directories(out.parent_path());
+
+	LabelRawlogSummary summary;
+	summary.rawlog = out;
+	summary.detectionsFile = out.parent_path() / (out.stem().string() + "_detections.txt");
+	const fs::path outImages = out.parent_path() / (out.stem().string() + "_Images");
+	const bool linked = fs::is_directory(inImages) && linkImagesFolder(inImages, outImages);
+	if (fs::is_directory(inImages)) summary.imagesDir = outImages;
+
+	LabellingPass pass(detector, options, every, summary);
+	try
+	{
+		mrpt::io::CFileGZInputStream inFile;
+		if (!inFile.open(in.string())) throw std::runtime_error(in.string() + ": cannot open rawlog");
+		auto reader = mrpt::serialization::archiveFrom(inFile);
+		const double inBytes = std::max<double>(1, inFile.getTotalBytesCount());
+		io::writeFileAtomically(out, [&](const fs::path& tmp) {
+			mrpt::io::CFileGZOutputStream outFile(tmp.string());
+			auto writer = mrpt::serialization::archiveFrom(outFile);
+			for (std::size_t entry = 0;; ++entry)
+			{
+				// A read that fails having consumed nothing is the end of the
+				// file; one that fails part way is a damaged file.
+				const auto before = inFile.getPosition();
+				mrpt::serialization::CSerializable::Ptr obj;
+				try
+				{
+					obj = reader.ReadObject();
+				}
+				catch (const std::exception& e)
+				{
+					if (inFile.getPosition() == before && inFile.checkEOF()) break;
+					throw std::runtime_error(
+						in.string() + ": corrupt or truncated rawlog at entry " + std::to_string(entry) + " (" +
+						std::string(e.what()).substr(0, 300) + ")");
+				}
+				if (auto scan = std::dynamic_pointer_cast<CObservation3DRangeScan>(obj))
+					pass.process(*scan);
+				else if (auto sf = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(obj))
+					for (auto& o : *sf)
+						if (auto s = std::dynamic_pointer_cast<CObservation3DRangeScan>(o)) pass.process(*s);
+				writer << *obj;
+				if (progress && (std::dynamic_pointer_cast<CObservation3DRangeScan>(obj) || std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(obj)))
+					progress(std::min(1.0, inFile.getPosition() / inBytes));
+			}
+		});
+		const std::string header =
+			"# avm-detect: " + detector.description() + "\n# input " + in.string() +
+			"\n# frame timestamp class score x y w h depth   (box [px] in the colour image; depth [m] = robust person depth)\n";
+		io::writeFileAtomically(summary.detectionsFile, [&](const fs::path& tmp) {
+			std::FILE* f = std::fopen(tmp.c_str(), "w");
+			if (!f) throw std::runtime_error(tmp.string() + ": cannot write");
+			const std::string text = header + pass.text();
+			const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+			if (std::fclose(f) != 0 || !ok) throw std::runtime_error(summary.detectionsFile.string() + ": write failed");
+		});
+	}
+	catch (...)
+	{
+		if (linked)
+		{
+			std::error_code ignored;
+			fs::remove(outImages, ignored);
+		}
+		throw;
+	}
+	if (progress) progress(1.0);
+	return summary;
+}
+
+std::vector<cv::Mat> loadColourImages(const fs::path& rawlog, std::size_t maxFrames)
+{
+	io::RawlogFrameReader reader(rawlog);
+	std::vector<cv::Mat> images;
+	while (auto f = reader.next())
+	{
+		images.push_back(io::colourImage(*f->observation).clone());
+		f->observation->unload();
+		if (maxFrames && images.size() >= maxFrames) break;
+	}
+	if (images.empty()) throw std::runtime_error(rawlog.string() + ": no RGB-D frame with a colour image");
+	return images;
+}
+
+DetectorBenchmark benchmarkDetector(DetectorBase& detector, const std::vector<cv::Mat>& images, int threads)
+{
+	if (images.empty()) throw std::invalid_argument("benchmark needs at least one image");
+	const int previous = cv::getNumThreads();
+	cv::setNumThreads(threads);
+	DetectorBenchmark b;
+	b.threads = threads;
+	std::vector<double> ms;
+	try
+	{
+		detector.detect(images.front());  // first call allocates the network's buffers
+		for (const auto& img : images)
+		{
+			const auto t0 = std::chrono::steady_clock::now();
+			const auto persons = personsOnly(detector.detect(img));
+			ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+			b.persons += persons.size();
+			if (!persons.empty()) ++b.framesWithPerson;
+		}
+	}
+	catch (...)
+	{
+		cv::setNumThreads(previous);
+		throw;
+	}
+	cv::setNumThreads(previous);
+	b.frames = images.size();
+	std::sort(ms.begin(), ms.end());
+	double sum = 0;
+	for (double v : ms) sum += v;
+	b.meanMs = sum / ms.size();
+	b.medianMs = ms[ms.size() / 2];
+	b.p95Ms = ms[std::min(ms.size() - 1, static_cast<std::size_t>(std::ceil(0.95 * ms.size())) - 1)];
+	b.maxMs = ms.back();
+	return b;
+}
+}  // namespace avm::detection
