@@ -131,8 +131,7 @@ RegionEstimate estimatePersonRegion(
 		return est;
 	}
 	const double fx = K.fx(), fy = K.fy(), cx = K.cx(), cy = K.cy();
-	auto region = mrpt::math::TBoundingBox::PlusMinusInfinity();
-	std::swap(region.min, region.max);  // an empty box that updateWithPoint() grows
+	auto region = mrpt::math::TBoundingBox::PlusMinusInfinity();  // grown by updateWithPoint()
 	for (int v = box.y; v < box.y + box.height; ++v)
 	{
 		const float* row = depth.ptr<float>(v);

@@ -44,6 +44,47 @@ bool linkImagesFolder(const fs::path& target, const fs::path& link)
 	return true;
 }
 
+/** Calls fn on every entry of a rawlog, in order. Throws naming the file on a
+ *  missing, corrupt or truncated rawlog. */
+void forEachEntry(const fs::path& rawlog, const std::function<void(mrpt::serialization::CSerializable&)>& fn)
+{
+	mrpt::io::CFileGZInputStream file;
+	if (!file.open(rawlog.string())) throw std::runtime_error(rawlog.string() + ": cannot open rawlog");
+	auto reader = mrpt::serialization::archiveFrom(file);
+	for (std::size_t entry = 0;; ++entry)
+	{
+		// A read that fails having consumed nothing is the end of the file;
+		// one that fails part way is a damaged file.
+		const auto before = file.getPosition();
+		mrpt::serialization::CSerializable::Ptr obj;
+		try
+		{
+			obj = reader.ReadObject();
+		}
+		catch (const std::exception& e)
+		{
+			if (file.getPosition() == before && file.checkEOF()) return;
+			throw std::runtime_error(
+				rawlog.string() + ": corrupt or truncated rawlog at entry " + std::to_string(entry) + " (" +
+				std::string(e.what()).substr(0, 300) + ")");
+		}
+		if (!obj) throw std::runtime_error(rawlog.string() + ": empty object at entry " + std::to_string(entry));
+		fn(*obj);
+	}
+}
+
+/** The RGB-D observations of a rawlog entry (itself, or inside a sensory frame). */
+std::vector<CObservation3DRangeScan*> rgbdObservations(mrpt::serialization::CSerializable& obj)
+{
+	std::vector<CObservation3DRangeScan*> scans;
+	if (auto* scan = dynamic_cast<CObservation3DRangeScan*>(&obj))
+		scans.push_back(scan);
+	else if (auto* sf = dynamic_cast<mrpt::obs::CSensoryFrame*>(&obj))
+		for (auto& o : *sf)
+			if (auto* s = dynamic_cast<CObservation3DRangeScan*>(o.get())) scans.push_back(s);
+	return scans;
+}
+
 class LabellingPass
 {
    public:
@@ -128,39 +169,19 @@ LabelRawlogSummary labelRawlog(
 	LabellingPass pass(detector, options, every, summary);
 	try
 	{
-		mrpt::io::CFileGZInputStream inFile;
-		if (!inFile.open(in.string())) throw std::runtime_error(in.string() + ": cannot open rawlog");
-		auto reader = mrpt::serialization::archiveFrom(inFile);
-		const double inBytes = std::max<double>(1, inFile.getTotalBytesCount());
+		// A first pass counts the frames for the progress bar and finds a
+		// damaged input before anything is written.
+		std::size_t total = 0;
+		forEachEntry(in, [&](mrpt::serialization::CSerializable& obj) { total += rgbdObservations(obj).size(); });
 		io::writeFileAtomically(out, [&](const fs::path& tmp) {
 			mrpt::io::CFileGZOutputStream outFile(tmp.string());
 			auto writer = mrpt::serialization::archiveFrom(outFile);
-			for (std::size_t entry = 0;; ++entry)
-			{
-				// A read that fails having consumed nothing is the end of the
-				// file; one that fails part way is a damaged file.
-				const auto before = inFile.getPosition();
-				mrpt::serialization::CSerializable::Ptr obj;
-				try
-				{
-					obj = reader.ReadObject();
-				}
-				catch (const std::exception& e)
-				{
-					if (inFile.getPosition() == before && inFile.checkEOF()) break;
-					throw std::runtime_error(
-						in.string() + ": corrupt or truncated rawlog at entry " + std::to_string(entry) + " (" +
-						std::string(e.what()).substr(0, 300) + ")");
-				}
-				if (auto scan = std::dynamic_pointer_cast<CObservation3DRangeScan>(obj))
-					pass.process(*scan);
-				else if (auto sf = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(obj))
-					for (auto& o : *sf)
-						if (auto s = std::dynamic_pointer_cast<CObservation3DRangeScan>(o)) pass.process(*s);
-				writer << *obj;
-				if (progress && (std::dynamic_pointer_cast<CObservation3DRangeScan>(obj) || std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(obj)))
-					progress(std::min(1.0, inFile.getPosition() / inBytes));
-			}
+			forEachEntry(in, [&](mrpt::serialization::CSerializable& obj) {
+				const auto scans = rgbdObservations(obj);
+				for (auto* scan : scans) pass.process(*scan);
+				writer << obj;
+				if (progress && !scans.empty()) progress(double(summary.frames) / std::max<std::size_t>(1, total));
+			});
 		});
 		const std::string header =
 			"# avm-detect: " + detector.description() + "\n# input " + in.string() +
@@ -182,7 +203,6 @@ LabelRawlogSummary labelRawlog(
 		}
 		throw;
 	}
-	if (progress) progress(1.0);
 	return summary;
 }
 

@@ -1,0 +1,59 @@
+#include <gtest/gtest.h>
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include "avm/detection/TDetectorOptions.h"
+
+using namespace avm::detection;
+
+TEST(TDetectorOptions, SaveAndLoadRoundTripWithTheSameKeys)
+{
+	TDetectorOptions a;
+	a.model = "some/model.onnx";
+	a.layout = OutputLayout::Yolov8;
+	a.classes = "person, traffic light";
+	a.score_threshold = 0.5;
+	a.input_width = 640;
+	a.region_margin = 0.1;
+	mrpt::config::CConfigFileMemory cfg;
+	a.saveToConfigFile(cfg, "detection");
+	TDetectorOptions b;
+	b.loadFromConfigFile(cfg, "detection");
+	EXPECT_EQ(b.model, a.model);
+	EXPECT_EQ(b.layout, OutputLayout::Yolov8);
+	EXPECT_EQ(b.classIds(), (std::vector<int>{0, 9}));
+	EXPECT_DOUBLE_EQ(b.score_threshold, 0.5);
+	EXPECT_EQ(b.input_width, 640);
+	EXPECT_DOUBLE_EQ(b.region_margin, 0.1);
+	std::vector<std::string> keys;
+	cfg.getAllKeys("detection", keys);
+	EXPECT_EQ(keys.size(), 13u);
+}
+
+TEST(TDetectorOptions, BadValuesNameSectionAndKey)
+{
+	const std::pair<const char*, const char*> bad[] = {
+		{"score_threshold", "1.5"}, {"nms_threshold", "0"}, {"input_width", "400"}, {"layout", "yolov9"},
+		{"classes", "person, unicorn"}, {"region_margin", "-1"}, {"person_depth_band", "0"}, {"threads", "-2"},
+		{"min_valid_depth_fraction", "2"}, {"min_region_points", "0"}};
+	for (const auto& [key, value] : bad)
+	{
+		mrpt::config::CConfigFileMemory cfg(std::string("[det]\n") + key + " = " + value + "\n");
+		TDetectorOptions o;
+		try
+		{
+			o.loadFromConfigFile(cfg, "det");
+			ADD_FAILURE() << key << " = " << value << " accepted";
+		}
+		catch (const std::invalid_argument& e)
+		{
+			EXPECT_NE(std::string(e.what()).find(std::string("[det] ") + key), std::string::npos) << e.what();
+		}
+	}
+}
+
+TEST(TDetectorOptions, RelativeModelPathsStartAtTheGivenRoot)
+{
+	EXPECT_EQ(resolveModelPath("datasets/models/m.onnx", "/repo"), "/repo/datasets/models/m.onnx");
+	EXPECT_EQ(resolveModelPath("/abs/m.onnx", "/repo"), "/abs/m.onnx");
+	EXPECT_EQ(resolveModelPath("", "/repo"), "");
+}
