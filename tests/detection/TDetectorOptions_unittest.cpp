@@ -57,3 +57,11 @@ TEST(TDetectorOptions, RelativeModelPathsStartAtTheGivenRoot)
 	EXPECT_EQ(resolveModelPath("/abs/m.onnx", "/repo"), "/abs/m.onnx");
 	EXPECT_EQ(resolveModelPath("", "/repo"), "");
 }
+
+TEST(TDetectorOptions, QuotedEmptyModelMeansTheHogDetector)
+{
+	mrpt::config::CConfigFileMemory cfg("[detection]\nmodel = \"\"   // HOG\n");
+	TDetectorOptions o;
+	o.loadFromConfigFile(cfg, "detection");
+	EXPECT_EQ(o.model, "");
+}

@@ -20,6 +20,12 @@ std::string trim(const std::string& s)
 	return s.substr(b, e - b + 1);
 }
 
+/** `"x"` -> `x`, so that `model = ""` can say "no model". */
+std::string unquote(const std::string& s)
+{
+	return s.size() >= 2 && s.front() == '"' && s.back() == '"' ? s.substr(1, s.size() - 2) : s;
+}
+
 [[noreturn]] void badKey(const std::string& section, const std::string& key, const std::string& value, const std::string& why)
 {
 	throw std::invalid_argument("[" + section + "] " + key + " = " + value + ": " + why);
@@ -55,7 +61,7 @@ OutputLayout parseOutputLayout(const std::string& name)
 
 void TDetectorOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
-	model = trim(c.read_string(s, "model", model));
+	model = unquote(trim(c.read_string(s, "model", model)));
 	const std::string layoutName = c.read_string(s, "layout", toString(layout));
 	try
 	{
