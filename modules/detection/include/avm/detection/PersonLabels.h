@@ -23,7 +23,8 @@ inline constexpr const char* kPersonLabel = "person";
  *  8-bit pixelLabels of the depth image's size when there are none. Writes the
  *  (empty) label also for frames without persons, so "ran, found nobody" is
  *  told apart from "not labelled". Throws std::runtime_error if the
- *  observation has no depth image or its labels have no free bit. */
+ *  observation has no depth image, or labels of another size or with no free
+ *  bit. */
 void writePersonLabels(
 	mrpt::obs::CObservation3DRangeScan& obs, const std::vector<Detection>& persons,
 	const TDetectorOptions& options = {});
