@@ -29,6 +29,7 @@ TEST(RawlogFrameReader, ConvertedBonnSequenceHas300FramesInTimeOrderWithGroundTr
 	}
 	EXPECT_EQ(n, 300u);
 	EXPECT_TRUE(reader.skipped().empty());
+	EXPECT_EQ(io::countFrames(test::bonnRawlog()), 300u);
 }
 
 TEST(RawlogFrameReader, MrptTestRawlogIsOneRgbdFrame)

@@ -82,8 +82,10 @@ bool sameTime(const CObservation& a, const CObservation& b)
 }
 }  // namespace
 
-RawlogFrameReader::RawlogFrameReader(const fs::path& rawlog)
-	: mrpt::system::COutputLogger("RawlogFrameReader"), m_path(rawlog)
+RawlogFrameReader::RawlogFrameReader(const fs::path& rawlog) : RawlogFrameReader(rawlog, true) {}
+
+RawlogFrameReader::RawlogFrameReader(const fs::path& rawlog, bool loadImages)
+	: mrpt::system::COutputLogger("RawlogFrameReader"), m_path(rawlog), m_loadImages(loadImages)
 {
 	if (!fs::exists(rawlog)) throw std::runtime_error(rawlog.string() + ": rawlog not found");
 	if (fs::is_directory(rawlog)) throw std::runtime_error(rawlog.string() + ": is a folder, not a rawlog");
@@ -161,6 +163,7 @@ std::optional<RgbdFrame> RawlogFrameReader::next()
 		}
 		lastPose.reset();
 
+		if (!m_loadImages) return frame;
 		try
 		{
 			scan->load();
@@ -197,7 +200,7 @@ double RawlogFrameReader::progress() const
 
 std::size_t countFrames(const fs::path& rawlog)
 {
-	RawlogFrameReader reader(rawlog);
+	RawlogFrameReader reader(rawlog, false);
 	std::size_t n = 0;
 	while (reader.next()) ++n;
 	return n;

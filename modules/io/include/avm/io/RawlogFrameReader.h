@@ -30,6 +30,9 @@ class RawlogFrameReader : public mrpt::system::COutputLogger
 	 *  folder (`<name>_Images`, `_images`, `_IMAGES` or `Images`, as MRPT names it).
 	 *  Throws std::runtime_error naming the file if it is missing or unreadable. */
 	explicit RawlogFrameReader(const std::filesystem::path& rawlog);
+	/** loadImages = false: frames come with their external images unloaded
+	 *  (and unchecked), for a quick pass over the rawlog. */
+	RawlogFrameReader(const std::filesystem::path& rawlog, bool loadImages);
 	~RawlogFrameReader() override;
 	RawlogFrameReader(const RawlogFrameReader&) = delete;
 	RawlogFrameReader& operator=(const RawlogFrameReader&) = delete;
@@ -59,10 +62,11 @@ class RawlogFrameReader : public mrpt::system::COutputLogger
 	std::unique_ptr<PeekableFile> m_file;
 	std::unique_ptr<mrpt::serialization::CArchive> m_archive;
 	std::deque<mrpt::obs::CObservation::Ptr> m_pending;
+	bool m_loadImages = true;
 	std::size_t m_entries = 0, m_frames = 0;
 	std::vector<std::string> m_skipped;
 };
 
-/** Number of RGB-D frames in a rawlog (reads it through). */
+/** Number of RGB-D frames in a rawlog (reads it through, images not loaded). */
 std::size_t countFrames(const std::filesystem::path& rawlog);
 }  // namespace avm::io
