@@ -1,14 +1,10 @@
 // avm-detect: person detection on an image or over a rawlog (labelled rawlog +
 // detection list), and the detector latency benchmark.
 #include <mrpt/3rdparty/tclap/CmdLine.h>
-#include <mrpt/system/progress.h>
 
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-#include <unistd.h>
-
-#include <cstdio>
 #include <iostream>
 
 #include "avm/detection/DetectApp.h"
@@ -65,18 +61,8 @@ int main(int argc, char** argv)
 			return 0;
 		}
 		if (!argOut.isSet()) throw std::runtime_error("--rawlog needs --out OUT.rawlog (or --bench)");
-		const bool bar = !argQuiet.getValue(), terminal = ::isatty(STDERR_FILENO);
-		const auto s = labelRawlog(*detector, opt, argRawlog.getValue(), argOut.getValue(), argEvery.getValue(), [&](double f) {
-			if (!bar || (!terminal && f < 1)) return;
-			std::fprintf(stderr, "\r%s", mrpt::system::progress(f, 40).c_str());
-			if (f >= 1) std::fputc('\n', stderr);
-		});
-		std::cout << "frames:             " << s.frames << "\ndetected frames:    " << s.detectedFrames
-				  << "\nframes with person: " << s.framesWithPerson << "\npersons:            " << s.persons
-				  << "\nrawlog:             " << s.rawlog.string() << "\ndetections:         " << s.detectionsFile.string()
-				  << "\nimages:             " << (s.imagesDir.empty() ? "embedded" : s.imagesDir.string())
-				  << "\nnot labelled:       " << s.skipped.size() << "\n";
-		for (const auto& m : s.skipped) std::cout << "  " << m << "\n";
+		std::cout << summaryText(labelRawlog(
+			*detector, opt, argRawlog.getValue(), argOut.getValue(), argEvery.getValue(), progressBar(!argQuiet.getValue())));
 		return 0;
 	}
 	catch (const TCLAP::ArgException& e)

@@ -2,9 +2,12 @@
 
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/system/progress.h>
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -69,6 +72,32 @@ void writeImage(const fs::path& file, const cv::Mat& image)
 		}
 		if (!ok) throw std::runtime_error(file.string() + ": cannot write image (unknown extension or folder?)");
 	});
+}
+
+std::function<void(double)> progressBar(bool enabled)
+{
+	if (!enabled) return {};
+	const bool terminal = ::isatty(STDERR_FILENO);
+	return [terminal](double fraction) {
+		const bool done = fraction >= 1;
+		if (!terminal && !done) return;
+		std::fprintf(stderr, "\r%s", mrpt::system::progress(std::min(fraction, 1.0), 40).c_str());
+		if (done) std::fputc('\n', stderr);
+	};
+}
+
+std::string summaryText(const LabelRawlogSummary& s)
+{
+	std::string text = "frames:             " + std::to_string(s.frames) +
+					   "\ndetected frames:    " + std::to_string(s.detectedFrames) +
+					   "\nframes with person: " + std::to_string(s.framesWithPerson) +
+					   "\npersons:            " + std::to_string(s.persons) +
+					   "\nrawlog:             " + s.rawlog.string() +
+					   "\ndetections:         " + s.detectionsFile.string() +
+					   "\nimages:             " + (s.imagesDir.empty() ? std::string("embedded") : s.imagesDir.string()) +
+					   "\nnot labelled:       " + std::to_string(s.skipped.size()) + "\n";
+	for (const auto& m : s.skipped) text += "  " + m + "\n";
+	return text;
 }
 
 std::string benchmarkTable(const std::vector<DetectorBenchmark>& rows)

@@ -5,6 +5,7 @@
 #include <opencv2/core/mat.hpp>
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,13 @@ cv::Mat drawDetections(const cv::Mat& bgr, const std::vector<Detection>& detecti
 
 /** Writes an image atomically; the format follows the extension. */
 void writeImage(const std::filesystem::path& file, const cv::Mat& image);
+
+/** A progress callback drawing a bar on stderr: redrawn on a terminal, only
+ *  the final bar otherwise; nothing when disabled. */
+std::function<void(double)> progressBar(bool enabled);
+
+/** The summary avm-detect prints after a rawlog pass. */
+std::string summaryText(const LabelRawlogSummary& summary);
 
 /** A markdown table of benchmark rows. */
 std::string benchmarkTable(const std::vector<DetectorBenchmark>& rows);
