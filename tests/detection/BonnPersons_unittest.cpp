@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "TestData.h"
+#include "DetectionTestSupport.h"
 #include "avm/detection/Detector.h"
 #include "avm/detection/PersonRegion.h"
 #include "avm/io/RawlogFrameReader.h"
@@ -21,16 +21,10 @@ io::RgbdFrame bonnFrame(std::size_t index)
 	throw std::runtime_error("no frame " + std::to_string(index));
 }
 
-TDetectorOptions yoloxOptions()
-{
-	TDetectorOptions o;
-	o.model = test::sharedFile("models/yolox_nano.onnx").string();
-	return o;
-}
 
 std::vector<Detection> personsIn(const io::RgbdFrame& f)
 {
-	return personsOnly(createDetector(yoloxOptions())->detect(io::colourImage(*f.observation)));
+	return personsOnly(createDetector(test::yoloxOptions())->detect(io::colourImage(*f.observation)));
 }
 
 /** The 8 corners of a world box in the camera optical frame. */
@@ -66,7 +60,7 @@ TEST(BonnPersons, RegionOfAPersonInFrame150IsInFrontAndPersonSized)
 	ASSERT_TRUE(frame.groundTruth);
 	const auto persons = personsIn(frame);
 	ASSERT_FALSE(persons.empty());
-	auto o = yoloxOptions();
+	auto o = test::yoloxOptions();
 	o.region_margin = 0;  // the person's own extent
 	const cv::Mat depth = io::depthInMetres(*frame.observation);
 	std::size_t regions = 0;
@@ -103,7 +97,7 @@ TEST(BonnPersons, RegionMarginGrowsTheBoxOnEverySide)
 	const auto frame = bonnFrame(150);
 	const auto persons = personsIn(frame);
 	ASSERT_FALSE(persons.empty());
-	auto o = yoloxOptions();
+	auto o = test::yoloxOptions();
 	o.region_margin = 0;
 	const auto tight = personRegion(persons[0], *frame.observation, *frame.groundTruth, o);
 	o.region_margin = 0.25;
@@ -118,7 +112,7 @@ TEST(BonnPersons, MaskIsThePersonsDepthBandNotTheBackground)
 	const auto frame = bonnFrame(150);
 	const auto persons = personsIn(frame);
 	ASSERT_FALSE(persons.empty());
-	const auto o = yoloxOptions();
+	const auto o = test::yoloxOptions();
 	const cv::Mat depth = io::depthInMetres(*frame.observation);
 	const auto& p = persons[0];
 	const cv::Rect box = pixelBox(p.box, depth.size());
@@ -142,7 +136,7 @@ TEST(BonnPersons, BoxWithoutDepthIsSkippedAndMaskedWhole)
 	const auto frame = bonnFrame(150);
 	const auto persons = personsIn(frame);
 	ASSERT_FALSE(persons.empty());
-	const auto o = yoloxOptions();
+	const auto o = test::yoloxOptions();
 	cv::Mat depth = io::depthInMetres(*frame.observation);
 	const cv::Rect box = pixelBox(persons[0].box, depth.size());
 	depth(box).setTo(0);

@@ -3,36 +3,15 @@
 
 #include <opencv2/imgcodecs.hpp>
 
-#include <cstdlib>
 #include <fstream>
-#include <sstream>
 
-#include "TestData.h"
+#include "DetectionTestSupport.h"
 
 namespace fs = std::filesystem;
 using namespace avm;
 
 namespace
 {
-struct Run
-{
-	int exitCode;
-	std::string out, err;
-};
-
-Run run(const std::string& args, const fs::path& dir)
-{
-	const auto out = dir / "stdout.txt", err = dir / "stderr.txt";
-	const std::string cmd = test::binary("avm-detect").string() + " " + args + " >" + out.string() + " 2>" + err.string();
-	const int status = std::system(cmd.c_str());
-	auto slurp = [](const fs::path& p) {
-		std::ifstream f(p);
-		std::stringstream s;
-		s << f.rdbuf();
-		return s.str();
-	};
-	return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
-}
 
 std::size_t lines(const std::string& s) { return static_cast<std::size_t>(std::count(s.begin(), s.end(), '\n')); }
 }  // namespace
@@ -41,8 +20,8 @@ TEST(AvmDetectApp, ImagePrintsOneLinePerPersonAndWritesTheAnnotatedPng)
 {
 	const auto dir = test::scratchDir("det-app-image");
 	const auto png = dir / "bus-annotated.png";
-	const auto r = run(
-		"--model " + test::sharedFile("models/yolox_nano.onnx").string() + " --image " +
+	const auto r = test::runAvmDetect(
+		test::yoloxModelArgument() + " --image " +
 			test::sharedFile("images/bus.jpg").string() + " --annotate " + png.string(),
 		dir);
 	EXPECT_EQ(r.exitCode, 0) << r.err;
@@ -56,7 +35,7 @@ TEST(AvmDetectApp, ImagePrintsOneLinePerPersonAndWritesTheAnnotatedPng)
 TEST(AvmDetectApp, EmptyModelRunsHogAndSaysSo)
 {
 	const auto dir = test::scratchDir("det-app-hog");
-	const auto r = run("--model '' --image " + test::sharedFile("images/person.jpg").string(), dir);
+	const auto r = test::runAvmDetect("--model '' --image " + test::sharedFile("images/person.jpg").string(), dir);
 	EXPECT_EQ(r.exitCode, 0) << r.err;
 	EXPECT_NE(r.err.find("HOG people detector"), std::string::npos) << r.err;
 	EXPECT_GE(lines(r.out), 1u);
@@ -66,20 +45,20 @@ TEST(AvmDetectApp, BadInputsExitNonZeroNamingTheFile)
 {
 	const auto dir = test::scratchDir("det-app-bad");
 	const auto image = test::sharedFile("images/person.jpg").string();
-	auto r = run("--model " + (dir / "missing.onnx").string() + " --image " + image, dir);
+	auto r = test::runAvmDetect("--model " + (dir / "missing.onnx").string() + " --image " + image, dir);
 	EXPECT_NE(r.exitCode, 0);
 	EXPECT_NE(r.err.find("missing.onnx"), std::string::npos) << r.err;
 
-	r = run("--model '' --image " + (dir / "nothing.jpg").string(), dir);
+	r = test::runAvmDetect("--model '' --image " + (dir / "nothing.jpg").string(), dir);
 	EXPECT_NE(r.exitCode, 0);
 	EXPECT_NE(r.err.find("nothing.jpg"), std::string::npos) << r.err;
 
 	std::ofstream(dir / "bad.ini") << "[detection]\nscore_threshold = 7\n";
-	r = run("--config " + (dir / "bad.ini").string() + " --image " + image, dir);
+	r = test::runAvmDetect("--config " + (dir / "bad.ini").string() + " --image " + image, dir);
 	EXPECT_NE(r.exitCode, 0);
 	EXPECT_NE(r.err.find("[detection] score_threshold"), std::string::npos) << r.err;
 
-	r = run("--config " + (dir / "none.ini").string() + " --image " + image, dir);
+	r = test::runAvmDetect("--config " + (dir / "none.ini").string() + " --image " + image, dir);
 	EXPECT_NE(r.exitCode, 0);
 	EXPECT_NE(r.err.find("none.ini"), std::string::npos) << r.err;
 }
@@ -88,7 +67,7 @@ TEST(AvmDetectApp, UnknownIniKeyIsWarnedAbout)
 {
 	const auto dir = test::scratchDir("det-app-typo");
 	std::ofstream(dir / "typo.ini") << "[detection]\nmodel = \"\"\nscore_treshold = 0.2\n";
-	const auto r = run("--config " + (dir / "typo.ini").string() + " --image " + test::sharedFile("images/person.jpg").string(), dir);
+	const auto r = test::runAvmDetect("--config " + (dir / "typo.ini").string() + " --image " + test::sharedFile("images/person.jpg").string(), dir);
 	EXPECT_EQ(r.exitCode, 0) << r.err;
 	EXPECT_NE(r.err.find("unknown key [detection] score_treshold"), std::string::npos) << r.err;
 }
@@ -96,7 +75,7 @@ TEST(AvmDetectApp, UnknownIniKeyIsWarnedAbout)
 TEST(AvmDetectApp, ProjectIniLoadsWithoutWarnings)
 {
 	const auto dir = test::scratchDir("det-app-ini");
-	const auto r = run(
+	const auto r = test::runAvmDetect(
 		"--config " + (fs::path(AVM_SOURCE_DIR) / "ini/detect.ini").string() + " --model '' --image " +
 			test::sharedFile("images/person.jpg").string(),
 		dir);

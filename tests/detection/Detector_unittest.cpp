@@ -7,7 +7,7 @@
 #include <fstream>
 #include <future>
 
-#include "TestData.h"
+#include "DetectionTestSupport.h"
 #include "avm/detection/Detector.h"
 #include "avm/detection/OutputDecoders.h"
 
@@ -17,12 +17,6 @@ namespace fs = std::filesystem;
 
 namespace
 {
-TDetectorOptions yoloxOptions()
-{
-	TDetectorOptions o;
-	o.model = test::sharedFile("models/yolox_nano.onnx").string();
-	return o;
-}
 
 cv::Mat image(const std::string& name)
 {
@@ -58,7 +52,7 @@ void expectLoadErrorNaming(const fs::path& model, const std::string& alsoMention
 TEST(YoloxDetector, BusJpgHasAtLeastThreeUprightPersonsInsideTheImage)
 {
 	const cv::Mat bus = image("bus.jpg");
-	const auto det = createDetector(yoloxOptions());
+	const auto det = createDetector(test::yoloxOptions());
 	const auto persons = det->detect(bus);
 	EXPECT_GE(persons.size(), 3u);
 	for (const auto& p : persons)
@@ -78,7 +72,7 @@ TEST(YoloxDetector, BusJpgHasAtLeastThreeUprightPersonsInsideTheImage)
 
 TEST(YoloxDetector, PersonJpgHasExactlyOnePerson)
 {
-	const auto dets = createDetector(yoloxOptions())->detect(image("person.jpg"));
+	const auto dets = createDetector(test::yoloxOptions())->detect(image("person.jpg"));
 	ASSERT_EQ(dets.size(), 1u);
 	EXPECT_EQ(dets[0].className, "person");
 	// The person stands left of the centre, between the dog and the horse.
@@ -89,7 +83,7 @@ TEST(YoloxDetector, PersonJpgHasExactlyOnePerson)
 
 TEST(YoloxDetector, WidenedClassFilterAlsoFindsTheDogAndTheHorse)
 {
-	auto o = yoloxOptions();
+	auto o = test::yoloxOptions();
 	o.classes = "person, dog, horse";
 	const auto dets = createDetector(o)->detect(image("person.jpg"));
 	EXPECT_EQ(countClass(dets, "person"), 1u);
@@ -169,7 +163,7 @@ TEST(DetectorErrors, TextFileIsNotAnOnnxModel)
 
 TEST(DetectorErrors, LayoutThatDoesNotFitTheOutputNamesFileAndShape)
 {
-	auto o = yoloxOptions();
+	auto o = test::yoloxOptions();
 	o.layout = OutputLayout::Yolov8;
 	try
 	{
@@ -188,10 +182,10 @@ TEST(DetectorErrors, LayoutThatDoesNotFitTheOutputNamesFileAndShape)
 TEST(YoloxDetector, InstancesOnTwoThreadsMatchSerialResults)
 {
 	const cv::Mat bus = image("bus.jpg"), person = image("person.jpg");
-	const auto expectedBus = createDetector(yoloxOptions())->detect(bus);
-	const auto expectedPerson = createDetector(yoloxOptions())->detect(person);
+	const auto expectedBus = createDetector(test::yoloxOptions())->detect(bus);
+	const auto expectedPerson = createDetector(test::yoloxOptions())->detect(person);
 	auto run = [](cv::Mat img) {
-		auto det = createDetector(yoloxOptions());
+		auto det = createDetector(test::yoloxOptions());
 		std::vector<Detection> last;
 		for (int i = 0; i < 5; ++i) last = det->detect(img);
 		return last;

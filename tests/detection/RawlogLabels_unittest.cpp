@@ -3,7 +3,7 @@
 
 #include <fstream>
 
-#include "TestData.h"
+#include "DetectionTestSupport.h"
 #include "avm/detection/Detector.h"
 #include "avm/detection/PersonLabels.h"
 #include "avm/detection/RawlogDetection.h"
@@ -13,21 +13,11 @@ using namespace avm;
 using namespace avm::detection;
 namespace fs = std::filesystem;
 
-namespace
-{
-TDetectorOptions yoloxOptions()
-{
-	TDetectorOptions o;
-	o.model = test::sharedFile("models/yolox_nano.onnx").string();
-	return o;
-}
-}  // namespace
-
 TEST(RawlogLabels, PersonLabelsSurviveARawlogRoundTripWithTheSameImages)
 {
 	const auto dir = test::scratchDir("det-labelled");
 	const auto out = dir / "labelled.rawlog";
-	const auto o = yoloxOptions();
+	const auto o = test::yoloxOptions();
 	const auto det = createDetector(o);
 	const auto s = labelRawlog(*det, o, test::bonnRawlog(), out, 50);
 	EXPECT_EQ(s.frames, 300u);
@@ -92,7 +82,7 @@ TEST(RawlogLabels, TruncatedInputIsAnErrorAndLeavesNoOutput)
 		std::string bytes(std::istreambuf_iterator<char>(in), {});
 		std::ofstream(cut, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size() / 3));
 	}
-	const auto o = yoloxOptions();
+	const auto o = test::yoloxOptions();
 	const auto det = createDetector(o);
 	try
 	{
@@ -110,7 +100,7 @@ TEST(RawlogLabels, TruncatedInputIsAnErrorAndLeavesNoOutput)
 TEST(RawlogLabels, MissingInputAndOutputOverInputAreRefused)
 {
 	const auto dir = test::scratchDir("det-bad-args");
-	const auto o = yoloxOptions();
+	const auto o = test::yoloxOptions();
 	const auto det = createDetector(o);
 	EXPECT_THROW(labelRawlog(*det, o, dir / "none.rawlog", dir / "out.rawlog"), std::runtime_error);
 	EXPECT_THROW(labelRawlog(*det, o, test::bonnRawlog(), test::bonnRawlog()), std::runtime_error);
