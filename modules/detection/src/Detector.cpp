@@ -180,8 +180,9 @@ class HogPeopleDetector : public DetectorBase
 
 	std::string description() const override
 	{
-		return "HOG people detector (OpenCV default linear SVM, no model file; hit threshold " +
-			   std::to_string(m_hitThreshold) + ")";
+		std::ostringstream s;
+		s << "HOG people detector (OpenCV default linear SVM, no model file; hit threshold " << m_hitThreshold << ")";
+		return s.str();
 	}
 
    private:

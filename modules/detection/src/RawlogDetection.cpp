@@ -103,6 +103,9 @@ class LabellingPass
 			if (obs.hasIntensityImage) obs.intensityImage.forceLoad();
 			const cv::Mat bgr = io::colourImage(obs);
 			if (!obs.hasRangeImage) throw std::runtime_error("no depth image");
+			// Boxes found in the colour image are used as depth pixels.
+			if (bgr.cols != obs.rangeImage.cols() || bgr.rows != obs.rangeImage.rows())
+				throw std::runtime_error("colour and depth images differ in size (not registered)");
 			const auto detections = m_detector.detect(bgr);
 			writePersonLabels(obs, detections, m_options);
 			const cv::Mat depth = io::depthInMetres(obs);
