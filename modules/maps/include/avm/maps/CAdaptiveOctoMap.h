@@ -1,0 +1,331 @@
+// avm::CAdaptiveOctoMap — an MRPT metric map made of two OctoMaps: a coarse
+// tree for the scene and a fine one for the space around detected people
+// (Choi & Shin 2025, Algorithm 1 resolution switching and Algorithm 2 overlap
+// filtering), usable from any MRPT app as the plugin map "adaptiveOctoMap".
+//
+// Where things live: src/ResolutionPolicy.cpp decides which space goes to
+// which tree (Algorithm 1, regions, triggers), src/RayIntegrator.cpp turns a
+// scan into per-tree free/occupied key sets (the hot path),
+// src/CAdaptiveOctoMap_{options,query,likelihood,io,render}.cpp the rest.
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/maps/CMetricMap.h>
+#include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/math/TBoundingBox.h>
+#include <mrpt/math/TPoint3D.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace octomap
+{
+class OcTree;
+}
+
+namespace avm
+{
+namespace detail
+{
+class ResolutionPolicy;
+class RayIntegrator;
+struct ScanTargets;
+}  // namespace detail
+
+/** How the map decides what goes into the high-resolution tree. */
+enum class SwitchPolicy
+{
+	/** Algorithm 1 as published: the low tree until the first trigger, then
+	 *  every cloud goes to the high tree, filtered by Algorithm 2. */
+	Paper,
+	/** Space inside the active regions (boxes around people) is mapped in
+	 *  the high tree, the rest in the low tree, split along every ray. */
+	Region
+};
+std::string toString(SwitchPolicy p);
+/** Parses "paper" / "region"; throws std::invalid_argument otherwise. */
+SwitchPolicy switchPolicyFromString(const std::string& s);
+
+enum class OccupancyState : std::uint8_t
+{
+	Unknown,
+	Free,
+	Occupied
+};
+
+/** Which of the two trees. */
+enum class Resolution : std::uint8_t
+{
+	Low,
+	High
+};
+
+/** The answer to CAdaptiveOctoMap::query(). */
+struct TOccupancyQuery
+{
+	OccupancyState state = OccupancyState::Unknown;
+	/** Occupancy probability (0.5 when unknown). */
+	double probability = 0.5;
+	/** The tree responsible for this point (the one that answered, or the one
+	 *  that would map it when it is unknown). */
+	Resolution tree = Resolution::Low;
+	/** Voxel edge of that tree [m]. */
+	double resolution = 0;
+};
+
+/** One visible leaf of either tree (see CAdaptiveOctoMap::forEachLeaf). */
+struct TLeafVoxel
+{
+	mrpt::math::TPoint3D center;
+	double size = 0;  //!< edge [m]; larger than the resolution for pruned leaves
+	double probability = 0.5;
+	bool occupied = false;
+};
+
+class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
+{
+	DEFINE_SERIALIZABLE(CAdaptiveOctoMap, avm)
+
+   public:
+	/** The parameters of one octree. All keys carry the tree's prefix
+	 *  ("low_" or "high_") in the `_creationOpts` section. */
+	struct TTreeOptions : public mrpt::config::CLoadableOptions
+	{
+		explicit TTreeOptions(std::string keyPrefix, double resolution);
+
+		std::string keyPrefix;	//!< "low_" or "high_" (not loaded)
+		double resolution;	//!< [m] voxel edge
+		double probHit = 0.7;  //!< hit probability of the sensor model
+		double probMiss = 0.4;	//!< miss probability of the sensor model
+		double clampingThresMin = 0.1192;  //!< lower clamping probability
+		double clampingThresMax = 0.971;  //!< upper clamping probability
+		double occupancyThres = 0.5;  //!< probability above which a voxel is occupied
+		/** [m] rays longer than this are cut there: free space up to it, no
+		 *  occupied endpoint (as octomap's insertPointCloud maxrange). */
+		double maxRange = 5.0;
+
+		void loadFromConfigFile(
+			const mrpt::config::CConfigFileBase& source, const std::string& section) override;
+		void saveToConfigFile(
+			mrpt::config::CConfigFileBase& target, const std::string& section) const override;
+		/** Throws std::invalid_argument naming "[section] <prefix>key". */
+		void validate(const std::string& section) const;
+	};
+
+	/** Section `<prefix>_creationOpts`: the two trees. */
+	struct TCreationOptions : public mrpt::config::CLoadableOptions
+	{
+		TTreeOptions low{"low_", 0.20};
+		TTreeOptions high{"high_", 0.05};
+
+		void loadFromConfigFile(
+			const mrpt::config::CConfigFileBase& source, const std::string& section) override;
+		void saveToConfigFile(
+			mrpt::config::CConfigFileBase& target, const std::string& section) const override;
+		/** Both trees valid, and high.resolution finer than low.resolution and
+		 *  dividing it exactly (so no high voxel straddles a low one). */
+		void validate(const std::string& section) const;
+	};
+
+	/** Section `<prefix>_insertOpts`: switching policy and its triggers. */
+	struct TInsertionOptions : public mrpt::config::CLoadableOptions
+	{
+		SwitchPolicy switchPolicy = SwitchPolicy::Region;
+		/** [m] grown on each side of a box derived from pixel labels. */
+		double regionMargin = 0.30;
+		/** Insertions after which a region that no label refreshed is dropped
+		 *  (its high voxels deleted, its space back to the low tree); 0 = never. */
+		std::uint32_t regionExpiryFrames = 0;
+		/** Label name of the pixels that trigger a region/switch. */
+		std::string personLabel = "person";
+		/** Fewer labelled pixels with depth than this are ignored. */
+		std::uint32_t minLabelPixels = 200;
+		/** [m] labelled points farther than this from the label's median depth
+		 *  are taken as background seen through the mask and dropped. */
+		double labelDepthBand = 0.75;
+		/** The box spans the [p, 1-p] percentiles of the labelled points. */
+		double labelPercentile = 0.02;
+		/** paper policy: switch at this insertion index (-1 = off). */
+		std::int64_t switchAtFrame = -1;
+		/** paper policy: switch at this fraction of the run (-1 = off); needs
+		 *  expectedFrameCount or setExpectedFrameCount(). */
+		double switchAtFraction = -1;
+		/** Frames in the run, for switchAtFraction (0 = unknown). */
+		std::uint64_t expectedFrameCount = 0;
+
+		void loadFromConfigFile(
+			const mrpt::config::CConfigFileBase& source, const std::string& section) override;
+		void saveToConfigFile(
+			mrpt::config::CConfigFileBase& target, const std::string& section) const override;
+		void validate(const std::string& section) const;
+	};
+
+	/** Section `<prefix>_likelihoodOpts`. */
+	struct TLikelihoodOptions : public mrpt::config::CLoadableOptions
+	{
+		/** Use one pixel in `decimation` along rows and columns. */
+		std::uint32_t decimation = 8;
+
+		void loadFromConfigFile(
+			const mrpt::config::CConfigFileBase& source, const std::string& section) override;
+		void saveToConfigFile(
+			mrpt::config::CConfigFileBase& target, const std::string& section) const override;
+		void validate(const std::string& section) const;
+	};
+
+	/** Section `<prefix>_renderOpts`: what getVisualizationInto() draws. */
+	struct TRenderingOptions : public mrpt::config::CLoadableOptions
+	{
+		bool showFreeSpace = false;
+		bool showRegions = true;
+
+		void loadFromConfigFile(
+			const mrpt::config::CConfigFileBase& source, const std::string& section) override;
+		void saveToConfigFile(
+			mrpt::config::CConfigFileBase& target, const std::string& section) const override;
+	};
+
+	/** Size figures of one tree, for the paper's comparison. Leaf counts are
+	 *  over the leaves of the (pruned) tree, as octomap's leaf iterator sees
+	 *  them: a pruned leaf counts once whatever its size; only leaves that the
+	 *  map shows (see forEachLeaf) are counted. */
+	struct TTreeStats
+	{
+		double resolution = 0;
+		std::size_t occupiedLeaves = 0, freeLeaves = 0;
+		std::size_t memoryBytes = 0;  //!< octomap's memoryUsage()
+		std::size_t binaryBytes = 0;  //!< size of the .bt file
+	};
+
+	struct TRayHit
+	{
+		mrpt::math::TPoint3D point;	 //!< centre of the occupied voxel hit
+		Resolution tree = Resolution::Low;
+		double resolution = 0;
+	};
+
+	/** Default options (region policy, 0.20 m / 0.05 m). */
+	CAdaptiveOctoMap();
+	/** Throws std::invalid_argument (naming the key) on invalid options. */
+	CAdaptiveOctoMap(
+		const TCreationOptions& creation, const TInsertionOptions& insertion, const TLikelihoodOptions& likelihood);
+	~CAdaptiveOctoMap() override;
+	CAdaptiveOctoMap(const CAdaptiveOctoMap& other);
+	CAdaptiveOctoMap& operator=(const CAdaptiveOctoMap& other);
+
+	/** The tree parameters; fixed for the map's life (clear() keeps them). */
+	const TCreationOptions& creationOptions() const { return m_creation; }
+	TInsertionOptions insertionOptions;
+	TLikelihoodOptions likelihoodOptions;
+	TRenderingOptions renderingOptions;
+
+	/** @name Triggers (Algorithm 1)
+	 * @{ */
+	/** Region policy: from now on, the box (world frame, used as given, then
+	 *  grown to the low tree's voxel grid) is mapped in the high tree; low
+	 *  voxels inside it are deleted. Overlapping regions merge. Paper policy:
+	 *  the call is a trigger like switchToHighResolution(). Throws
+	 *  std::invalid_argument on an empty or non-finite box. */
+	void addHighResolutionRegion(const mrpt::math::TBoundingBox& worldBox);
+	/** Paper policy: every later insertion goes to the high tree (filtered by
+	 *  Algorithm 2). Region policy: std::logic_error (a region is needed). */
+	void switchToHighResolution();
+	/** Paper: switched. Region: at least one region is active. */
+	bool isHighResolutionActive() const;
+	std::vector<mrpt::math::TBoundingBox> highResolutionRegions() const;
+	/** Index (0-based, among successful insertions) of the first insertion
+	 *  that used the high tree. */
+	std::optional<std::size_t> switchInsertionIndex() const;
+	/** Frames in the run, for `switch_at_fraction`. */
+	void setExpectedFrameCount(std::size_t frames);
+	/** Inserts points already in the world frame, rays cast from
+	 *  `sensorOrigin` (a points map with a sensor origin). False if empty. */
+	bool insertPointCloud(const mrpt::maps::CPointsMap& worldPoints, const mrpt::math::TPoint3D& sensorOrigin);
+	/** Successful insertions so far. */
+	std::size_t insertionCount() const;
+	/** @} */
+
+	/** @name Queries over both trees
+	 * @{ */
+	TOccupancyQuery query(const mrpt::math::TPoint3D& p) const;
+	/** First occupied voxel along the ray (direction need not be unit), up to
+	 *  maxRange [m]; unknown space is passed through. Marches in steps of half
+	 *  the finest resolution. */
+	std::optional<TRayHit> castRay(
+		const mrpt::math::TPoint3D& origin, const mrpt::math::TPoint3D& direction,
+		double maxRange) const;
+	/** Box of all known (free or occupied) visible voxels; nothing when empty. */
+	std::optional<mrpt::math::TBoundingBox> knownSpaceBoundingBox() const;
+	/** Calls `visit` for every leaf of `tree` that the map shows: in region
+	 *  policy all leaves (the low tree holds no region space); in paper policy
+	 *  the high tree's leaves where the low tree has no node (Algorithm 2). */
+	void forEachLeaf(Resolution tree, const std::function<void(const TLeafVoxel&)>& visit) const;
+	TTreeStats lowResolutionStats() const;
+	/** All zeros except the resolution while the high tree does not exist. */
+	TTreeStats highResolutionStats() const;
+	/** Bytes of this map serialized by MRPT. */
+	std::size_t serializedBytes() const;
+	/** @} */
+
+	/** Read-only access to a tree (nullptr: the high tree is not created yet). */
+	const octomap::OcTree* tree(Resolution which) const;
+
+	/** @name CMetricMap
+	 * @{ */
+	bool isEmpty() const override;
+	/** Writes prefix_low.bt, prefix_high.bt (empty tree if not created) and
+	 *  prefix.3Dscene, each atomically. */
+	void saveMetricMapRepresentationToFile(const std::string& prefix) const override;
+	void getVisualizationInto(mrpt::opengl::CSetOfObjects& outObj) const override;
+	/** Centres of the occupied visible voxels of both trees. */
+	const mrpt::maps::CSimplePointsMap* getAsSimplePointsMap() const override;
+	/** Fraction of the other map's points (moved by otherMapPose) that fall in
+	 *  occupied voxels of this map. */
+	float compute3DMatchingRatio(
+		const mrpt::maps::CMetricMap* otherMap, const mrpt::poses::CPose3D& otherMapPose,
+		const mrpt::maps::TMatchingRatioParams& params) const override;
+	std::string asString() const override;
+	/** @} */
+
+	MAP_DEFINITION_START(CAdaptiveOctoMap)
+	TCreationOptions creationOpts;
+	TInsertionOptions insertionOpts;
+	TLikelihoodOptions likelihoodOpts;
+	TRenderingOptions renderOpts;
+	MAP_DEFINITION_END(CAdaptiveOctoMap)
+
+   protected:
+	void internal_clear() override;
+	bool internal_insertObservation(
+		const mrpt::obs::CObservation& obs,
+		const std::optional<const mrpt::poses::CPose3D>& robotPose) override;
+	double internal_computeObservationLikelihood(
+		const mrpt::obs::CObservation& obs, const mrpt::poses::CPose3D& takenFrom) const override;
+	bool internal_canComputeObservationLikelihood(const mrpt::obs::CObservation& obs) const override;
+
+   private:
+	octomap::OcTree& ensureHighTree();
+	/** Forced switch, expiry and region changes for the coming insertion;
+	 *  returns where its scan goes. */
+	detail::ScanTargets prepareInsertion();
+	void finishInsertion();
+	/** Applies the region changes the policy reports to the trees. */
+	void applyRegionChanges();
+	bool isLeafVisible(Resolution tree, const mrpt::math::TPoint3D& center) const;
+	TTreeStats statsOf(Resolution which) const;
+
+	TCreationOptions m_creation;
+	std::unique_ptr<octomap::OcTree> m_low, m_high;
+	std::unique_ptr<detail::ResolutionPolicy> m_policy;
+	/** Scratch buffers of the insertion hot path; not part of the map state. */
+	std::unique_ptr<detail::RayIntegrator> m_integrator;
+	std::size_t m_insertions = 0;
+	mutable mrpt::maps::CSimplePointsMap m_pointsCache;
+	mutable bool m_pointsCacheValid = false;
+};
+}  // namespace avm

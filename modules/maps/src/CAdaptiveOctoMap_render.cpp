@@ -1,0 +1,72 @@
+// What MRPT viewers show: both trees as voxels in distinct colours (only
+// stock MRPT OpenGL classes, so a .3Dscene opens without the plugin), and
+// the occupied voxel centres as a points map.
+#include <mrpt/opengl/CBox.h>
+#include <mrpt/opengl/COctoMapVoxels.h>
+#include <mrpt/opengl/CSetOfObjects.h>
+
+#include "ResolutionPolicy.h"
+#include "avm/maps/CAdaptiveOctoMap.h"
+
+using namespace avm;
+
+namespace
+{
+// Voxel sets of the COctoMapVoxels object.
+enum VoxelSet : std::size_t
+{
+	LowOccupied,
+	HighOccupied,
+	LowFree,
+	HighFree,
+	VoxelSetCount
+};
+const mrpt::img::TColor kLowColour(70, 110, 200), kHighColour(235, 90, 30);
+const mrpt::img::TColor kLowFreeColour(150, 170, 220, 40), kHighFreeColour(250, 190, 150, 40);
+const mrpt::img::TColor kRegionColour(40, 200, 60);
+}  // namespace
+
+void CAdaptiveOctoMap::getVisualizationInto(mrpt::opengl::CSetOfObjects& outObj) const
+{
+	if (!genericMapParams.enableSaveAs3DObject) return;
+	auto voxels = mrpt::opengl::COctoMapVoxels::Create();
+	voxels->resizeVoxelSets(VoxelSetCount);
+	auto add = [&](Resolution which) {
+		const bool high = which == Resolution::High;
+		forEachLeaf(which, [&](const TLeafVoxel& v) {
+			if (v.occupied)
+				voxels->push_back_Voxel(high ? HighOccupied : LowOccupied,
+					mrpt::opengl::COctoMapVoxels::TVoxel(v.center, v.size, high ? kHighColour : kLowColour));
+			else if (renderingOptions.showFreeSpace)
+				voxels->push_back_Voxel(high ? HighFree : LowFree,
+					mrpt::opengl::COctoMapVoxels::TVoxel(v.center, v.size, high ? kHighFreeColour : kLowFreeColour));
+		});
+	};
+	add(Resolution::Low);
+	add(Resolution::High);
+	if (const auto box = knownSpaceBoundingBox()) voxels->setBoundingBox(box->min, box->max);
+	voxels->showGridLines(false);
+	voxels->enableCubeTransparency(renderingOptions.showFreeSpace);
+	outObj.insert(voxels);
+
+	if (!renderingOptions.showRegions) return;
+	for (const auto& r : m_policy->regions())
+	{
+		auto box = mrpt::opengl::CBox::Create(r.box.min, r.box.max, true /*wireframe*/);
+		box->setColor_u8(kRegionColour);
+		outObj.insert(box);
+	}
+}
+
+const mrpt::maps::CSimplePointsMap* CAdaptiveOctoMap::getAsSimplePointsMap() const
+{
+	if (m_pointsCacheValid) return &m_pointsCache;
+	m_pointsCache.clear();
+	auto add = [&](const TLeafVoxel& v) {
+		if (v.occupied) m_pointsCache.insertPoint(v.center);
+	};
+	forEachLeaf(Resolution::Low, add);
+	forEachLeaf(Resolution::High, add);
+	m_pointsCacheValid = true;
+	return &m_pointsCache;
+}

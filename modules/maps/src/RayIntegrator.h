@@ -1,0 +1,102 @@
+// Scan -> per-tree free/occupied key sets -> octree updates: the insertion hot
+// path. Endpoints are discretized and deduplicated per voxel before any ray
+// is cast (as octomap's insertPointCloud with discretize=true), every ray is
+// cast once, and the part of a ray inside a high-resolution region updates the
+// high tree while the rest updates the low tree.
+#pragma once
+
+#include <mrpt/math/TPoint3D.h>
+#include <mrpt/obs/CObservation3DRangeScan.h>
+#include <mrpt/poses/CPose3D.h>
+#include <octomap/OcTree.h>
+
+#include <vector>
+
+#include "KeySet.h"
+#include "ResolutionPolicy.h"
+
+namespace avm::detail
+{
+/** Where one scan goes. */
+struct ScanTargets
+{
+	/** Space outside every region: the low tree, or the high tree once the
+	 *  paper policy has switched. */
+	octomap::OcTree* outside = nullptr;
+	double outsideMaxRange = 0;
+	/** Algorithm 2: an endpoint voxel is dropped when this tree has a node at
+	 *  its centre (paper policy after the switch: the low tree). */
+	const octomap::OcTree* overlapFilter = nullptr;
+	/** Space inside `regions` (region policy): the high tree. */
+	octomap::OcTree* inside = nullptr;
+	double insideMaxRange = 0;
+	const std::vector<Region>* regions = nullptr;
+};
+
+class RayIntegrator
+{
+   public:
+	/** Unprojects the depth image itself (no points3D needed). */
+	void integrateDepthImage(
+		const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& sensorPose,
+		const ScanTargets& targets);
+	/** Points in the world frame, rays from `origin`. */
+	void integrateWorldPoints(
+		const float* xs, const float* ys, const float* zs, std::size_t n, const mrpt::math::TPoint3D& origin,
+		const ScanTargets& targets);
+	/** Points in the sensor frame, placed by `sensorPose`. */
+	void integrateSensorPoints(
+		const float* xs, const float* ys, const float* zs, std::size_t n, const mrpt::poses::CPose3D& sensorPose,
+		const ScanTargets& targets);
+
+   private:
+	enum class Endpoint
+	{
+		None,
+		Outside,
+		Inside
+	};
+	struct Grid
+	{
+		double resolution = 0, inverse = 0;
+		void set(double res)
+		{
+			resolution = res;
+			inverse = 1.0 / res;
+		}
+	};
+
+	void begin(const mrpt::math::TPoint3D& origin, const ScanTargets& targets);
+	/** `nearRegion`: the ray may end in or cross a region (false lets the
+	 *  depth-image path skip the region tests for most pixels). */
+	void addPoint(double x, double y, double z, bool nearRegion);
+	void finish();
+	void castRay(
+		const mrpt::math::TPoint3D& end, std::uint64_t endKey, Endpoint endpoint, bool castOutside,
+		bool castInside);
+	void castSegment(bool inside, double a, double b, bool extendStart, bool extendEnd, double length);
+	bool insideAnyRegion(double x, double y, double z) const;
+	void applyUpdates(octomap::OcTree& tree, const Grid& grid, const KeySet& freeKeys, const KeySet& occupiedKeys,
+		bool keepInsideRegions);
+
+	ScanTargets m_targets;
+	mrpt::math::TPoint3D m_origin;
+	/** end - origin of the ray being cast. */
+	mrpt::math::TPoint3D m_rayDir;
+	Grid m_outsideGrid, m_insideGrid;
+	bool m_hasRegions = false;
+	/** Endpoint voxels: outside regions, inside regions, and the high-grid
+	 *  endpoints of rays that cross a region without ending in one. */
+	KeySet m_outsideEnds, m_insideEnds, m_crossingEnds;
+	KeySet m_outsideFree, m_outsideOccupied, m_insideFree, m_insideOccupied;
+	std::uint64_t m_lastOutsideKey = 0;
+	octomap::KeyRay m_ray;
+	std::vector<std::pair<double, double>> m_intervals;
+	std::vector<double> m_columnFactor;
+	struct PixelRect
+	{
+		int u0, u1, v0, v1;
+	};
+	std::vector<PixelRect> m_regionRects;
+};
+}  // namespace avm::detail

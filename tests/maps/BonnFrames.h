@@ -1,0 +1,95 @@
+// The Bonn frames the map tests insert (depth + ground-truth camera pose),
+// read once per test binary, and the reference maps they are compared with.
+#pragma once
+
+#include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/obs/CObservation3DRangeScan.h>
+#include <mrpt/poses/CPose3D.h>
+#include <octomap/OcTree.h>
+
+#include <cstddef>
+#include <set>
+#include <tuple>
+#include <vector>
+
+#include "TestData.h"
+#include "avm/io/RawlogFrameReader.h"
+
+namespace avm::test
+{
+struct MapFrame
+{
+	std::size_t index;
+	mrpt::obs::CObservation3DRangeScan::Ptr obs;
+	mrpt::poses::CPose3D pose;	//!< ground truth, camera optical frame
+};
+
+/** Every `step`-th frame among the first `count` with ground truth. */
+inline std::vector<MapFrame> bonnFrames(std::size_t count, std::size_t step)
+{
+	std::vector<MapFrame> out;
+	avm::io::RawlogFrameReader reader(bonnRawlog());
+	while (auto f = reader.next())
+	{
+		if (f->index >= count) break;
+		if (f->index % step != 0 || !f->groundTruth) continue;
+		out.push_back({f->index, f->observation, *f->groundTruth});
+	}
+	if (out.empty()) throw std::runtime_error("no frames with ground truth in " + bonnRawlog().string());
+	return out;
+}
+
+/** A single-resolution OctoMap built by octomap itself: MRPT unprojects the
+ *  depth image, octomap's insertPointCloud(discretize = true) integrates it. */
+inline void insertWithOctomap(octomap::OcTree& tree, const MapFrame& f, double maxRange)
+{
+	mrpt::maps::CSimplePointsMap pts;
+	mrpt::obs::T3DPointsProjectionParams pp;
+	pp.takeIntoAccountSensorPoseOnRobot = true;
+	pp.robotPoseInTheWorld = f.pose;
+	f.obs->unprojectInto(pts, pp);
+	octomap::Pointcloud cloud;
+	cloud.reserve(pts.size());
+	const auto& xs = pts.getPointsBufferRef_x();
+	const auto& ys = pts.getPointsBufferRef_y();
+	const auto& zs = pts.getPointsBufferRef_z();
+	for (std::size_t i = 0; i < pts.size(); i++) cloud.push_back(xs[i], ys[i], zs[i]);
+	const auto o = (f.pose + f.obs->sensorPose).translation();
+	tree.insertPointCloud(cloud, octomap::point3d(o.x, o.y, o.z), maxRange, false, true);
+}
+
+using VoxelKey = std::tuple<int, int, int>;
+
+/** Finest-level keys of the occupied voxels of `tree` whose centre passes
+ *  `keep` (pruned occupied leaves are split into their voxels). */
+template <typename Pred>
+std::set<VoxelKey> occupiedVoxels(const octomap::OcTree& tree, Pred keep)
+{
+	std::set<VoxelKey> out;
+	if (tree.size() == 0) return out;
+	const double res = tree.getResolution();
+	for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it)
+	{
+		if (!tree.isNodeOccupied(*it)) continue;
+		const auto c = it.getCoordinate();
+		const double h = 0.5 * it.getSize();
+		for (double x = c.x() - h + 0.5 * res; x < c.x() + h; x += res)
+			for (double y = c.y() - h + 0.5 * res; y < c.y() + h; y += res)
+				for (double z = c.z() - h + 0.5 * res; z < c.z() + h; z += res)
+					if (keep(x, y, z))
+					{
+						const auto k = tree.coordToKey(x, y, z);
+						out.emplace(k[0], k[1], k[2]);
+					}
+	}
+	return out;
+}
+
+inline double intersectionOverUnion(const std::set<VoxelKey>& a, const std::set<VoxelKey>& b)
+{
+	std::size_t common = 0;
+	for (const auto& k : a) common += b.count(k);
+	const std::size_t uni = a.size() + b.size() - common;
+	return uni == 0 ? 1.0 : static_cast<double>(common) / static_cast<double>(uni);
+}
+}  // namespace avm::test

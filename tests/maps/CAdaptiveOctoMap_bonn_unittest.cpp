@@ -1,0 +1,332 @@
+// avm::CAdaptiveOctoMap on real data: Bonn crowd frames with ground-truth
+// poses. What each test compares is stated in it.
+#include <gtest/gtest.h>
+#include <mrpt/core/bits_math.h>
+#include <mrpt/io/CMemoryStream.h>
+#include <mrpt/math/CMatrixDynamic.h>
+#include <mrpt/obs/TPixelLabelInfo.h>
+#include <mrpt/opengl/COpenGLScene.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <filesystem>
+#include <map>
+
+#include "BonnFrames.h"
+#include "avm/maps/CAdaptiveOctoMap.h"
+
+using avm::CAdaptiveOctoMap;
+using avm::Resolution;
+using avm::test::bonnFrames;
+using avm::test::MapFrame;
+
+namespace
+{
+/** Every 5th of the first 150 frames: 30 frames, about 1 m of camera path
+ *  and the first people entering the view. */
+const std::vector<MapFrame>& frames()
+{
+	static const auto f = bonnFrames(150, 5);
+	return f;
+}
+
+void insertAll(CAdaptiveOctoMap& map, const std::vector<MapFrame>& fs)
+{
+	for (const auto& f : fs) ASSERT_TRUE(map.insertObservation(*f.obs, f.pose)) << "frame " << f.index;
+}
+
+/** A box around the surface seen at the centre of the first frame. */
+mrpt::math::TBoundingBox boxAheadOfFirstFrame(double halfSize)
+{
+	const auto& f = frames().front();
+	const auto& img = f.obs->rangeImage;
+	const double d = img(img.rows() / 2, img.cols() / 2) * f.obs->rangeUnits;
+	EXPECT_GT(d, 0.3) << "no depth at the centre pixel of frame " << f.index;
+	const auto p = (f.pose + f.obs->sensorPose).composePoint(mrpt::math::TPoint3D(d, 0, 0));
+	const mrpt::math::TPoint3D h(halfSize, halfSize, halfSize);
+	return {p - h, p + h};
+}
+
+bool overlaps(const mrpt::math::TBoundingBox& a, const mrpt::math::TBoundingBox& b)
+{
+	const double eps = 1e-4;  // octomap coordinates are floats
+	for (int i = 0; i < 3; i++)
+		if (!(a.min[i] < b.max[i] - eps && b.min[i] < a.max[i] - eps)) return false;
+	return true;
+}
+
+CAdaptiveOctoMap::TCreationOptions resolutions(double low, double high)
+{
+	CAdaptiveOctoMap::TCreationOptions c;
+	c.low.resolution = low;
+	c.high.resolution = high;
+	return c;
+}
+
+/** Same leaves (key, depth) with the same log-odds in both trees. */
+void expectSameTree(const octomap::OcTree* a, const octomap::OcTree* b)
+{
+	ASSERT_EQ(a == nullptr, b == nullptr);
+	if (!a) return;
+	ASSERT_EQ(a->size(), b->size());
+	ASSERT_DOUBLE_EQ(a->getResolution(), b->getResolution());
+	std::map<std::tuple<int, int, int, int>, float> leaves;
+	for (auto it = a->begin_leafs(); it != a->end_leafs(); ++it)
+		leaves[{it.getKey()[0], it.getKey()[1], it.getKey()[2], static_cast<int>(it.getDepth())}] = it->getLogOdds();
+	std::size_t n = 0;
+	for (auto it = b->begin_leafs(); it != b->end_leafs(); ++it, ++n)
+	{
+		const auto found = leaves.find({it.getKey()[0], it.getKey()[1], it.getKey()[2], static_cast<int>(it.getDepth())});
+		ASSERT_NE(found, leaves.end());
+		ASSERT_EQ(found->second, it->getLogOdds());
+	}
+	EXPECT_EQ(n, leaves.size());
+}
+}  // namespace
+
+// Algorithm 2: after the switch the high tree only takes points where the
+// low tree has no node, so no occupied high leaf lies in low-tree space.
+TEST(CAdaptiveOctoMapBonn, PaperPolicyKeepsHighLeavesOutOfLowSpace)
+{
+	CAdaptiveOctoMap::TInsertionOptions ins;
+	ins.switchPolicy = avm::SwitchPolicy::Paper;
+	ins.switchAtFraction = 0.5;
+	CAdaptiveOctoMap map(resolutions(0.2, 0.05), ins, {});
+	map.setExpectedFrameCount(frames().size());
+
+	const std::size_t half = frames().size() / 2;
+	std::string lowAtSwitch;
+	for (std::size_t i = 0; i < frames().size(); i++)
+	{
+		if (i == half)
+		{
+			std::ostringstream s;
+			map.tree(Resolution::Low)->writeBinaryConst(s);
+			lowAtSwitch = s.str();
+		}
+		ASSERT_TRUE(map.insertObservation(*frames()[i].obs, frames()[i].pose));
+	}
+	ASSERT_EQ(map.switchInsertionIndex(), std::optional<std::size_t>(half));
+	ASSERT_TRUE(map.isHighResolutionActive());
+	const auto* low = map.tree(Resolution::Low);
+	const auto* high = map.tree(Resolution::High);
+	ASSERT_TRUE(high);
+
+	// Algorithm 1: the low tree does not change after the switch.
+	std::ostringstream lowAtEnd;
+	low->writeBinaryConst(lowAtEnd);
+	EXPECT_EQ(lowAtEnd.str(), lowAtSwitch);
+
+	std::size_t occupiedHigh = 0, inLowSpace = 0;
+	for (auto it = high->begin_leafs(); it != high->end_leafs(); ++it)
+	{
+		if (!high->isNodeOccupied(*it)) continue;
+		occupiedHigh++;
+		if (low->search(it.getCoordinate())) inLowSpace++;
+	}
+	std::cout << "paper policy: " << occupiedHigh << " occupied high leaves, low tree " << low->size() << " nodes\n";
+	EXPECT_GT(occupiedHigh, 0u) << "the second half of the run added nothing to the high tree";
+	EXPECT_EQ(inLowSpace, 0u);
+	// What the map shows agrees: every occupied high voxel it reports answers
+	// as high.
+	map.forEachLeaf(Resolution::High, [&](const avm::TLeafVoxel& v) {
+		if (v.occupied) { EXPECT_EQ(map.query(v.center).tree, Resolution::High); }
+	});
+}
+
+// Region policy: region space lives in the high tree only, the rest in the
+// low tree only; inside the region the map matches a 0.05 m OctoMap, outside
+// a 0.20 m OctoMap (both built by octomap's own insertPointCloud with
+// discretize=true, the same maximum range, frames and poses).
+TEST(CAdaptiveOctoMapBonn, RegionPolicyMatchesSingleResolutionOctoMapsInsideAndOutside)
+{
+	const double maxRange = 5.0;
+	CAdaptiveOctoMap map(resolutions(0.2, 0.05), {}, {});
+	map.addHighResolutionRegion(boxAheadOfFirstFrame(0.6));
+	const auto region = map.highResolutionRegions().at(0);
+
+	octomap::OcTree refHigh(0.05), refLow(0.2);
+	for (const auto& f : frames())
+	{
+		ASSERT_TRUE(map.insertObservation(*f.obs, f.pose));
+		avm::test::insertWithOctomap(refHigh, f, maxRange);
+		avm::test::insertWithOctomap(refLow, f, maxRange);
+	}
+
+	// No space held twice: no leaf of the low tree (free or occupied, any
+	// size) overlaps the region.
+	const auto* low = map.tree(Resolution::Low);
+	std::size_t lowInRegion = 0;
+	for (auto it = low->begin_leafs(); it != low->end_leafs(); ++it)
+	{
+		const auto c = it.getCoordinate();
+		const double h = 0.5 * it.getSize();
+		if (overlaps({{c.x() - h, c.y() - h, c.z() - h}, {c.x() + h, c.y() + h, c.z() + h}}, region)) lowInRegion++;
+	}
+	EXPECT_EQ(lowInRegion, 0u);
+
+	auto inRegion = [&](double x, double y, double z) { return region.containsPoint({x, y, z}); };
+	auto outside = [&](double x, double y, double z) { return !region.containsPoint({x, y, z}); };
+	const auto highMine = avm::test::occupiedVoxels(*map.tree(Resolution::High), inRegion);
+	const auto highRef = avm::test::occupiedVoxels(refHigh, inRegion);
+	const auto lowMine = avm::test::occupiedVoxels(*low, outside);
+	const auto lowRef = avm::test::occupiedVoxels(refLow, outside);
+	const double iouInside = avm::test::intersectionOverUnion(highMine, highRef);
+	const double iouOutside = avm::test::intersectionOverUnion(lowMine, lowRef);
+	std::cout << "inside the region: " << highMine.size() << " occupied 0.05 m voxels vs " << highRef.size()
+			  << " in the reference, IoU " << iouInside << "\noutside: " << lowMine.size() << " occupied 0.20 m voxels vs "
+			  << lowRef.size() << ", IoU " << iouOutside << "\n";
+	EXPECT_GT(highRef.size(), 100u) << "the region holds too little surface for a meaningful comparison";
+	EXPECT_GE(iouInside, 0.9);
+	EXPECT_GE(iouOutside, 0.9);
+
+	// Queries answer with the tree that owns the space.
+	const auto centre = (region.min + region.max) * 0.5;
+	EXPECT_EQ(map.query(centre).tree, Resolution::High);
+	EXPECT_DOUBLE_EQ(map.query(centre).resolution, 0.05);
+	EXPECT_EQ(map.query(region.max + mrpt::math::TPoint3D(0.5, 0.5, 0.5)).tree, Resolution::Low);
+	const auto hs = map.highResolutionStats(), ls = map.lowResolutionStats();
+	EXPECT_EQ(hs.occupiedLeaves + ls.occupiedLeaves, map.getAsSimplePointsMap()->size());
+	EXPECT_GT(hs.memoryBytes, 0u);
+	EXPECT_GT(ls.binaryBytes, 0u);
+}
+
+// A person label on the observation defines the region: a rawlog labelled
+// once drives the map in any app.
+TEST(CAdaptiveOctoMapBonn, PersonPixelLabelsCreateARegionAroundThosePoints)
+{
+	auto f = frames().front();
+	auto labelled = mrpt::obs::CObservation3DRangeScan::Create(*f.obs);
+	auto labels = std::make_shared<mrpt::obs::TPixelLabelInfo<1>>();
+	const int rows = labelled->rangeImage.rows(), cols = labelled->rangeImage.cols();
+	labels->setSize(rows, cols);
+	labels->setLabelName(0, "chair");
+	labels->setLabelName(1, "person");
+	// A 60 x 120 pixel patch at the image centre as the "person".
+	for (int r = rows / 2 - 60; r < rows / 2 + 60; r++)
+		for (int c = cols / 2 - 30; c < cols / 2 + 30; c++) labels->setLabel(r, c, 1);
+	labelled->pixelLabels = labels;
+
+	CAdaptiveOctoMap map;
+	ASSERT_TRUE(map.insertObservation(*labelled, f.pose));
+	ASSERT_EQ(map.highResolutionRegions().size(), 1u);
+	EXPECT_EQ(map.switchInsertionIndex(), std::optional<std::size_t>(0));
+	const auto region = map.highResolutionRegions()[0];
+	const double d = labelled->rangeImage(rows / 2, cols / 2) * labelled->rangeUnits;
+	const auto centre = (f.pose + labelled->sensorPose).composePoint(mrpt::math::TPoint3D(d, 0, 0));
+	EXPECT_TRUE(region.containsPoint(centre)) << region.asString() << " vs " << centre.asString();
+	// Margin 0.3 m on a patch of about 0.2 x 0.45 m at 2-3 m: well under 2 m.
+	const auto size = region.max - region.min;
+	EXPECT_LT(size.norm(), 3.0) << region.asString();
+	// The labelled frame itself was mapped with the region in place.
+	EXPECT_GT(map.highResolutionStats().occupiedLeaves, 0u);
+
+	// Labels of another name do nothing.
+	CAdaptiveOctoMap other;
+	other.insertionOptions.personLabel = "dog";
+	ASSERT_TRUE(other.insertObservation(*labelled, f.pose));
+	EXPECT_FALSE(other.isHighResolutionActive());
+}
+
+TEST(CAdaptiveOctoMapBonn, RegionsExpireAndGiveTheirSpaceBackToTheLowTree)
+{
+	CAdaptiveOctoMap::TInsertionOptions ins;
+	ins.regionExpiryFrames = 3;
+	CAdaptiveOctoMap map(resolutions(0.2, 0.05), ins, {});
+	map.addHighResolutionRegion(boxAheadOfFirstFrame(0.5));
+	const std::vector<MapFrame> some(frames().begin(), frames().begin() + 8);
+	for (std::size_t i = 0; i < some.size(); i++)
+	{
+		ASSERT_TRUE(map.insertObservation(*some[i].obs, some[i].pose));
+		if (i == 2) { EXPECT_TRUE(map.isHighResolutionActive()); }
+	}
+	EXPECT_FALSE(map.isHighResolutionActive());
+	EXPECT_EQ(map.highResolutionStats().occupiedLeaves + map.highResolutionStats().freeLeaves, 0u);
+	EXPECT_GT(map.lowResolutionStats().occupiedLeaves, 0u);
+}
+
+TEST(CAdaptiveOctoMapBonn, SerializationCopyAndCloneAreExact)
+{
+	CAdaptiveOctoMap map(resolutions(0.2, 0.05), {}, {});
+	map.addHighResolutionRegion(boxAheadOfFirstFrame(0.5));
+	insertAll(map, std::vector<MapFrame>(frames().begin(), frames().begin() + 6));
+
+	mrpt::io::CMemoryStream buf;
+	auto arch = mrpt::serialization::archiveFrom(buf);
+	arch << map;
+	buf.Seek(0);
+	auto obj = arch.ReadObject();
+	auto restored = std::dynamic_pointer_cast<CAdaptiveOctoMap>(obj);
+	ASSERT_TRUE(restored);
+	expectSameTree(map.tree(Resolution::Low), restored->tree(Resolution::Low));
+	expectSameTree(map.tree(Resolution::High), restored->tree(Resolution::High));
+	EXPECT_EQ(restored->highResolutionRegions().size(), map.highResolutionRegions().size());
+	EXPECT_EQ(restored->switchInsertionIndex(), map.switchInsertionIndex());
+	EXPECT_EQ(restored->insertionCount(), map.insertionCount());
+	EXPECT_EQ(restored->serializedBytes(), map.serializedBytes());
+
+	CAdaptiveOctoMap copy(map);
+	expectSameTree(map.tree(Resolution::High), copy.tree(Resolution::High));
+	std::unique_ptr<mrpt::rtti::CObject> cloned(map.clone());
+	auto* clone = dynamic_cast<CAdaptiveOctoMap*>(cloned.get());
+	ASSERT_TRUE(clone);
+	expectSameTree(map.tree(Resolution::Low), clone->tree(Resolution::Low));
+
+	// Deep: inserting into the copy leaves the original alone.
+	const auto before = map.tree(Resolution::Low)->size();
+	ASSERT_TRUE(copy.insertObservation(*frames().back().obs, frames().back().pose));
+	EXPECT_EQ(map.tree(Resolution::Low)->size(), before);
+	EXPECT_NE(copy.tree(Resolution::Low)->size(), before);
+}
+
+TEST(CAdaptiveOctoMapBonn, FilesLikelihoodRayCastAndEmptiness)
+{
+	CAdaptiveOctoMap map(resolutions(0.2, 0.05), {}, {});
+	EXPECT_TRUE(map.isEmpty());
+	map.addHighResolutionRegion(boxAheadOfFirstFrame(0.5));
+	insertAll(map, std::vector<MapFrame>(frames().begin(), frames().begin() + 10));
+	EXPECT_FALSE(map.isEmpty());
+
+	const auto dir = avm::test::scratchDir("map-files");
+	const auto prefix = (dir / "bonn").string();
+	map.saveMetricMapRepresentationToFile(prefix);
+	for (const auto* suffix : {"_low.bt", "_high.bt", ".3Dscene"})
+		ASSERT_TRUE(std::filesystem::exists(prefix + suffix)) << prefix + suffix;
+	octomap::OcTree lowBack(0.1), highBack(0.1);
+	ASSERT_TRUE(lowBack.readBinary(prefix + "_low.bt"));
+	ASSERT_TRUE(highBack.readBinary(prefix + "_high.bt"));
+	EXPECT_DOUBLE_EQ(lowBack.getResolution(), 0.2);
+	EXPECT_DOUBLE_EQ(highBack.getResolution(), 0.05);
+	EXPECT_GT(highBack.getNumLeafNodes(), 0u);
+	mrpt::opengl::COpenGLScene scene;
+	ASSERT_TRUE(scene.loadFromFile(prefix + ".3Dscene"));
+	EXPECT_GT(scene.getViewport()->size(), 0u);
+
+	// The first frame is explained better at its true pose than 0.5 m off.
+	const auto& f = frames().front();
+	const double atTruth = map.computeObservationLikelihood(*f.obs, f.pose);
+	const double shifted = map.computeObservationLikelihood(*f.obs, f.pose + mrpt::poses::CPose3D(0, 0, 0.5, 0, 0, 0));
+	EXPECT_GT(atTruth, shifted);
+	// The map's own occupied voxels match it fully where they are, far less
+	// once moved by 0.7 m along each axis and turned by 30 degrees.
+	const auto* pts = map.getAsSimplePointsMap();
+	EXPECT_FLOAT_EQ(map.compute3DMatchingRatio(&map, mrpt::poses::CPose3D(), {}), 1.0f);
+	EXPECT_LT(map.compute3DMatchingRatio(&map, mrpt::poses::CPose3D(0.7, 0.7, 0.7, mrpt::DEG2RAD(30), 0, 0), {}), 0.5f);
+	EXPECT_GT(pts->size(), 0u);
+
+	// A ray along the optical axis of the first frame stops near the depth
+	// measured at the centre pixel.
+	const auto& img = f.obs->rangeImage;
+	const double d = img(img.rows() / 2, img.cols() / 2) * f.obs->rangeUnits;
+	const auto sensor = f.pose + f.obs->sensorPose;
+	const auto hit = map.castRay(sensor.translation(), sensor.rotateVector({1, 0, 0}), 6.0);
+	ASSERT_TRUE(hit);
+	EXPECT_NEAR((hit->point - sensor.translation()).norm(), d, 0.3);
+	EXPECT_EQ(hit->tree, Resolution::High);  // the box around that surface
+	const auto box = map.knownSpaceBoundingBox();
+	ASSERT_TRUE(box);
+	EXPECT_TRUE(box->containsPoint(hit->point));
+
+	map.clear();
+	EXPECT_TRUE(map.isEmpty());
+	EXPECT_FALSE(map.isHighResolutionActive());
+}
