@@ -1,0 +1,41 @@
+// avm-eval: ATE (after SE(3) alignment) and RPE per second of a TUM trajectory
+// against a TUM ground truth.
+#include <mrpt/3rdparty/tclap/CmdLine.h>
+
+#include <iostream>
+
+#include "avm/evaluation/TrajectoryEvaluation.h"
+
+int main(int argc, char** argv)
+{
+	try
+	{
+		TCLAP::CmdLine cmd("ATE (SE(3)-aligned) and RPE of a TUM trajectory against TUM ground truth.", ' ', "avm");
+		TCLAP::UnlabeledValueArg<std::string> argEst("ESTIMATE", "estimated trajectory (TUM)", true, "", "EST.txt", cmd);
+		TCLAP::UnlabeledValueArg<std::string> argGt("GROUNDTRUTH", "ground truth (TUM)", true, "", "GT.txt", cmd);
+		TCLAP::ValueArg<double> argMaxDt("", "max-dt", "max timestamp difference of a match [s] (default 0.02)", false, 0.02, "S", cmd);
+		TCLAP::ValueArg<std::size_t> argFrom("", "from", "index of the first estimated pose evaluated (default 0)", false, 0, "N", cmd);
+		TCLAP::ValueArg<std::size_t> argMax("", "max-frames", "number of estimated poses evaluated, 0 = all (default 0)", false, 0, "N", cmd);
+		TCLAP::ValueArg<double> argDelta("", "rpe-delta", "RPE time step [s] (default 1)", false, 1.0, "S", cmd);
+		cmd.parse(argc, argv);
+
+		avm::evaluation::TEvaluationOptions opt;
+		opt.maxTimeDifference = argMaxDt.getValue();
+		opt.firstFrame = argFrom.getValue();
+		opt.maxFrames = argMax.getValue();
+		opt.rpeDelta = argDelta.getValue();
+		const auto est = avm::io::readTumTrajectory(argEst.getValue());
+		const auto gt = avm::io::readTumTrajectory(argGt.getValue());
+		std::cout << avm::evaluation::formatReport(avm::evaluation::evaluateTrajectory(est, gt, opt));
+		return 0;
+	}
+	catch (const TCLAP::ArgException& e)
+	{
+		std::cerr << "avm-eval: " << e.error() << " for " << e.argId() << "\n";
+	}
+	catch (const std::exception& e)
+	{
+		std::cerr << "avm-eval: error: " << e.what() << "\n";
+	}
+	return 1;
+}

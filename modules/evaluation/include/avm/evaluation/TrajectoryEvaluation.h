@@ -1,0 +1,76 @@
+// Accuracy of an estimated trajectory against ground truth: the absolute
+// trajectory error (ATE) after the best rigid (SE(3), Horn/Umeyama) alignment,
+// and the relative pose error (RPE) over a fixed time step, expressed per second.
+// Both trajectories are in the same frame convention (for avm: the camera
+// optical frame in the world, as TUM ground truth).
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/poses/CPose3D.h>
+
+#include <cstddef>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "avm/io/Trajectory.h"
+
+namespace avm::evaluation
+{
+struct TEvaluationOptions : public mrpt::config::CLoadableOptions
+{
+	/** [s] an estimated pose is matched with the ground-truth pose nearest in
+	 *  time when they are at most this far apart. */
+	double maxTimeDifference = 0.02;
+	/** Index of the first estimated pose evaluated (0-based). */
+	std::size_t firstFrame = 0;
+	/** Number of estimated poses evaluated from firstFrame; 0 = all. */
+	std::size_t maxFrames = 0;
+	/** [s] time step of the relative pose error. */
+	double rpeDelta = 1.0;
+
+	void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
+	void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
+	/** Throws std::invalid_argument naming "[section] key" and the value. */
+	void validate(const std::string& section = "evaluation") const;
+};
+
+/** Summary of a set of non-negative errors. */
+struct ErrorStatistics
+{
+	double rmse = 0, mean = 0, median = 0, max = 0;
+	std::size_t count = 0;
+};
+
+struct TrajectoryErrors
+{
+	ErrorStatistics ate;             //!< [m] position error after alignment
+	ErrorStatistics rpeTranslation;  //!< [m/s] relative translation error per second
+	ErrorStatistics rpeRotation;     //!< [deg/s] relative rotation error per second
+	std::size_t matchedPairs = 0;    //!< estimated poses with a ground-truth match
+	std::size_t evaluatedPoses = 0;  //!< estimated poses in the frame range
+	/** The alignment applied to the estimate: gt ≈ alignment (+) estimate. */
+	mrpt::poses::CPose3D alignment;
+};
+
+/** Index pairs (estimate, ground truth): each estimated pose with the
+ *  ground-truth pose nearest in time, if within maxTimeDifference. */
+std::vector<std::pair<std::size_t, std::size_t>> associateByTimestamp(
+	const io::Trajectory& estimate, const io::Trajectory& groundTruth, double maxTimeDifference);
+
+/** The rigid transform T minimising sum |T*src_i - dst_i|^2 (Horn/Umeyama,
+ *  no scale). Throws std::invalid_argument if fewer than 3 pairs or sizes differ. */
+mrpt::poses::CPose3D alignRigid(
+	const std::vector<mrpt::math::TPoint3D>& src, const std::vector<mrpt::math::TPoint3D>& dst);
+
+/** Statistics of a list of errors (all zero for an empty list). */
+ErrorStatistics statisticsOf(std::vector<double> errors);
+
+/** ATE and RPE of `estimate` against `groundTruth`. Throws std::runtime_error
+ *  when fewer than 3 poses can be matched (nothing meaningful to align). */
+TrajectoryErrors evaluateTrajectory(
+	const io::Trajectory& estimate, const io::Trajectory& groundTruth, const TEvaluationOptions& options);
+
+/** A human-readable multi-line report of the errors. */
+std::string formatReport(const TrajectoryErrors& errors);
+}  // namespace avm::evaluation

@@ -1,0 +1,187 @@
+#include "avm/evaluation/TrajectoryEvaluation.h"
+
+#include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/core/bits_math.h>
+
+// GCC 12 reports a false -Wmaybe-uninitialized inside Eigen's fixed-size JacobiSVD.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#include <Eigen/Dense>
+#include <Eigen/Geometry>
+#pragma GCC diagnostic pop
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <numeric>
+#include <sstream>
+#include <stdexcept>
+
+namespace avm::evaluation
+{
+void TEvaluationOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section)
+{
+	maxTimeDifference = cfg.read_double(section, "max_time_difference", maxTimeDifference);
+	firstFrame = static_cast<std::size_t>(cfg.read_uint64_t(section, "first_frame", firstFrame));
+	maxFrames = static_cast<std::size_t>(cfg.read_uint64_t(section, "max_frames", maxFrames));
+	rpeDelta = cfg.read_double(section, "rpe_delta", rpeDelta);
+	validate(section);
+}
+
+void TEvaluationOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const
+{
+	cfg.write(section, "max_time_difference", maxTimeDifference);
+	cfg.write(section, "first_frame", static_cast<uint64_t>(firstFrame));
+	cfg.write(section, "max_frames", static_cast<uint64_t>(maxFrames));
+	cfg.write(section, "rpe_delta", rpeDelta);
+}
+
+void TEvaluationOptions::validate(const std::string& section) const
+{
+	const auto bad = [&](const std::string& key, double v, const std::string& why) {
+		std::ostringstream s;
+		s << "[" << section << "] " << key << " = " << v << ": " << why;
+		throw std::invalid_argument(s.str());
+	};
+	if (!(maxTimeDifference > 0) || !std::isfinite(maxTimeDifference))
+		bad("max_time_difference", maxTimeDifference, "must be a positive number of seconds");
+	if (!(rpeDelta > 0) || !std::isfinite(rpeDelta)) bad("rpe_delta", rpeDelta, "must be a positive number of seconds");
+}
+
+std::vector<std::pair<std::size_t, std::size_t>> associateByTimestamp(
+	const io::Trajectory& estimate, const io::Trajectory& groundTruth, double maxTimeDifference)
+{
+	std::vector<std::pair<std::size_t, std::size_t>> pairs;
+	for (std::size_t i = 0; i < estimate.size(); ++i)
+	{
+		const double t = estimate[i].timestamp;
+		const auto it = std::lower_bound(
+			groundTruth.begin(), groundTruth.end(), t,
+			[](const io::TimedPose& p, double time) { return p.timestamp < time; });
+		std::size_t best = groundTruth.size();
+		double bestDt = maxTimeDifference;
+		for (auto c : {it, it == groundTruth.begin() ? it : std::prev(it)})
+		{
+			if (c == groundTruth.end()) continue;
+			const double dt = std::abs(c->timestamp - t);
+			if (dt <= bestDt)
+			{
+				bestDt = dt;
+				best = static_cast<std::size_t>(c - groundTruth.begin());
+			}
+		}
+		if (best < groundTruth.size()) pairs.emplace_back(i, best);
+	}
+	return pairs;
+}
+
+mrpt::poses::CPose3D alignRigid(
+	const std::vector<mrpt::math::TPoint3D>& src, const std::vector<mrpt::math::TPoint3D>& dst)
+{
+	if (src.size() != dst.size() || src.size() < 3)
+		throw std::invalid_argument("alignRigid: needs at least 3 point pairs of equal count");
+	Eigen::Matrix3Xd a(3, src.size()), b(3, dst.size());
+	for (std::size_t i = 0; i < src.size(); ++i)
+	{
+		a.col(i) << src[i].x, src[i].y, src[i].z;
+		b.col(i) << dst[i].x, dst[i].y, dst[i].z;
+	}
+	const Eigen::Matrix4d T = Eigen::umeyama(a, b, /*with_scaling=*/false);
+	mrpt::math::CMatrixDouble44 m;
+	for (int r = 0; r < 4; ++r)
+		for (int c = 0; c < 4; ++c) m(r, c) = T(r, c);
+	return mrpt::poses::CPose3D(m);
+}
+
+ErrorStatistics statisticsOf(std::vector<double> errors)
+{
+	ErrorStatistics s;
+	s.count = errors.size();
+	if (errors.empty()) return s;
+	double sq = 0, sum = 0;
+	for (double e : errors)
+	{
+		sq += e * e;
+		sum += e;
+		s.max = std::max(s.max, e);
+	}
+	s.rmse = std::sqrt(sq / errors.size());
+	s.mean = sum / errors.size();
+	std::sort(errors.begin(), errors.end());
+	const std::size_t n = errors.size();
+	s.median = n % 2 ? errors[n / 2] : 0.5 * (errors[n / 2 - 1] + errors[n / 2]);
+	return s;
+}
+
+TrajectoryErrors evaluateTrajectory(
+	const io::Trajectory& estimate, const io::Trajectory& groundTruth, const TEvaluationOptions& options)
+{
+	options.validate();
+	TrajectoryErrors out;
+	const std::size_t first = std::min(options.firstFrame, estimate.size());
+	const std::size_t last =
+		options.maxFrames == 0 ? estimate.size() : std::min(estimate.size(), first + options.maxFrames);
+	const io::Trajectory range(estimate.begin() + first, estimate.begin() + last);
+	out.evaluatedPoses = range.size();
+
+	const auto pairs = associateByTimestamp(range, groundTruth, options.maxTimeDifference);
+	out.matchedPairs = pairs.size();
+	if (pairs.size() < 3)
+		throw std::runtime_error(
+			"only " + std::to_string(pairs.size()) +
+			" estimated poses match a ground-truth timestamp (need 3; check --max-dt and the time base)");
+
+	std::vector<mrpt::math::TPoint3D> est, gt;
+	for (const auto& [i, j] : pairs)
+	{
+		est.push_back(range[i].pose.translation());
+		gt.push_back(groundTruth[j].pose.translation());
+	}
+	out.alignment = alignRigid(est, gt);
+	std::vector<double> ate;
+	for (std::size_t k = 0; k < est.size(); ++k)
+	{
+		mrpt::math::TPoint3D aligned;
+		out.alignment.composePoint(est[k], aligned);
+		ate.push_back((aligned - gt[k]).norm());
+	}
+	out.ate = statisticsOf(std::move(ate));
+
+	// RPE over pairs (k, l) with the first l whose time is >= t_k + delta; the
+	// error is divided by the actual time step so it reads per second.
+	std::vector<double> rpeT, rpeR;
+	for (std::size_t k = 0, l = 0; k < pairs.size(); ++k)
+	{
+		const double tk = range[pairs[k].first].timestamp;
+		l = std::max(l, k + 1);
+		while (l < pairs.size() && range[pairs[l].first].timestamp < tk + options.rpeDelta) ++l;
+		if (l >= pairs.size()) break;
+		const double dt = range[pairs[l].first].timestamp - tk;
+		const auto relEst = range[pairs[l].first].pose - range[pairs[k].first].pose;
+		const auto relGt = groundTruth[pairs[l].second].pose - groundTruth[pairs[k].second].pose;
+		const auto err = relEst - relGt;
+		rpeT.push_back(err.translation().norm() / dt);
+		const auto R = err.getRotationMatrix();
+		const double c = std::clamp((R(0, 0) + R(1, 1) + R(2, 2) - 1.0) / 2.0, -1.0, 1.0);
+		rpeR.push_back(mrpt::RAD2DEG(std::acos(c)) / dt);
+	}
+	out.rpeTranslation = statisticsOf(std::move(rpeT));
+	out.rpeRotation = statisticsOf(std::move(rpeR));
+	return out;
+}
+
+std::string formatReport(const TrajectoryErrors& e)
+{
+	std::ostringstream s;
+	s << std::fixed;
+	const auto line = [&](const char* name, const ErrorStatistics& st, const char* unit, int precision) {
+		s << std::setprecision(precision) << name << " rmse " << st.rmse << " mean " << st.mean << " median "
+		  << st.median << " max " << st.max << " " << unit << " (" << st.count << ")\n";
+	};
+	s << "poses evaluated: " << e.evaluatedPoses << ", matched with ground truth: " << e.matchedPairs << "\n";
+	line("ATE       ", e.ate, "m", 4);
+	line("RPE trans ", e.rpeTranslation, "m/s", 4);
+	line("RPE rot   ", e.rpeRotation, "deg/s", 3);
+	return s.str();
+}
+}  // namespace avm::evaluation

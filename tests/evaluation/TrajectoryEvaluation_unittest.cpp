@@ -1,0 +1,155 @@
+#include <gtest/gtest.h>
+#include <mrpt/core/bits_math.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <iterator>
+#include <fstream>
+
+#include "TestData.h"
+#include "avm/evaluation/TrajectoryEvaluation.h"
+
+using namespace avm;
+using mrpt::poses::CPose3D;
+
+namespace
+{
+/** The Bonn ground truth (motion-capture body), a real, curved 6-DoF path. */
+io::Trajectory bonnGroundTruth() { return io::readTumTrajectory(test::bonnDatasetDir() / "groundtruth.txt"); }
+}  // namespace
+
+TEST(TrajectoryEvaluation, RigidlyMovedCopyHasZeroErrorAndTheTransformIsRecovered)
+{
+	const auto gt = bonnGroundTruth();
+	const CPose3D T(1.5, -2.0, 0.7, mrpt::DEG2RAD(40.0), mrpt::DEG2RAD(-15.0), mrpt::DEG2RAD(20.0));
+	io::Trajectory moved = gt;
+	for (auto& p : moved) p.pose = T + p.pose;
+
+	const auto e = evaluation::evaluateTrajectory(moved, gt, {});
+	EXPECT_EQ(e.matchedPairs, gt.size());
+	EXPECT_LT(e.ate.rmse, 1e-6);
+	EXPECT_LT(e.ate.max, 1e-6);
+	EXPECT_LT(e.rpeTranslation.max, 1e-6);
+	EXPECT_LT(e.rpeRotation.max, 1e-4);
+	// gt = alignment (+) moved, so the alignment is T's inverse.
+	const auto residual = e.alignment + T;
+	EXPECT_LT(residual.translation().norm(), 1e-6);
+	EXPECT_LT(std::abs(residual.yaw()) + std::abs(residual.pitch()) + std::abs(residual.roll()), 1e-6);
+}
+
+TEST(TrajectoryEvaluation, KnownDriftGivesItsRateAsRpe)
+{
+	// A straight 1 m/s path sampled at 30 Hz. One estimate drifts sideways at
+	// 0.05 m/s; another stays on the path but turns at 2 deg/s about its axis.
+	io::Trajectory gt, sideways, turning;
+	const double drift = 0.05, turn = 2.0;
+	for (int i = 0; i <= 300; ++i)
+	{
+		const double t = 100.0 + i / 30.0, s = t - 100.0;
+		gt.push_back({t, CPose3D(s, 0, 0, 0, 0, 0)});
+		sideways.push_back({t + 0.005, CPose3D(s, drift * s, 0, 0, 0, 0)});
+		turning.push_back({t - 0.005, CPose3D(s, 0, 0, 0, 0, mrpt::DEG2RAD(turn * s))});
+	}
+	const auto a = evaluation::evaluateTrajectory(sideways, gt, {});
+	EXPECT_EQ(a.matchedPairs, gt.size());
+	EXPECT_NEAR(a.rpeTranslation.median, drift, 1e-6);
+	EXPECT_NEAR(a.rpeTranslation.max, drift, 1e-6);
+	EXPECT_LT(a.rpeRotation.max, 1e-6);
+	EXPECT_GT(a.rpeTranslation.count, 250u);
+
+	const auto b = evaluation::evaluateTrajectory(turning, gt, {});
+	EXPECT_NEAR(b.rpeRotation.median, turn, 1e-6);
+	EXPECT_NEAR(b.rpeRotation.max, turn, 1e-6);
+	EXPECT_LT(b.ate.max, 1e-9);  // positions are exact: rotation does not enter the ATE
+}
+
+TEST(TrajectoryEvaluation, AteOfAKnownOffsetAndStatistics)
+{
+	const auto s = evaluation::statisticsOf({3, 1, 2, 4});
+	EXPECT_DOUBLE_EQ(s.mean, 2.5);
+	EXPECT_DOUBLE_EQ(s.median, 2.5);
+	EXPECT_DOUBLE_EQ(s.max, 4);
+	EXPECT_DOUBLE_EQ(s.rmse, std::sqrt(30.0 / 4));
+
+	// A constant offset is removed by the alignment.
+	const auto gt = bonnGroundTruth();
+	io::Trajectory shifted = gt;
+	for (auto& p : shifted) p.pose.x_incr(0.3);
+	EXPECT_LT(evaluation::evaluateTrajectory(shifted, gt, {}).ate.rmse, 1e-6);
+
+	// Scaling the path about its start is not rigid: the error is the scale
+	// residue, well above zero, and the same for the tool and a hand check.
+	io::Trajectory scaled = gt;
+	for (auto& p : scaled)
+	{
+		const auto d = p.pose.translation() - gt.front().pose.translation();
+		p.pose.x(gt.front().pose.x() + 1.5 * d.x);
+		p.pose.y(gt.front().pose.y() + 1.5 * d.y);
+		p.pose.z(gt.front().pose.z() + 1.5 * d.z);
+	}
+	const auto e = evaluation::evaluateTrajectory(scaled, gt, {});
+	EXPECT_GT(e.ate.rmse, 0.02);
+	// Reference: scaling by s about the centroid leaves (s-1)*|p - c| per point.
+	mrpt::math::TPoint3D c(0, 0, 0);
+	for (const auto& p : gt) c += p.pose.translation() * (1.0 / gt.size());
+	double sq = 0;
+	for (const auto& p : gt) sq += std::pow(0.5 * (p.pose.translation() - c).norm(), 2);
+	EXPECT_NEAR(e.ate.rmse, std::sqrt(sq / gt.size()), 1e-6);
+}
+
+TEST(TrajectoryEvaluation, FrameRangeAndTimeTolerance)
+{
+	const auto gt = bonnGroundTruth();
+	io::Trajectory est = gt;
+	// Corrupt the poses after index 60: the first 60 stay exact.
+	for (std::size_t i = 60; i < est.size(); ++i) est[i].pose.y_incr(0.01 * double(i - 60));
+	evaluation::TEvaluationOptions opt;
+	opt.maxFrames = 60;
+	const auto first = evaluation::evaluateTrajectory(est, gt, opt);
+	EXPECT_EQ(first.evaluatedPoses, 60u);
+	EXPECT_EQ(first.matchedPairs, 60u);
+	EXPECT_LT(first.ate.rmse, 1e-6);
+	EXPECT_GT(evaluation::evaluateTrajectory(est, gt, {}).ate.rmse, 0.1);
+
+	opt.firstFrame = 10;
+	opt.maxFrames = 20;
+	EXPECT_EQ(evaluation::evaluateTrajectory(est, gt, opt).evaluatedPoses, 20u);
+
+	// Timestamps shifted beyond the tolerance match nothing: a clear error.
+	io::Trajectory late = gt;
+	for (auto& p : late) p.timestamp += 1000.0;
+	EXPECT_THROW(evaluation::evaluateTrajectory(late, gt, {}), std::runtime_error);
+
+	opt = {};
+	opt.maxTimeDifference = -1;
+	try
+	{
+		opt.validate();
+		ADD_FAILURE() << "negative tolerance accepted";
+	}
+	catch (const std::invalid_argument& e)
+	{
+		EXPECT_NE(std::string(e.what()).find("[evaluation] max_time_difference"), std::string::npos) << e.what();
+	}
+}
+
+TEST(AvmEval, ReportsOnFilesAndFailsOnBadInput)
+{
+	const auto dir = test::scratchDir("avm-eval");
+	const auto gtFile = test::bonnDatasetDir() / "groundtruth.txt";
+	const auto run = [&](const std::string& args) {
+		const auto out = dir / "out.txt";
+		const int rc = std::system((test::binary("avm-eval").string() + " " + args + " > " + out.string() + " 2>&1").c_str());
+		std::ifstream in(out);
+		return std::make_pair(rc, std::string(std::istreambuf_iterator<char>(in), {}));
+	};
+	const auto [ok, text] = run(gtFile.string() + " " + gtFile.string() + " --max-frames 60");
+	EXPECT_EQ(ok, 0) << text;
+	EXPECT_NE(text.find("poses evaluated: 60"), std::string::npos) << text;
+	EXPECT_NE(text.find("ATE        rmse 0.0000"), std::string::npos) << text;
+
+	const auto [bad, msg] = run((dir / "missing.txt").string() + " " + gtFile.string());
+	EXPECT_NE(bad, 0);
+	EXPECT_NE(msg.find("missing.txt"), std::string::npos) << msg;
+}
