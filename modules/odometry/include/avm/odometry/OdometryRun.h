@@ -1,0 +1,58 @@
+// Running the odometry over a whole rawlog: the trajectory (TUM, camera
+// optical frame), the per-frame estimates and the time each frame took. The
+// odometry benchmark (avm-odometry) and the tests run through this.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "avm/io/RgbdFrame.h"
+#include "avm/io/Trajectory.h"
+#include "avm/odometry/VisualOdometry.h"
+
+namespace avm::odometry
+{
+/** Person boxes of a frame (pixels of its colour image). */
+using PersonBoxSource = std::function<std::vector<cv::Rect>(const io::RgbdFrame&)>;
+
+struct FrameRecord
+{
+	std::size_t index = 0;
+	double timestamp = 0;  //!< [s] UNIX time
+	OdometryEstimate estimate;
+	std::size_t personBoxes = 0;
+	double milliseconds = 0;  //!< wall time of VisualOdometry::process (not I/O or detection)
+};
+
+struct OdometryRun
+{
+	std::vector<FrameRecord> frames;
+	io::Trajectory trajectory() const;
+	std::size_t lostFrames() const;
+	std::size_t keyframes() const;
+	/** "frames N, lost L, keyframes K, ms/frame mean .. median .. p95 .. max .." */
+	std::string timingSummary() const;
+	/** Writes one CSV line per frame (atomically). */
+	void writeFrameStats(const std::filesystem::path& csv) const;
+};
+
+/** Runs the odometry over the rawlog's frames (the first maxFrames, 0 = all),
+ *  starting at the first frame's ground truth when the rawlog has it (so the
+ *  trajectory is in the ground truth's world), else at the identity.
+ *  progress(done) is called after every frame. */
+OdometryRun runOdometry(
+	const std::filesystem::path& rawlog, const TOdometryOptions& options, const PersonBoxSource& personBoxes = {},
+	std::size_t maxFrames = 0, const std::function<void(std::size_t)>& progress = {});
+
+/** Boxes around the pixels labelled "person" in the observation's pixelLabels
+ *  (one box per connected region); none when there are no labels. */
+std::vector<cv::Rect> personBoxesFromLabels(const mrpt::obs::CObservation3DRangeScan& obs);
+
+/** Options from `section` of an ini file; throws std::runtime_error naming
+ *  the file when it cannot be read, std::invalid_argument for a bad value.
+ *  Keys in the section that the options do not know go to unknownKeys. */
+TOdometryOptions loadOdometryOptions(
+	const std::filesystem::path& ini, const std::string& section, std::vector<std::string>& unknownKeys);
+}  // namespace avm::odometry

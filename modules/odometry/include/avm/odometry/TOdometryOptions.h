@@ -1,0 +1,51 @@
+// Settings of the RGB-D visual odometry (front end: features, matching, PnP;
+// back end: Ceres refinement and sliding-window bundle adjustment).
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <string>
+
+namespace avm::odometry
+{
+struct TOdometryOptions : public mrpt::config::CLoadableOptions
+{
+	// --- front end: features
+	int num_features = 1000;       //!< ORB features kept per frame (after bucketing)
+	int pyramid_levels = 4;        //!< ORB pyramid levels
+	double pyramid_scale = 1.2;    //!< ORB scale factor between levels
+	int fast_threshold = 12;       //!< ORB FAST threshold (grey levels)
+	int grid_cols = 8;             //!< bucketing grid columns
+	int grid_rows = 6;             //!< bucketing grid rows
+	double min_depth = 0.3;        //!< [m] nearer depth is rejected
+	double max_depth = 6.0;        //!< [m] farther depth is rejected
+	double depth_edge_ratio = 0.05;  //!< a feature is on a depth edge (rejected) when its 3x3 depth range exceeds this fraction of its depth
+	// --- front end: matching and PnP
+	double match_ratio = 0.8;        //!< Lowe ratio: best / second-best Hamming distance
+	int max_hamming = 64;            //!< largest accepted descriptor distance (bits)
+	double search_radius = 20.0;     //!< [px] window around a landmark's predicted projection
+	double ransac_reprojection = 3.0;  //!< [px] PnP RANSAC inlier threshold
+	int ransac_iterations = 100;     //!< PnP RANSAC iterations
+	int min_inliers = 20;            //!< fewer inliers than this = tracking lost
+	// --- back end
+	double huber_delta = 2.0;        //!< [px] Huber loss width of the reprojection residual
+	double depth_weight = 0.0;       //!< weight of the depth residual fx*(z-d)/d [px] beside the reprojection error (0 = off)
+	int refine_iterations = 10;      //!< Ceres iterations of the per-frame pose refinement
+	int window_size = 5;             //!< keyframes in the sliding-window bundle adjustment (0 = no BA)
+	int ba_iterations = 8;           //!< Ceres iterations of one bundle adjustment
+	// --- keyframes
+	double keyframe_translation = 0.08;  //!< [m] motion from the last keyframe that makes a keyframe
+	double keyframe_rotation = 8.0;      //!< [deg] rotation from the last keyframe that makes a keyframe
+	double keyframe_overlap = 0.6;       //!< a keyframe is made when the tracked share of the last keyframe's landmarks falls below this
+	// --- dynamic people
+	bool mask_people = true;         //!< ignore features inside person boxes
+	int person_box_margin = 10;      //!< [px] added on every side of a person box
+	// --- runtime
+	int threads = 1;                 //!< Ceres threads (OpenCV threads are the caller's: cv::setNumThreads)
+
+	void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
+	void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
+	/** Throws std::invalid_argument naming "[section] key" and the bad value. */
+	void validate(const std::string& section = "odometry") const;
+};
+}  // namespace avm::odometry

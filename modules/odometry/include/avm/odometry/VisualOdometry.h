@@ -1,0 +1,58 @@
+// Feature-based RGB-D visual odometry: ORB features with depth, matched to a
+// local map of recent landmarks, PnP RANSAC from a constant-velocity guess,
+// then a robust Ceres pose refinement and a sliding-window bundle adjustment
+// over the last keyframes. Features inside person boxes are left out.
+//
+// Frames: every pose is the camera OPTICAL frame (z forward, x right, y down)
+// in the world, the convention of TUM trajectories and of avm rawlogs.
+#pragma once
+
+#include <mrpt/obs/CObservation3DRangeScan.h>
+#include <mrpt/poses/CPose3D.h>
+
+#include <opencv2/core/types.hpp>
+
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "avm/odometry/TOdometryOptions.h"
+
+namespace avm::odometry
+{
+struct OdometryEstimate
+{
+	mrpt::poses::CPose3D pose;    //!< camera optical frame in the world (never NaN)
+	bool tracked = false;         //!< false: the pose is bridged by the motion model
+	bool keyframe = false;        //!< the frame became a keyframe
+	std::size_t inliers = 0;      //!< matches consistent with the pose
+	double reprojectionRmse = 0;  //!< [px] over the inliers
+	std::string status;           //!< "tracking", "initialised", or why tracking was lost
+};
+
+class VisualOdometry
+{
+   public:
+	/** Throws std::invalid_argument (see TOdometryOptions::validate). */
+	explicit VisualOdometry(const TOdometryOptions& options, const mrpt::poses::CPose3D& initialPose = {});
+	~VisualOdometry();
+	VisualOdometry(VisualOdometry&&) noexcept;
+	VisualOdometry& operator=(VisualOdometry&&) noexcept;
+
+	/** Tracks one registered RGB-D frame (colour + depth + intrinsics). The
+	 *  person boxes (pixels of this image) are masked out when mask_people is
+	 *  on. Throws std::invalid_argument if the observation has no colour or no
+	 *  range image; a frame without usable depth or texture is a lost frame. */
+	OdometryEstimate process(
+		const mrpt::obs::CObservation3DRangeScan& obs, const std::vector<cv::Rect>& personBoxes = {});
+
+	const TOdometryOptions& options() const;
+	std::size_t keyframeCount() const;
+	std::size_t landmarkCount() const;
+
+   private:
+	struct Impl;
+	std::unique_ptr<Impl> m_impl;
+};
+}  // namespace avm::odometry

@@ -1,0 +1,135 @@
+#include "avm/odometry/OdometryRun.h"
+
+#include <mrpt/config/CConfigFile.h>
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <numeric>
+#include <sstream>
+
+#include "avm/io/AtomicFile.h"
+#include "avm/io/RawlogFrameReader.h"
+
+namespace avm::odometry
+{
+io::Trajectory OdometryRun::trajectory() const
+{
+	io::Trajectory t;
+	for (const auto& f : frames) t.push_back({f.timestamp, f.estimate.pose});
+	return t;
+}
+
+std::size_t OdometryRun::lostFrames() const
+{
+	return std::count_if(frames.begin(), frames.end(), [](const FrameRecord& f) { return !f.estimate.tracked; });
+}
+
+std::size_t OdometryRun::keyframes() const
+{
+	return std::count_if(frames.begin(), frames.end(), [](const FrameRecord& f) { return f.estimate.keyframe; });
+}
+
+std::string OdometryRun::timingSummary() const
+{
+	std::vector<double> ms;
+	for (const auto& f : frames) ms.push_back(f.milliseconds);
+	std::sort(ms.begin(), ms.end());
+	const auto at = [&](double q) { return ms.empty() ? 0.0 : ms[std::min(ms.size() - 1, std::size_t(q * ms.size()))]; };
+	const double mean = ms.empty() ? 0.0 : std::accumulate(ms.begin(), ms.end(), 0.0) / ms.size();
+	char text[256];
+	std::snprintf(
+		text, sizeof(text), "frames %zu, lost %zu, keyframes %zu, ms/frame mean %.1f median %.1f p95 %.1f max %.1f",
+		frames.size(), lostFrames(), keyframes(), mean, at(0.5), at(0.95), ms.empty() ? 0.0 : ms.back());
+	return text;
+}
+
+void OdometryRun::writeFrameStats(const std::filesystem::path& csv) const
+{
+	io::writeFileAtomically(csv, [&](const std::filesystem::path& tmp) {
+		std::ofstream out(tmp);
+		out << "index,timestamp,ms,tracked,keyframe,inliers,reprojection_rmse_px,person_boxes,status\n";
+		char line[128];
+		for (const auto& f : frames)
+		{
+			std::snprintf(
+				line, sizeof(line), "%zu,%.6f,%.3f,%d,%d,%zu,%.3f,%zu,", f.index, f.timestamp, f.milliseconds,
+				int(f.estimate.tracked), int(f.estimate.keyframe), f.estimate.inliers, f.estimate.reprojectionRmse,
+				f.personBoxes);
+			out << line << '"' << f.estimate.status << "\"\n";
+		}
+		if (!out) throw std::runtime_error(csv.string() + ": cannot write");
+	});
+}
+
+OdometryRun runOdometry(
+	const std::filesystem::path& rawlog, const TOdometryOptions& options, const PersonBoxSource& personBoxes,
+	std::size_t maxFrames, const std::function<void(std::size_t)>& progress)
+{
+	io::RawlogFrameReader reader(rawlog);
+	OdometryRun run;
+	std::optional<VisualOdometry> vo;
+	while (auto frame = reader.next())
+	{
+		if (maxFrames && run.frames.size() >= maxFrames) break;
+		if (!vo) vo.emplace(options, frame->groundTruth.value_or(mrpt::poses::CPose3D()));
+		FrameRecord rec;
+		rec.index = frame->index;
+		rec.timestamp = frame->timestamp();
+		const auto boxes = personBoxes ? personBoxes(*frame) : std::vector<cv::Rect>{};
+		rec.personBoxes = boxes.size();
+		const auto start = std::chrono::steady_clock::now();
+		rec.estimate = vo->process(*frame->observation, boxes);
+		rec.milliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+		run.frames.push_back(std::move(rec));
+		if (progress) progress(run.frames.size());
+	}
+	return run;
+}
+
+std::vector<cv::Rect> personBoxesFromLabels(const mrpt::obs::CObservation3DRangeScan& obs)
+{
+	if (!obs.pixelLabels) return {};
+	const int label = obs.pixelLabels->checkLabelNameExistence("person");
+	if (label < 0) return {};
+	const int rows = int(obs.rangeImage.rows()), cols = int(obs.rangeImage.cols());
+	cv::Mat mask(rows, cols, CV_8U, cv::Scalar(0));
+	for (int r = 0; r < rows; ++r)
+		for (int c = 0; c < cols; ++c)
+			if (obs.pixelLabels->checkLabel(r, c, uint8_t(label))) mask.at<uint8_t>(r, c) = 255;
+	std::vector<std::vector<cv::Point>> contours;
+	cv::findContours(mask, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_SIMPLE);
+	std::vector<cv::Rect> boxes;
+	for (const auto& c : contours) boxes.push_back(cv::boundingRect(c));
+	return boxes;
+}
+
+TOdometryOptions loadOdometryOptions(
+	const std::filesystem::path& ini, const std::string& section, std::vector<std::string>& unknownKeys)
+{
+	if (!std::filesystem::is_regular_file(ini)) throw std::runtime_error(ini.string() + ": config file not found");
+	mrpt::config::CConfigFile cfg(ini.string());
+	if (!cfg.sectionExists(section)) throw std::runtime_error(ini.string() + ": no section [" + section + "]");
+	TOdometryOptions options;
+	mrpt::config::CConfigFileMemory known;
+	options.saveToConfigFile(known, section);
+	std::vector<std::string> knownKeys, userKeys;
+	known.getAllKeys(section, knownKeys);
+	cfg.getAllKeys(section, userKeys);
+	for (const auto& k : userKeys)
+		if (std::find(knownKeys.begin(), knownKeys.end(), k) == knownKeys.end()) unknownKeys.push_back(k);
+	try
+	{
+		options.loadFromConfigFile(cfg, section);
+	}
+	catch (const std::invalid_argument& e)
+	{
+		throw std::invalid_argument(ini.string() + ": " + e.what());
+	}
+	return options;
+}
+}  // namespace avm::odometry

@@ -1,0 +1,47 @@
+// Internal data shared by the front end and the back end. Poses are T_cw
+// (world to camera optical frame), the form projection uses.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <opencv2/core.hpp>
+
+#include <vector>
+
+namespace avm::odometry::detail
+{
+struct Intrinsics
+{
+	double fx = 0, fy = 0, cx = 0, cy = 0;
+};
+
+/** Features of one frame; every one has a valid depth. */
+struct FrameFeatures
+{
+	std::vector<cv::KeyPoint> keypoints;
+	cv::Mat descriptors;                   //!< one ORB descriptor (CV_8U, 32 bytes) per row
+	std::vector<Eigen::Vector3d> points;   //!< [m] back-projected in the camera optical frame
+	Intrinsics K;
+	cv::Size imageSize;
+};
+
+struct Landmark
+{
+	Eigen::Vector3d position;  //!< [m] world
+	cv::Mat descriptor;        //!< 1x32 CV_8U, from the latest keyframe that saw it
+};
+
+/** A landmark seen at a pixel with a measured depth. */
+struct Observation
+{
+	int landmark = -1;
+	Eigen::Vector2d pixel;
+	double depth = 0;  //!< [m]
+};
+
+struct Match
+{
+	int feature = -1;
+	int landmark = -1;
+};
+}  // namespace avm::odometry::detail

@@ -1,0 +1,238 @@
+#include "avm/odometry/VisualOdometry.h"
+
+#include <mrpt/core/bits_math.h>
+#include <mrpt/img/CImage.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include <deque>
+#include <sstream>
+#include <stdexcept>
+
+#include "avm/io/RgbdFrame.h"
+#include "backend/CeresBackend.h"
+#include "frontend/FeatureFrontend.h"
+
+namespace avm::odometry
+{
+using namespace detail;
+
+namespace
+{
+Eigen::Isometry3d toIsometry(const mrpt::poses::CPose3D& p)
+{
+	Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+	const auto& R = p.getRotationMatrix();
+	for (int r = 0; r < 3; ++r)
+	{
+		for (int c = 0; c < 3; ++c) T.linear()(r, c) = R(r, c);
+		T.translation()[r] = p.translation()[r];
+	}
+	return T;
+}
+
+mrpt::poses::CPose3D toPose(const Eigen::Isometry3d& T)
+{
+	mrpt::math::CMatrixDouble33 R;
+	for (int r = 0; r < 3; ++r)
+		for (int c = 0; c < 3; ++c) R(r, c) = T.linear()(r, c);
+	const Eigen::Vector3d t = T.translation();
+	return mrpt::poses::CPose3D(R, mrpt::math::CVectorFixedDouble<3>({t.x(), t.y(), t.z()}));
+}
+
+double rotationAngleDeg(const Eigen::Matrix3d& R) { return mrpt::RAD2DEG(Eigen::AngleAxisd(R).angle()); }
+}  // namespace
+
+struct VisualOdometry::Impl
+{
+	explicit Impl(const TOdometryOptions& o, const mrpt::poses::CPose3D& initial)
+		: options(o), frontend(options), backend(options), T_cw(toIsometry(initial).inverse())
+	{
+		options.validate();
+	}
+
+	TOdometryOptions options;
+	FeatureFrontend frontend;
+	CeresBackend backend;
+	Eigen::Isometry3d T_cw;  //!< latest pose (world -> camera)
+	/** Camera motion of the last frame, T_cw(k) * T_cw(k-1)^-1, for the prediction. */
+	Eigen::Isometry3d velocity = Eigen::Isometry3d::Identity();
+	LandmarkMap landmarks;
+	std::deque<Keyframe> window;
+	int nextLandmarkId = 0;
+
+	OdometryEstimate process(const mrpt::obs::CObservation3DRangeScan& obs, const std::vector<cv::Rect>& boxes);
+	/** A keyframe at T from the frame's matched inliers and new landmarks for
+	 *  the unmatched features; runs the window bundle adjustment. */
+	void addKeyframe(const FrameFeatures& f, const std::vector<Match>& inliers, const Eigen::Isometry3d& T);
+	void forgetUnobservedLandmarks();
+	OdometryEstimate lost(const FrameFeatures& f, const std::string& why);
+};
+
+OdometryEstimate VisualOdometry::Impl::lost(const FrameFeatures& f, const std::string& why)
+{
+	OdometryEstimate e;
+	T_cw = velocity * T_cw;  // bridged by the constant-velocity model
+	e.status = "lost: " + why + "; pose bridged by the motion model";
+	// Start a new local map here when the frame can carry one, so the next
+	// frame tracks again; otherwise keep the old map and try again next frame.
+	if (int(f.keypoints.size()) >= options.min_inliers)
+	{
+		window.clear();
+		landmarks.clear();
+		addKeyframe(f, {}, T_cw);
+		e.keyframe = true;
+		e.status += "; re-initialised";
+	}
+	e.pose = toPose(T_cw.inverse());
+	return e;
+}
+
+OdometryEstimate VisualOdometry::Impl::process(
+	const mrpt::obs::CObservation3DRangeScan& obs, const std::vector<cv::Rect>& boxes)
+{
+	if (!obs.hasRangeImage) throw std::invalid_argument("VisualOdometry: observation without a range image");
+	cv::Mat grey;
+	cv::cvtColor(io::colourImage(obs), grey, cv::COLOR_BGR2GRAY);
+	const cv::Mat depth = io::depthInMetres(obs);
+	if (depth.size() != grey.size())
+		throw std::invalid_argument("VisualOdometry: depth and colour images differ in size (not registered)");
+	const Intrinsics K{obs.cameraParams.fx(), obs.cameraParams.fy(), obs.cameraParams.cx(), obs.cameraParams.cy()};
+
+	const auto f = frontend.extract(grey, depth, K, options.mask_people ? boxes : std::vector<cv::Rect>{});
+	if (window.empty())
+	{
+		if (int(f.keypoints.size()) < options.min_inliers)
+		{
+			OdometryEstimate e;
+			e.pose = toPose(T_cw.inverse());
+			e.status = "lost: not initialised, " + std::to_string(f.keypoints.size()) + " features with depth";
+			return e;
+		}
+		addKeyframe(f, {}, T_cw);
+		OdometryEstimate e;
+		e.pose = toPose(T_cw.inverse());
+		e.tracked = e.keyframe = true;
+		e.status = "initialised";
+		return e;
+	}
+	if (int(f.keypoints.size()) < options.min_inliers)
+		return lost(f, std::to_string(f.keypoints.size()) + " features with depth (no depth or no texture)");
+
+	const Eigen::Isometry3d predicted = velocity * T_cw;
+	auto matches = frontend.matchByProjection(f, landmarks, predicted);
+	auto pnp = frontend.solvePnp(f, landmarks, matches, predicted);
+	if (!pnp)
+	{
+		matches = frontend.matchByDescriptor(f, landmarks);
+		pnp = frontend.solvePnp(f, landmarks, matches, T_cw);
+	}
+	if (!pnp) return lost(f, std::to_string(matches.size()) + " matches, PnP found no consistent pose");
+
+	Eigen::Isometry3d T = pnp->T_cw;
+	const auto observationsOf = [&](const std::vector<Match>& ms) {
+		std::vector<Observation> obsList;
+		for (const auto& m : ms)
+			obsList.push_back(
+				{m.landmark, Eigen::Vector2d(f.keypoints[m.feature].pt.x, f.keypoints[m.feature].pt.y),
+				 f.points[m.feature].z()});
+		return obsList;
+	};
+	backend.refinePose(T, observationsOf(pnp->inliers), landmarks, K);
+
+	// Inliers at the refined pose among all matches.
+	std::vector<Match> inliers;
+	double sq = 0;
+	for (const auto& m : matches)
+	{
+		const double err = CeresBackend::reprojectionError(
+			T, landmarks.at(m.landmark).position,
+			Eigen::Vector2d(f.keypoints[m.feature].pt.x, f.keypoints[m.feature].pt.y), K);
+		if (err > options.ransac_reprojection) continue;
+		inliers.push_back(m);
+		sq += err * err;
+	}
+	if (int(inliers.size()) < options.min_inliers || !T.matrix().allFinite())
+		return lost(f, std::to_string(inliers.size()) + " inliers after refinement");
+
+	OdometryEstimate e;
+	e.tracked = true;
+	e.inliers = inliers.size();
+	e.reprojectionRmse = std::sqrt(sq / inliers.size());
+	e.status = "tracking";
+
+	// Keyframe when the camera moved or turned enough, or sees too little of
+	// the last keyframe's landmarks.
+	// Overlap: inliers relative to the most the last keyframe's map gave any frame.
+	auto& last = window.back();
+	const Eigen::Isometry3d rel = T * last.T_cw.inverse();
+	last.bestInliers = std::max(last.bestInliers, inliers.size());
+	const double overlap = double(inliers.size()) / double(last.bestInliers);
+	const Eigen::Isometry3d previous = T_cw;
+	if (rel.translation().norm() > options.keyframe_translation ||
+		rotationAngleDeg(rel.rotation()) > options.keyframe_rotation || overlap < options.keyframe_overlap)
+	{
+		addKeyframe(f, inliers, T);
+		T = window.back().T_cw;  // as the bundle adjustment left it
+		e.keyframe = true;
+	}
+	velocity = T * previous.inverse();
+	T_cw = T;
+	e.pose = toPose(T_cw.inverse());
+	return e;
+}
+
+void VisualOdometry::Impl::addKeyframe(const FrameFeatures& f, const std::vector<Match>& inliers, const Eigen::Isometry3d& T)
+{
+	Keyframe kf;
+	kf.T_cw = T;
+	std::vector<bool> matched(f.keypoints.size(), false);
+	for (const auto& m : inliers)
+	{
+		matched[m.feature] = true;
+		f.descriptors.row(m.feature).copyTo(landmarks.at(m.landmark).descriptor);
+		kf.observations.push_back(
+			{m.landmark, Eigen::Vector2d(f.keypoints[m.feature].pt.x, f.keypoints[m.feature].pt.y),
+			 f.points[m.feature].z()});
+	}
+	const Eigen::Isometry3d T_wc = T.inverse();
+	for (std::size_t i = 0; i < f.keypoints.size(); ++i)
+	{
+		if (matched[i]) continue;
+		const int id = nextLandmarkId++;
+		landmarks[id] = Landmark{T_wc * f.points[i], f.descriptors.row(int(i)).clone()};
+		kf.observations.push_back(
+			{id, Eigen::Vector2d(f.keypoints[i].pt.x, f.keypoints[i].pt.y), f.points[i].z()});
+	}
+	window.push_back(std::move(kf));
+	while (window.size() > std::size_t(std::max(1, options.window_size))) window.pop_front();
+	forgetUnobservedLandmarks();
+	if (options.window_size >= 2) backend.bundleAdjust(window, landmarks, f.K);
+}
+
+void VisualOdometry::Impl::forgetUnobservedLandmarks()
+{
+	std::unordered_map<int, bool> seen;
+	for (const auto& kf : window)
+		for (const auto& o : kf.observations) seen[o.landmark] = true;
+	for (auto it = landmarks.begin(); it != landmarks.end();)
+		it = seen.count(it->first) ? std::next(it) : landmarks.erase(it);
+}
+
+VisualOdometry::VisualOdometry(const TOdometryOptions& options, const mrpt::poses::CPose3D& initialPose)
+	: m_impl(std::make_unique<Impl>(options, initialPose))
+{
+}
+VisualOdometry::~VisualOdometry() = default;
+VisualOdometry::VisualOdometry(VisualOdometry&&) noexcept = default;
+VisualOdometry& VisualOdometry::operator=(VisualOdometry&&) noexcept = default;
+
+OdometryEstimate VisualOdometry::process(
+	const mrpt::obs::CObservation3DRangeScan& obs, const std::vector<cv::Rect>& personBoxes)
+{
+	return m_impl->process(obs, personBoxes);
+}
+const TOdometryOptions& VisualOdometry::options() const { return m_impl->options; }
+std::size_t VisualOdometry::keyframeCount() const { return m_impl->window.size(); }
+std::size_t VisualOdometry::landmarkCount() const { return m_impl->landmarks.size(); }
+}  // namespace avm::odometry

@@ -1,0 +1,126 @@
+#include "CeresBackend.h"
+
+#include <ceres/ceres.h>
+#include <ceres/rotation.h>
+
+#include <array>
+#include <unordered_map>
+
+#include "ReprojectionCost.h"
+
+namespace avm::odometry::detail
+{
+namespace
+{
+using PoseParams = std::array<double, 6>;
+
+PoseParams toParams(const Eigen::Isometry3d& T)
+{
+	PoseParams p;
+	const Eigen::Matrix3d R = T.rotation();
+	ceres::RotationMatrixToAngleAxis(ceres::ColumnMajorAdapter3x3(R.data()), p.data());
+	for (int i = 0; i < 3; ++i) p[3 + i] = T.translation()[i];
+	return p;
+}
+
+/** The refined pose, or the original if Ceres produced something non-finite. */
+Eigen::Isometry3d fromParams(const PoseParams& p, const Eigen::Isometry3d& fallback)
+{
+	for (double v : p)
+		if (!std::isfinite(v)) return fallback;
+	Eigen::Matrix3d R;
+	ceres::AngleAxisToRotationMatrix(p.data(), ceres::ColumnMajorAdapter3x3(R.data()));
+	Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+	T.linear() = R;
+	T.translation() << p[3], p[4], p[5];
+	return T;
+}
+
+ceres::Solver::Options solverOptions(int iterations, int threads, ceres::LinearSolverType solver)
+{
+	ceres::Solver::Options o;
+	o.linear_solver_type = solver;
+	o.max_num_iterations = iterations;
+	o.num_threads = threads;
+	o.logging_type = ceres::SILENT;
+	o.minimizer_progress_to_stdout = false;
+	return o;
+}
+}  // namespace
+
+double CeresBackend::reprojectionError(
+	const Eigen::Isometry3d& T_cw, const Eigen::Vector3d& world, const Eigen::Vector2d& pixel, const Intrinsics& K)
+{
+	const Eigen::Vector3d pc = T_cw * world;
+	if (pc.z() <= 1e-6) return std::numeric_limits<double>::infinity();
+	const Eigen::Vector2d proj(K.fx * pc.x() / pc.z() + K.cx, K.fy * pc.y() / pc.z() + K.cy);
+	return (proj - pixel).norm();
+}
+
+void CeresBackend::refinePose(
+	Eigen::Isometry3d& T_cw, const std::vector<Observation>& observations, const LandmarkMap& landmarks,
+	const Intrinsics& K) const
+{
+	if (m_options.refine_iterations == 0 || observations.empty()) return;
+	PoseParams pose = toParams(T_cw);
+	std::vector<std::array<double, 3>> points(observations.size());
+	ceres::Problem::Options po;
+	po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+	ceres::Problem problem(po);
+	ceres::HuberLoss loss(m_options.huber_delta);
+	for (std::size_t i = 0; i < observations.size(); ++i)
+	{
+		const auto& p = landmarks.at(observations[i].landmark).position;
+		points[i] = {p.x(), p.y(), p.z()};
+		problem.AddResidualBlock(
+			ReprojectionDepthCost::create(observations[i], K, m_options.depth_weight), &loss, pose.data(),
+			points[i].data());
+		problem.SetParameterBlockConstant(points[i].data());
+	}
+	ceres::Solver::Summary summary;
+	ceres::Solve(solverOptions(m_options.refine_iterations, m_options.threads, ceres::DENSE_QR), &problem, &summary);
+	T_cw = fromParams(pose, T_cw);
+}
+
+void CeresBackend::bundleAdjust(std::deque<Keyframe>& window, LandmarkMap& landmarks, const Intrinsics& K) const
+{
+	if (window.size() < 2) return;
+	std::unordered_map<int, int> seenBy;
+	for (const auto& kf : window)
+		for (const auto& o : kf.observations) ++seenBy[o.landmark];
+
+	std::vector<PoseParams> poses;
+	for (const auto& kf : window) poses.push_back(toParams(kf.T_cw));
+	std::unordered_map<int, std::array<double, 3>> points;
+	for (const auto& [id, n] : seenBy)
+		if (n >= 2)
+		{
+			const auto& p = landmarks.at(id).position;
+			points[id] = {p.x(), p.y(), p.z()};
+		}
+	if (points.empty()) return;
+
+	ceres::Problem::Options po;
+	po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+	ceres::Problem problem(po);
+	ceres::HuberLoss loss(m_options.huber_delta);
+	for (std::size_t k = 0; k < window.size(); ++k)
+		for (const auto& o : window[k].observations)
+		{
+			auto it = points.find(o.landmark);
+			if (it == points.end()) continue;
+			problem.AddResidualBlock(
+				ReprojectionDepthCost::create(o, K, m_options.depth_weight), &loss, poses[k].data(), it->second.data());
+		}
+	if (!problem.HasParameterBlock(poses.front().data())) return;  // nothing ties the window to its anchor
+	problem.SetParameterBlockConstant(poses.front().data());
+	ceres::Solver::Summary summary;
+	ceres::Solve(solverOptions(m_options.ba_iterations, m_options.threads, ceres::DENSE_SCHUR), &problem, &summary);
+	if (!summary.IsSolutionUsable()) return;
+
+	for (std::size_t k = 0; k < window.size(); ++k) window[k].T_cw = fromParams(poses[k], window[k].T_cw);
+	for (const auto& [id, p] : points)
+		if (std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]))
+			landmarks.at(id).position = Eigen::Vector3d(p[0], p[1], p[2]);
+}
+}  // namespace avm::odometry::detail

@@ -1,0 +1,43 @@
+// The back end: robust (Huber) Ceres refinement of one pose against fixed
+// landmarks, and a sliding-window bundle adjustment of keyframe poses and the
+// landmarks they share.
+#pragma once
+
+#include <deque>
+#include <vector>
+
+#include "../Types.h"
+#include "../frontend/FeatureFrontend.h"
+#include "avm/odometry/TOdometryOptions.h"
+
+namespace avm::odometry::detail
+{
+struct Keyframe
+{
+	Eigen::Isometry3d T_cw;
+	std::vector<Observation> observations;
+	/** Most inliers a frame tracked against the map while this was the newest keyframe. */
+	std::size_t bestInliers = 0;
+};
+
+class CeresBackend
+{
+   public:
+	explicit CeresBackend(const TOdometryOptions& options) : m_options(options) {}
+
+	/** Refines T_cw in place from observations of fixed landmarks. */
+	void refinePose(Eigen::Isometry3d& T_cw, const std::vector<Observation>& observations, const LandmarkMap& landmarks,
+					const Intrinsics& K) const;
+
+	/** Bundle adjustment over the window: the oldest keyframe is held fixed
+	 *  (it anchors the gauge); landmarks seen by at least two keyframes move. */
+	void bundleAdjust(std::deque<Keyframe>& window, LandmarkMap& landmarks, const Intrinsics& K) const;
+
+	/** Reprojection error [px] of an observation at a pose. */
+	static double reprojectionError(
+		const Eigen::Isometry3d& T_cw, const Eigen::Vector3d& world, const Eigen::Vector2d& pixel, const Intrinsics& K);
+
+   private:
+	const TOdometryOptions& m_options;
+};
+}  // namespace avm::odometry::detail

@@ -1,0 +1,210 @@
+#include "FeatureFrontend.h"
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
+#include <opencv2/core/hal/hal.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace avm::odometry::detail
+{
+namespace
+{
+/** Depth at a pixel if it is valid and not on a depth discontinuity (the 3x3
+ *  neighbourhood is complete and its range small relative to the depth). */
+std::optional<double> stableDepth(const cv::Mat& depth, int u, int v, const TOdometryOptions& o)
+{
+	if (u < 1 || v < 1 || u >= depth.cols - 1 || v >= depth.rows - 1) return std::nullopt;
+	const float d = depth.at<float>(v, u);
+	if (!(d >= o.min_depth && d <= o.max_depth)) return std::nullopt;
+	float lo = d, hi = d;
+	for (int dv = -1; dv <= 1; ++dv)
+		for (int du = -1; du <= 1; ++du)
+		{
+			const float n = depth.at<float>(v + dv, u + du);
+			if (!(n > 0)) return std::nullopt;
+			lo = std::min(lo, n);
+			hi = std::max(hi, n);
+		}
+	if (hi - lo > o.depth_edge_ratio * d) return std::nullopt;
+	return d;
+}
+
+int hamming(const cv::Mat& a, const cv::Mat& b) { return cv::hal::normHamming(a.ptr<uchar>(), b.ptr<uchar>(), a.cols); }
+}  // namespace
+
+FeatureFrontend::FeatureFrontend(const TOdometryOptions& options)
+	: m_options(options),
+	  m_orb(cv::ORB::create(
+		  2 * options.num_features, static_cast<float>(options.pyramid_scale), options.pyramid_levels, 19, 0, 2,
+		  cv::ORB::HARRIS_SCORE, 31, options.fast_threshold))
+{
+}
+
+FrameFeatures FeatureFrontend::extract(
+	const cv::Mat& grey, const cv::Mat& depth, const Intrinsics& K, const std::vector<cv::Rect>& excluded) const
+{
+	const auto& o = m_options;
+	FrameFeatures f;
+	f.K = K;
+	f.imageSize = grey.size();
+
+	cv::Mat mask = depth > 0;
+	for (const auto& box : excluded)
+	{
+		const cv::Rect grown(
+			box.x - o.person_box_margin, box.y - o.person_box_margin, box.width + 2 * o.person_box_margin,
+			box.height + 2 * o.person_box_margin);
+		mask(grown & cv::Rect(0, 0, mask.cols, mask.rows)).setTo(0);
+	}
+	std::vector<cv::KeyPoint> detected;
+	m_orb->detect(grey, detected, mask);
+
+	// Bucketing: the strongest features of every grid cell first, so texture-rich
+	// corners do not take the whole budget; the rest of the budget by strength.
+	const int cells = o.grid_cols * o.grid_rows;
+	const std::size_t perCell = static_cast<std::size_t>((o.num_features + cells - 1) / cells);
+	std::vector<std::vector<cv::KeyPoint>> grid(cells);
+	for (const auto& kp : detected)
+	{
+		if (!stableDepth(depth, cvRound(kp.pt.x), cvRound(kp.pt.y), o)) continue;
+		const int c = std::min(o.grid_cols - 1, int(kp.pt.x * o.grid_cols / grey.cols));
+		const int r = std::min(o.grid_rows - 1, int(kp.pt.y * o.grid_rows / grey.rows));
+		grid[r * o.grid_cols + c].push_back(kp);
+	}
+	std::vector<cv::KeyPoint> kept, spare;
+	const auto stronger = [](const cv::KeyPoint& a, const cv::KeyPoint& b) { return a.response > b.response; };
+	for (auto& cell : grid)
+	{
+		std::sort(cell.begin(), cell.end(), stronger);
+		for (std::size_t i = 0; i < cell.size(); ++i) (i < perCell ? kept : spare).push_back(cell[i]);
+	}
+	if (kept.size() < std::size_t(o.num_features))
+	{
+		std::sort(spare.begin(), spare.end(), stronger);
+		const std::size_t more = std::min(spare.size(), std::size_t(o.num_features) - kept.size());
+		kept.insert(kept.end(), spare.begin(), spare.begin() + more);
+	}
+	if (kept.empty()) return f;
+	m_orb->compute(grey, kept, f.descriptors);
+	f.keypoints = std::move(kept);
+	f.points.reserve(f.keypoints.size());
+	for (const auto& kp : f.keypoints)
+	{
+		const double d = *stableDepth(depth, cvRound(kp.pt.x), cvRound(kp.pt.y), o);
+		f.points.emplace_back((kp.pt.x - K.cx) * d / K.fx, (kp.pt.y - K.cy) * d / K.fy, d);
+	}
+	return f;
+}
+
+std::vector<Match> FeatureFrontend::matchByProjection(
+	const FrameFeatures& frame, const LandmarkMap& landmarks, const Eigen::Isometry3d& T_cw) const
+{
+	const auto& o = m_options;
+	const double cellSize = o.search_radius;
+	const int cols = int(std::ceil(frame.imageSize.width / cellSize)) + 1;
+	const int rows = int(std::ceil(frame.imageSize.height / cellSize)) + 1;
+	std::vector<std::vector<int>> grid(cols * rows);
+	for (int i = 0; i < int(frame.keypoints.size()); ++i)
+	{
+		const auto& p = frame.keypoints[i].pt;
+		grid[int(p.y / cellSize) * cols + int(p.x / cellSize)].push_back(i);
+	}
+
+	// best[feature] = (distance, landmark): one landmark per feature, the closest.
+	std::vector<std::pair<int, int>> best(frame.keypoints.size(), {INT32_MAX, -1});
+	const double r2 = o.search_radius * o.search_radius;
+	for (const auto& [id, lm] : landmarks)
+	{
+		const Eigen::Vector3d pc = T_cw * lm.position;
+		if (pc.z() < o.min_depth) continue;
+		const double u = frame.K.fx * pc.x() / pc.z() + frame.K.cx;
+		const double v = frame.K.fy * pc.y() / pc.z() + frame.K.cy;
+		if (u < 0 || v < 0 || u >= frame.imageSize.width || v >= frame.imageSize.height) continue;
+		int d1 = INT32_MAX, d2 = INT32_MAX, bestFeature = -1;
+		const int cu = int(u / cellSize), cv_ = int(v / cellSize);
+		for (int gy = std::max(0, cv_ - 1); gy <= std::min(rows - 1, cv_ + 1); ++gy)
+			for (int gx = std::max(0, cu - 1); gx <= std::min(cols - 1, cu + 1); ++gx)
+				for (int i : grid[gy * cols + gx])
+				{
+					const auto& p = frame.keypoints[i].pt;
+					if ((p.x - u) * (p.x - u) + (p.y - v) * (p.y - v) > r2) continue;
+					const int d = hamming(frame.descriptors.row(i), lm.descriptor);
+					if (d < d1)
+					{
+						d2 = d1;
+						d1 = d;
+						bestFeature = i;
+					}
+					else if (d < d2)
+						d2 = d;
+				}
+		if (bestFeature < 0 || d1 > o.max_hamming || (d2 != INT32_MAX && d1 > o.match_ratio * d2)) continue;
+		if (d1 < best[bestFeature].first) best[bestFeature] = {d1, id};
+	}
+	std::vector<Match> matches;
+	for (int i = 0; i < int(best.size()); ++i)
+		if (best[i].second >= 0) matches.push_back({i, best[i].second});
+	return matches;
+}
+
+std::vector<Match> FeatureFrontend::matchByDescriptor(const FrameFeatures& frame, const LandmarkMap& landmarks) const
+{
+	if (landmarks.empty() || frame.descriptors.empty()) return {};
+	cv::Mat train(int(landmarks.size()), 32, CV_8U);
+	std::vector<int> ids;
+	for (const auto& [id, lm] : landmarks)
+	{
+		lm.descriptor.copyTo(train.row(int(ids.size())));
+		ids.push_back(id);
+	}
+	cv::BFMatcher matcher(cv::NORM_HAMMING);
+	std::vector<std::vector<cv::DMatch>> knn;
+	matcher.knnMatch(frame.descriptors, train, knn, 2);
+	std::vector<Match> matches;
+	for (const auto& m : knn)
+		if (m.size() == 2 && m[0].distance <= m_options.max_hamming &&
+			m[0].distance < m_options.match_ratio * m[1].distance)
+			matches.push_back({m[0].queryIdx, ids[m[0].trainIdx]});
+	return matches;
+}
+
+std::optional<FeatureFrontend::PnpResult> FeatureFrontend::solvePnp(
+	const FrameFeatures& frame, const LandmarkMap& landmarks, const std::vector<Match>& matches,
+	const Eigen::Isometry3d& guess) const
+{
+	if (int(matches.size()) < m_options.min_inliers) return std::nullopt;
+	std::vector<cv::Point3f> object;
+	std::vector<cv::Point2f> image;
+	for (const auto& m : matches)
+	{
+		const auto& p = landmarks.at(m.landmark).position;
+		object.emplace_back(float(p.x()), float(p.y()), float(p.z()));
+		image.push_back(frame.keypoints[m.feature].pt);
+	}
+	const cv::Matx33d K(frame.K.fx, 0, frame.K.cx, 0, frame.K.fy, frame.K.cy, 0, 0, 1);
+	cv::Mat R, rvec, tvec;
+	cv::eigen2cv(Eigen::Matrix3d(guess.rotation()), R);
+	cv::Rodrigues(R, rvec);
+	cv::eigen2cv(Eigen::Vector3d(guess.translation()), tvec);
+	std::vector<int> inlierIdx;
+	if (!cv::solvePnPRansac(
+			object, image, K, cv::noArray(), rvec, tvec, /*useExtrinsicGuess=*/true, m_options.ransac_iterations,
+			float(m_options.ransac_reprojection), 0.99, inlierIdx, cv::SOLVEPNP_ITERATIVE) ||
+		int(inlierIdx.size()) < m_options.min_inliers)
+		return std::nullopt;
+	cv::Rodrigues(rvec, R);
+	Eigen::Matrix3d Re;
+	Eigen::Vector3d te;
+	cv::cv2eigen(R, Re);
+	cv::cv2eigen(tvec, te);
+	if (!Re.allFinite() || !te.allFinite()) return std::nullopt;
+	PnpResult out{Eigen::Isometry3d::Identity(), {}};
+	out.T_cw.linear() = Re;
+	out.T_cw.translation() = te;
+	for (int i : inlierIdx) out.inliers.push_back(matches[i]);
+	return out;
+}
+}  // namespace avm::odometry::detail

@@ -1,0 +1,53 @@
+// The front end: grid-bucketed ORB features with depth, matching to landmarks
+// (guided by a predicted pose, or by descriptor alone when there is none), and
+// the initial pose by PnP RANSAC.
+#pragma once
+
+#include <opencv2/features2d.hpp>
+
+#include <optional>
+#include <unordered_map>
+#include <vector>
+
+#include "../Types.h"
+#include "avm/odometry/TOdometryOptions.h"
+
+namespace avm::odometry::detail
+{
+using LandmarkMap = std::unordered_map<int, Landmark>;
+
+class FeatureFrontend
+{
+   public:
+	explicit FeatureFrontend(const TOdometryOptions& options);
+
+	/** Features of a grey image with their depth (metres, CV_32F). Pixels in
+	 *  `excluded` boxes, without depth, or on a depth edge give none. */
+	FrameFeatures extract(
+		const cv::Mat& grey, const cv::Mat& depth, const Intrinsics& K, const std::vector<cv::Rect>& excluded) const;
+
+	/** Each landmark projected with T_cw, matched to the best feature within
+	 *  search_radius (distance and ratio tests; one landmark per feature). */
+	std::vector<Match> matchByProjection(
+		const FrameFeatures& frame, const LandmarkMap& landmarks, const Eigen::Isometry3d& T_cw) const;
+
+	/** Descriptor matching against all landmarks (ratio test), for when no pose
+	 *  prediction can be trusted. */
+	std::vector<Match> matchByDescriptor(const FrameFeatures& frame, const LandmarkMap& landmarks) const;
+
+	/** PnP RANSAC from `guess`; the pose and the inlier matches, or nothing
+	 *  when there are too few. */
+	struct PnpResult
+	{
+		Eigen::Isometry3d T_cw;
+		std::vector<Match> inliers;
+	};
+	std::optional<PnpResult> solvePnp(
+		const FrameFeatures& frame, const LandmarkMap& landmarks, const std::vector<Match>& matches,
+		const Eigen::Isometry3d& guess) const;
+
+   private:
+	const TOdometryOptions& m_options;
+	cv::Ptr<cv::ORB> m_orb;
+};
+}  // namespace avm::odometry::detail
