@@ -206,6 +206,18 @@ TEST(CAdaptiveOctoMapBonn, PersonPixelLabelsCreateARegionAroundThosePoints)
 		for (int c = cols / 2 - 30; c < cols / 2 + 30; c++) labels->setLabel(r, c, 1);
 	labelled->pixelLabels = labels;
 
+	// Two separate blobs under the same label are two people, two regions.
+	{
+		auto twoPeople = mrpt::obs::CObservation3DRangeScan::Create(*labelled);
+		auto two = std::make_shared<mrpt::obs::TPixelLabelInfo<1>>(*labels);
+		for (int r = rows / 2 - 60; r < rows / 2 + 60; r++)
+			for (int c = 20; c < 80; c++) two->setLabel(r, c, 1);
+		twoPeople->pixelLabels = two;
+		CAdaptiveOctoMap map2;
+		ASSERT_TRUE(map2.insertObservation(*twoPeople, f.pose));
+		EXPECT_EQ(map2.highResolutionRegions().size(), 2u);
+	}
+
 	CAdaptiveOctoMap map;
 	ASSERT_TRUE(map.insertObservation(*labelled, f.pose));
 	ASSERT_EQ(map.highResolutionRegions().size(), 1u);

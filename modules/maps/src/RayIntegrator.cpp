@@ -9,21 +9,17 @@ namespace
 {
 constexpr int kKeyOffset = 32768;  // octomap's tree_max_val for depth 16
 
-inline int fastFloor(double v)
-{
-	const int i = static_cast<int>(v);
-	return i - (v < i);
-}
-
 /** octomap's coordToKey (floor(coord / res) + 32768), packed; false when the
- *  point is outside the tree. */
+ *  point is outside the tree. Shifted by the offset first, the value is
+ *  non-negative inside the tree, so truncation is the floor. */
 inline bool packedKeyOf(double x, double y, double z, double inverseRes, std::uint64_t& out)
 {
-	const int kx = fastFloor(x * inverseRes) + kKeyOffset, ky = fastFloor(y * inverseRes) + kKeyOffset,
-			  kz = fastFloor(z * inverseRes) + kKeyOffset;
-	if ((static_cast<unsigned>(kx) | static_cast<unsigned>(ky) | static_cast<unsigned>(kz)) > 0xFFFFu)
-		return false;
-	out = ((std::uint64_t(kx) << 32) | (std::uint64_t(ky) << 16) | std::uint64_t(kz)) + 1;
+	const double fx = x * inverseRes + kKeyOffset, fy = y * inverseRes + kKeyOffset, fz = z * inverseRes + kKeyOffset;
+	constexpr double kEnd = 2.0 * kKeyOffset;
+	if (!(fx >= 0 && fx < kEnd && fy >= 0 && fy < kEnd && fz >= 0 && fz < kEnd)) return false;
+	out = ((std::uint64_t(static_cast<unsigned>(fx)) << 32) | (std::uint64_t(static_cast<unsigned>(fy)) << 16) |
+			  std::uint64_t(static_cast<unsigned>(fz))) +
+		  1;
 	return true;
 }
 
@@ -77,7 +73,7 @@ void RayIntegrator::begin(const mrpt::math::TPoint3D& origin, const ScanTargets&
 	for (auto* s : {&m_outsideEnds, &m_insideEnds, &m_crossingEnds, &m_outsideFree, &m_outsideOccupied, &m_insideFree,
 			 &m_insideOccupied})
 		s->clear();
-	m_lastOutsideKey = 0;
+	m_lastOutsideKey = m_lastInsideKey = m_lastCrossingKey = 0;
 }
 
 inline void RayIntegrator::addPoint(double x, double y, double z, bool nearRegion)
@@ -88,7 +84,11 @@ inline void RayIntegrator::addPoint(double x, double y, double z, bool nearRegio
 	{
 		if (insideAnyRegion(x, y, z))
 		{
-			if (packedKeyOf(x, y, z, m_insideGrid.inverse, key)) m_insideEnds.insert(key);
+			if (packedKeyOf(x, y, z, m_insideGrid.inverse, key) && key != m_lastInsideKey)
+			{
+				m_lastInsideKey = key;
+				m_insideEnds.insert(key);
+			}
 			return;
 		}
 		const mrpt::math::TPoint3D d(x - m_origin.x, y - m_origin.y, z - m_origin.z);
@@ -96,7 +96,11 @@ inline void RayIntegrator::addPoint(double x, double y, double z, bool nearRegio
 		{
 			double t0, t1;
 			if (!clipToBox(m_origin, d, r.box, t0, t1)) continue;
-			if (packedKeyOf(x, y, z, m_insideGrid.inverse, key)) m_crossingEnds.insert(key);
+			if (packedKeyOf(x, y, z, m_insideGrid.inverse, key) && key != m_lastCrossingKey)
+			{
+				m_lastCrossingKey = key;
+				m_crossingEnds.insert(key);
+			}
 			break;
 		}
 	}
@@ -175,10 +179,12 @@ void RayIntegrator::applyUpdates(
 		const auto c = centreOf(k, grid.resolution);
 		return insideAnyRegion(c.x, c.y, c.z) == keepInsideRegions;
 	};
+	m_batch.clear();
 	for (const auto k : freeKeys.keys())
-		if (!occupiedKeys.contains(k) && belongs(k)) tree.updateNode(unpackKey(k), false);
+		if (!occupiedKeys.contains(k) && belongs(k)) m_batch.add(k, false);
 	for (const auto k : occupiedKeys.keys())
-		if (belongs(k)) tree.updateNode(unpackKey(k), true);
+		if (belongs(k)) m_batch.add(k, true);
+	m_batch.applyTo(tree);
 }
 
 void RayIntegrator::finish()
@@ -196,7 +202,13 @@ void RayIntegrator::finish()
 		for (const auto k : m_insideEnds.keys())
 			castRay(centreOf(k, m_insideGrid.resolution), k, Endpoint::Inside, true, true);
 		for (const auto k : m_crossingEnds.keys())
-			castRay(centreOf(k, m_insideGrid.resolution), k, Endpoint::None, false, true);
+		{
+			// Through the exit voxel: one fine voxel beyond its centre.
+			const auto c = centreOf(k, m_insideGrid.resolution);
+			const auto dir = c - m_origin;
+			const double n = dir.norm();
+			if (n > 0) castRay(c + dir * (m_insideGrid.resolution / n), k, Endpoint::None, false, true);
+		}
 	}
 	applyUpdates(*m_targets.outside, m_outsideGrid, m_outsideFree, m_outsideOccupied, false);
 	if (m_hasRegions) applyUpdates(*m_targets.inside, m_insideGrid, m_insideFree, m_insideOccupied, true);
@@ -248,26 +260,149 @@ void RayIntegrator::integrateDepthImage(
 	// Sensor frame: X forward, Y left, Z up; pixel (u, v) with depth d is
 	// d * (1, (cx - u)/fx, (cy - v)/fy), so world = t + d * (R0 + a_u R1 + b_v R2).
 	m_columnFactor.resize(cols);
-	for (int u = 0; u < cols; u++) m_columnFactor[u] = (cx - u) / fx;
+	// Range (not depth) images: the per-pixel factor from range to depth.
+	m_rangeToDepth.clear();
+	if (!obs.range_is_depth)
+		for (int v = 0; v < rows; v++)
+			for (int u = 0; u < cols; u++)
+			{
+				const double a = (cx - u) / fx, b = (cy - v) / fy;
+				m_rangeToDepth.push_back(static_cast<float>(1.0 / std::sqrt(1 + a * a + b * b)));
+			}
+	m_columnFactorF.resize(cols);
+	for (int u = 0; u < cols; u++)
+	{
+		m_columnFactor[u] = (cx - u) / fx;
+		m_columnFactorF[u] = static_cast<float>(m_columnFactor[u]);
+	}
 	const double r00 = R(0, 0), r10 = R(1, 0), r20 = R(2, 0), r01 = R(0, 1), r11 = R(1, 1), r21 = R(2, 1);
+	const float inverse = static_cast<float>(m_outsideGrid.inverse), offset = kKeyOffset;
+	const float unitsF = static_cast<float>(units);
+	m_rowKeys.resize(3 * static_cast<std::size_t>(cols));
+	int* const kxs = m_rowKeys.data();
+	int* const kys = kxs + cols;
+	int* const kzs = kys + cols;
+	const float* const colFactor = m_columnFactorF.data();
 	for (int v = 0; v < rows; v++)
 	{
 		const double b = (cy - v) / fy;
 		const double bx = r00 + R(0, 2) * b, by = r10 + R(1, 2) * b, bz = r20 + R(2, 2) * b;
-		bool rowNear = false;
-		for (const auto& rect : m_regionRects) rowNear |= (v >= rect.v0 && v <= rect.v1);
 		const uint16_t* row = &img(v, 0);
+		// Coarse keys of the whole row in one branch-free loop the compiler
+		// vectorizes (octomap too works on float coordinates). A key below
+		// the tree becomes -1, caught with the invalid pixels below.
+		{
+			const float tx = t.x, ty = t.y, tz = t.z, fbx = bx, fby = by, fbz = bz, f01 = r01, f11 = r11, f21 = r21;
+			const float* const rangeScale = m_rangeToDepth.empty() ? nullptr : m_rangeToDepth.data() + static_cast<std::size_t>(v) * cols;
+			for (int u = 0; u < cols; u++)
+			{
+				const float a = colFactor[u];
+				const float d = row[u] * unitsF * (rangeScale ? rangeScale[u] : 1.0f);
+				const float kx = (tx + d * (fbx + f01 * a)) * inverse + offset;
+				const float ky = (ty + d * (fby + f11 * a)) * inverse + offset;
+				const float kz = (tz + d * (fbz + f21 * a)) * inverse + offset;
+				kxs[u] = kx < 0 ? -1 : static_cast<int>(kx);
+				kys[u] = ky < 0 ? -1 : static_cast<int>(ky);
+				kzs[u] = kz < 0 ? -1 : static_cast<int>(kz);
+			}
+		}
+		// Columns of this row whose rays can reach a region (empty: none).
+		int nearFrom = cols, nearTo = -1;
+		for (const auto& rect : m_regionRects)
+			if (v >= rect.v0 && v <= rect.v1)
+			{
+				nearFrom = std::min(nearFrom, std::max(rect.u0, 0));
+				nearTo = std::max(nearTo, std::min(rect.u1, cols - 1));
+			}
+		// Near pixels, classified branch-free over the row (slab method per
+		// region, in depth units): 1 = the point is in a region, 2 = its ray
+		// passes through one; with the fine key of the point (1) or of the
+		// voxel where the ray leaves the farthest region it crosses (2).
+		const std::size_t nRegions = m_hasRegions ? targets.regions->size() : 0;
+		const bool rowNear = nearTo >= nearFrom;
+		if (rowNear)
+		{
+			m_near.resize(6 * static_cast<std::size_t>(cols));
+			float* const depth = m_near.data();
+			float* const insideF = depth + cols;
+			float* const crossTo = insideF + cols;
+			int* const fineKeys = reinterpret_cast<int*>(crossTo + cols);
+			const float dx0 = bx, dy0 = by, dz0 = bz, f01 = r01, f11 = r11, f21 = r21;
+			const float ox = t.x, oy = t.y, oz = t.z;
+			const float* const rangeScale =
+				m_rangeToDepth.empty() ? nullptr : m_rangeToDepth.data() + static_cast<std::size_t>(v) * cols;
+			for (int u = nearFrom; u <= nearTo; u++)
+			{
+				depth[u] = row[u] * unitsF * (rangeScale ? rangeScale[u] : 1.0f);
+				insideF[u] = 0;
+				crossTo[u] = -1;
+			}
+			for (std::size_t ri = 0; ri < nRegions; ri++)
+			{
+				const auto& box = (*targets.regions)[ri].box;
+				const float minx = box.min.x, miny = box.min.y, minz = box.min.z;
+				const float maxx = box.max.x, maxy = box.max.y, maxz = box.max.z;
+				for (int u = nearFrom; u <= nearTo; u++)
+				{
+					const float a = colFactor[u];
+					auto guard = [](float c) { return std::abs(c) < 1e-9f ? 1e-9f : c; };
+					const float ix = 1.0f / guard(dx0 + f01 * a), iy = 1.0f / guard(dy0 + f11 * a),
+								iz = 1.0f / guard(dz0 + f21 * a);
+					const float x0 = (minx - ox) * ix, x1 = (maxx - ox) * ix;
+					const float y0 = (miny - oy) * iy, y1 = (maxy - oy) * iy;
+					const float z0 = (minz - oz) * iz, z1 = (maxz - oz) * iz;
+					const float e = std::max(std::max(std::min(x0, x1), std::min(y0, y1)), std::max(std::min(z0, z1), 0.0f));
+					const float x = std::min(std::min(std::max(x0, x1), std::max(y0, y1)), std::max(z0, z1));
+					const float d = depth[u];
+					const bool hit = e < x;
+					insideF[u] = (hit && d >= e && d < x) ? 1.0f : insideF[u];
+					crossTo[u] = (hit && d >= x) ? std::max(crossTo[u], x) : crossTo[u];
+				}
+			}
+			const float fineInverse = static_cast<float>(m_insideGrid.inverse);
+			for (int u = nearFrom; u <= nearTo; u++)
+			{
+				const float a = colFactor[u];
+				const float ts = insideF[u] > 0 ? depth[u] : crossTo[u] * (1 - 1e-5f);
+				const float kx = (ox + ts * (dx0 + f01 * a)) * fineInverse + offset;
+				const float ky = (oy + ts * (dy0 + f11 * a)) * fineInverse + offset;
+				const float kz = (oz + ts * (dz0 + f21 * a)) * fineInverse + offset;
+				fineKeys[3 * u] = kx < 0 ? -1 : static_cast<int>(kx);
+				fineKeys[3 * u + 1] = ky < 0 ? -1 : static_cast<int>(ky);
+				fineKeys[3 * u + 2] = kz < 0 ? -1 : static_cast<int>(kz);
+			}
+		}
+		const float* const insideF = m_near.data() + cols;
+		const float* const crossTo = insideF + cols;
+		const int* const fineKeys = reinterpret_cast<const int*>(crossTo + cols);
+		std::uint64_t last = 0;
 		for (int u = 0; u < cols; u++)
 		{
 			if (row[u] == 0) continue;
-			double d = row[u] * units;
-			const double a = m_columnFactor[u];
-			if (!obs.range_is_depth) d /= std::sqrt(1 + a * a + b * b);
-			const double dx = bx + r01 * a, dy = by + r11 * a, dz = bz + r21 * a;
-			bool near = false;
-			if (rowNear)
-				for (const auto& rect : m_regionRects) near |= (u >= rect.u0 && u <= rect.u1 && v >= rect.v0 && v <= rect.v1);
-			addPoint(t.x + d * dx, t.y + d * dy, t.z + d * dz, near);
+			if (rowNear && u >= nearFrom && u <= nearTo && (insideF[u] > 0 || crossTo[u] > 0))
+			{
+				const int* k = fineKeys + 3 * u;
+				if ((static_cast<unsigned>(k[0]) | static_cast<unsigned>(k[1]) | static_cast<unsigned>(k[2])) <= 0xFFFFu)
+				{
+					const std::uint64_t key =
+						((std::uint64_t(k[0]) << 32) | (std::uint64_t(k[1]) << 16) | std::uint64_t(k[2])) + 1;
+					auto& lastFine = insideF[u] > 0 ? m_lastInsideKey : m_lastCrossingKey;
+					if (key != lastFine)
+					{
+						lastFine = key;
+						(insideF[u] > 0 ? m_insideEnds : m_crossingEnds).insert(key);
+					}
+				}
+				if (insideF[u] > 0) continue;
+			}
+			// Most pixels fall in the previous pixel's coarse voxel.
+			if ((static_cast<unsigned>(kxs[u]) | static_cast<unsigned>(kys[u]) | static_cast<unsigned>(kzs[u])) > 0xFFFFu)
+				continue;
+			const std::uint64_t key =
+				((std::uint64_t(kxs[u]) << 32) | (std::uint64_t(kys[u]) << 16) | std::uint64_t(kzs[u])) + 1;
+			if (key == last) continue;
+			last = key;
+			m_outsideEnds.insert(key);
 		}
 	}
 	finish();

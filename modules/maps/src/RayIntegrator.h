@@ -12,6 +12,7 @@
 
 #include <vector>
 
+#include "BatchUpdate.h"
 #include "KeySet.h"
 #include "ResolutionPolicy.h"
 
@@ -85,14 +86,22 @@ class RayIntegrator
 	mrpt::math::TPoint3D m_rayDir;
 	Grid m_outsideGrid, m_insideGrid;
 	bool m_hasRegions = false;
-	/** Endpoint voxels: outside regions, inside regions, and the high-grid
-	 *  endpoints of rays that cross a region without ending in one. */
+	/** Endpoint voxels: outside regions, inside regions, and, for rays that
+	 *  cross a region without ending in one, the fine voxel where they leave
+	 *  it (point clouds: the fine voxel of the endpoint). */
 	KeySet m_outsideEnds, m_insideEnds, m_crossingEnds;
 	KeySet m_outsideFree, m_outsideOccupied, m_insideFree, m_insideOccupied;
-	std::uint64_t m_lastOutsideKey = 0;
+	std::uint64_t m_lastOutsideKey = 0, m_lastInsideKey = 0, m_lastCrossingKey = 0;
+	BatchUpdate m_batch;
 	octomap::KeyRay m_ray;
 	std::vector<std::pair<double, double>> m_intervals;
 	std::vector<double> m_columnFactor;
+	std::vector<float> m_columnFactorF;
+	std::vector<int> m_rowKeys;
+	std::vector<float> m_rangeToDepth;
+	/** Per column of a row near a region: depth, inside flag, exit of the
+	 *  farthest region crossed, fine key (3 ints). */
+	std::vector<float> m_near;
 	struct PixelRect
 	{
 		int u0, u1, v0, v1;

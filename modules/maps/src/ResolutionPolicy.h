@@ -75,7 +75,7 @@ class ResolutionPolicy
 };
 
 /** Boxes (world frame, margin included) around the pixels of `obs` labelled
- *  `opts.personLabel`, one per label index with that name. */
+ *  `opts.personLabel`, one per 4-connected blob of labelled pixels. */
 std::vector<mrpt::math::TBoundingBox> regionsFromPixelLabels(
 	const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& sensorPoseInWorld,
 	const CAdaptiveOctoMap::TInsertionOptions& opts);

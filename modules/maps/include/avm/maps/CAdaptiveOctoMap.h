@@ -143,7 +143,7 @@ class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
 		std::uint32_t regionExpiryFrames = 0;
 		/** Label name of the pixels that trigger a region/switch. */
 		std::string personLabel = "person";
-		/** Fewer labelled pixels with depth than this are ignored. */
+		/** A blob of labelled pixels with depth smaller than this is ignored. */
 		std::uint32_t minLabelPixels = 200;
 		/** [m] labelled points farther than this from the label's median depth
 		 *  are taken as background seen through the mask and dropped. */

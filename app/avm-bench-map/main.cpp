@@ -1,0 +1,50 @@
+// avm-bench-map: insertion time and map size of avm::CAdaptiveOctoMap next to
+// octomap's insertPointCloud, on the same frames and ground-truth poses.
+#include <mrpt/3rdparty/tclap/CmdLine.h>
+#include <mrpt/system/progress.h>
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <iostream>
+
+#include "avm/maps/MapBenchmark.h"
+
+int main(int argc, char** argv)
+{
+	try
+	{
+		TCLAP::CmdLine cmd("Times map insertion: avm adaptive map vs octomap insertPointCloud.", ' ', "avm");
+		TCLAP::UnlabeledValueArg<std::string> argRawlog("RAWLOG", "rawlog with ground truth (avm-tum2rawlog)", true, "", "RAWLOG", cmd);
+		TCLAP::ValueArg<std::size_t> argFrames("", "frames", "use the first N frames (default all)", false, 0, "N", cmd);
+		TCLAP::ValueArg<double> argRange("", "max-range", "max range [m] of every map (default 5)", false, 5.0, "M", cmd);
+		TCLAP::MultiArg<double> argRegion("", "region", "region box x0 y0 z0 x1 y1 z1 [m] when the rawlog has no person labels (6 values)", false, "M", cmd);
+		TCLAP::SwitchArg argPlain("", "with-plain", "also time insertPointCloud without discretize at the fine resolution (slow)", cmd);
+		cmd.parse(argc, argv);
+
+		avm::maps::MapBenchmarkOptions opt;
+		opt.rawlog = argRawlog.getValue();
+		opt.maxFrames = argFrames.getValue();
+		opt.maxRange = argRange.getValue();
+		opt.withPlainOctomap = argPlain.getValue();
+		if (!(opt.maxRange > 0)) throw std::runtime_error("--max-range must be > 0");
+		if (const auto& r = argRegion.getValue(); !r.empty())
+		{
+			if (r.size() != 6) throw std::runtime_error("--region needs 6 values (give --region six times)");
+			opt.region = mrpt::math::TBoundingBox({r[0], r[1], r[2]}, {r[3], r[4], r[5]});
+		}
+		const bool terminal = ::isatty(STDERR_FILENO);
+		const auto result = avm::maps::runMapBenchmark(opt, [terminal](std::size_t done, std::size_t total) {
+			if (terminal || done == total)
+				std::cerr << "\r" << mrpt::system::progress(static_cast<double>(done) / total, 30) << " " << done << "/" << total
+						  << (done == total ? "\n" : "") << std::flush;
+		});
+		std::cout << avm::maps::toMarkdown(result);
+		return 0;
+	}
+	catch (const std::exception& e)
+	{
+		std::cerr << "avm-bench-map: " << e.what() << "\n";
+		return 1;
+	}
+}

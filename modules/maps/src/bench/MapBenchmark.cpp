@@ -1,0 +1,213 @@
+#include "avm/maps/MapBenchmark.h"
+
+#include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/obs/CObservation3DRangeScan.h>
+#include <octomap/OcTree.h>
+
+#include <algorithm>
+#include <chrono>
+#include <memory>
+#include <numeric>
+#include <sstream>
+
+#include "avm/io/RawlogFrameReader.h"
+#include "avm/maps/CAdaptiveOctoMap.h"
+
+namespace avm::maps
+{
+namespace
+{
+struct Frame
+{
+	mrpt::obs::CObservation3DRangeScan::Ptr obs;
+	mrpt::poses::CPose3D pose;
+};
+
+/** One contender: inserts a frame (timed by the caller) and reports sizes. */
+struct Contender
+{
+	std::string name;
+	std::function<void(const Frame&, const octomap::Pointcloud&, const octomap::point3d&)> insert;
+	std::function<void(MapBenchmarkRow&)> sizes;
+	std::vector<double> ms;
+};
+
+void octreeSizes(const octomap::OcTree& t, MapBenchmarkRow& row)
+{
+	for (auto it = t.begin_leafs(); it != t.end_leafs(); ++it) (t.isNodeOccupied(*it) ? row.occupiedLeaves : row.freeLeaves)++;
+	row.memoryBytes = t.memoryUsage();
+	std::ostringstream bt;
+	t.writeBinaryConst(bt);
+	row.binaryBytes = bt.str().size();
+}
+
+Contender plainOctomap(double res, double maxRange, bool discretize)
+{
+	auto tree = std::make_shared<octomap::OcTree>(res);
+	Contender c;
+	std::ostringstream name;
+	name << "octomap insertPointCloud " << res << " m" << (discretize ? " discretize" : "");
+	c.name = name.str();
+	c.insert = [tree, maxRange, discretize](const Frame&, const octomap::Pointcloud& cloud, const octomap::point3d& o) {
+		tree->insertPointCloud(cloud, o, maxRange, false, discretize);
+	};
+	c.sizes = [tree](MapBenchmarkRow& row) { octreeSizes(*tree, row); };
+	return c;
+}
+
+Contender adaptive(const std::string& name, const std::shared_ptr<CAdaptiveOctoMap>& map)
+{
+	Contender c;
+	c.name = name;
+	c.insert = [map](const Frame& f, const octomap::Pointcloud&, const octomap::point3d&) {
+		map->insertObservation(*f.obs, f.pose);
+	};
+	c.sizes = [map](MapBenchmarkRow& row) {
+		for (const auto& s : {map->lowResolutionStats(), map->highResolutionStats()})
+		{
+			row.occupiedLeaves += s.occupiedLeaves;
+			row.freeLeaves += s.freeLeaves;
+			row.memoryBytes += s.memoryBytes;
+			row.binaryBytes += s.binaryBytes;
+		}
+	};
+	return c;
+}
+
+bool hasPersonLabels(const mrpt::obs::CObservation3DRangeScan& obs)
+{
+	return obs.pixelLabels && obs.pixelLabels->checkLabelNameExistence("person") >= 0;
+}
+
+mrpt::math::TBoundingBox defaultRegion(const Frame& f)
+{
+	const auto& img = f.obs->rangeImage;
+	const double d = img(img.rows() / 2, img.cols() / 2) * f.obs->rangeUnits;
+	if (!(d > 0)) throw std::runtime_error("avm-bench-map: no depth at the first frame's centre pixel; give --region");
+	const auto p = (f.pose + f.obs->sensorPose).composePoint(mrpt::math::TPoint3D(d, 0, 0));
+	return {p - mrpt::math::TPoint3D(0.6, 0.6, 1.0), p + mrpt::math::TPoint3D(0.6, 0.6, 1.0)};
+}
+
+MapBenchmarkRow summarize(Contender& c)
+{
+	MapBenchmarkRow row;
+	row.name = c.name;
+	row.frames = c.ms.size();
+	if (!c.ms.empty())
+	{
+		row.meanMs = std::accumulate(c.ms.begin(), c.ms.end(), 0.0) / static_cast<double>(c.ms.size());
+		auto sorted = c.ms;
+		std::sort(sorted.begin(), sorted.end());
+		row.medianMs = sorted[sorted.size() / 2];
+		row.p95Ms = sorted[std::min(sorted.size() - 1, static_cast<std::size_t>(0.95 * static_cast<double>(sorted.size())))];
+	}
+	c.sizes(row);
+	return row;
+}
+}  // namespace
+
+MapBenchmarkResult runMapBenchmark(
+	const MapBenchmarkOptions& opts, const std::function<void(std::size_t, std::size_t)>& progress)
+{
+	std::vector<Frame> frames;
+	{
+		avm::io::RawlogFrameReader reader(opts.rawlog);
+		while (auto f = reader.next())
+		{
+			if (opts.maxFrames && frames.size() >= opts.maxFrames) break;
+			if (!f->groundTruth) continue;
+			// Only depth (and labels) are used: drop the colour image.
+			f->observation->hasIntensityImage = false;
+			f->observation->intensityImage = mrpt::img::CImage();
+			frames.push_back({f->observation, *f->groundTruth});
+		}
+	}
+	if (frames.empty()) throw std::runtime_error("avm-bench-map: no frames with ground truth in " + opts.rawlog.string());
+
+	MapBenchmarkResult result;
+	result.frames = frames.size();
+	const bool labelled = std::any_of(frames.begin(), frames.end(), [](const Frame& f) { return hasPersonLabels(*f.obs); });
+
+	CAdaptiveOctoMap::TCreationOptions regionRes, paperRes;
+	regionRes.low.resolution = opts.regionLow;
+	regionRes.high.resolution = opts.regionHigh;
+	paperRes.low.resolution = opts.paperLow;
+	paperRes.high.resolution = opts.paperHigh;
+	for (auto* t : {&regionRes.low, &regionRes.high, &paperRes.low, &paperRes.high}) t->maxRange = opts.maxRange;
+	CAdaptiveOctoMap::TInsertionOptions regionIns, paperIns;
+	paperIns.switchPolicy = SwitchPolicy::Paper;
+	paperIns.switchAtFraction = opts.paperSwitchFraction;
+	auto regionMap = std::make_shared<CAdaptiveOctoMap>(regionRes, regionIns, CAdaptiveOctoMap::TLikelihoodOptions());
+	auto paperMap = std::make_shared<CAdaptiveOctoMap>(paperRes, paperIns, CAdaptiveOctoMap::TLikelihoodOptions());
+	paperMap->setExpectedFrameCount(frames.size());
+	if (labelled)
+		result.regionSource = "person pixel labels of the rawlog";
+	else
+	{
+		const auto box = opts.region ? *opts.region : defaultRegion(frames.front());
+		regionMap->addHighResolutionRegion(box);
+		result.regionSource = "fixed box " + box.asString() + " (no person labels in the rawlog)";
+	}
+
+	std::vector<Contender> contenders;
+	std::ostringstream rn, pn;
+	rn << "avm region " << opts.regionLow << "/" << opts.regionHigh << " m";
+	pn << "avm paper " << opts.paperLow << "/" << opts.paperHigh << " m (switch at " << opts.paperSwitchFraction << ")";
+	contenders.push_back(adaptive(rn.str(), regionMap));
+	contenders.push_back(plainOctomap(opts.regionHigh, opts.maxRange, true));
+	contenders.push_back(plainOctomap(opts.regionLow, opts.maxRange, true));
+	if (opts.withPlainOctomap) contenders.push_back(plainOctomap(opts.regionHigh, opts.maxRange, false));
+	contenders.push_back(adaptive(pn.str(), paperMap));
+	contenders.push_back(plainOctomap(opts.paperLow, opts.maxRange, true));
+	contenders.push_back(plainOctomap(opts.paperHigh, opts.maxRange, true));
+
+	std::size_t points = 0;
+	for (std::size_t i = 0; i < frames.size(); i++)
+	{
+		const auto& f = frames[i];
+		// octomap's input, made outside its timer.
+		mrpt::maps::CSimplePointsMap pts;
+		mrpt::obs::T3DPointsProjectionParams pp;
+		pp.takeIntoAccountSensorPoseOnRobot = true;
+		pp.robotPoseInTheWorld = f.pose;
+		f.obs->unprojectInto(pts, pp);
+		octomap::Pointcloud cloud;
+		cloud.reserve(pts.size());
+		const auto& xs = pts.getPointsBufferRef_x();
+		const auto& ys = pts.getPointsBufferRef_y();
+		const auto& zs = pts.getPointsBufferRef_z();
+		for (std::size_t k = 0; k < pts.size(); k++) cloud.push_back(xs[k], ys[k], zs[k]);
+		points += pts.size();
+		const auto o = (f.pose + f.obs->sensorPose).translation();
+		const octomap::point3d origin(o.x, o.y, o.z);
+		for (auto& c : contenders)
+		{
+			const auto t0 = std::chrono::steady_clock::now();
+			c.insert(f, cloud, origin);
+			c.ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+		}
+		if (progress) progress(i + 1, frames.size());
+	}
+	result.meanPointsPerFrame = static_cast<double>(points) / static_cast<double>(frames.size());
+	for (auto& c : contenders) result.rows.push_back(summarize(c));
+	return result;
+}
+
+std::string toMarkdown(const MapBenchmarkResult& r)
+{
+	std::ostringstream s;
+	s.setf(std::ios::fixed);
+	s << "frames: " << r.frames << ", mean points per frame: " << static_cast<long>(r.meanPointsPerFrame)
+	  << "\nregion: " << r.regionSource << "\n\n";
+	s << "| map | mean ms/frame | median | p95 | occupied leaves | free leaves | memory bytes | .bt bytes |\n";
+	s << "|---|---:|---:|---:|---:|---:|---:|---:|\n";
+	for (const auto& row : r.rows)
+	{
+		s.precision(2);
+		s << "| " << row.name << " | " << row.meanMs << " | " << row.medianMs << " | " << row.p95Ms << " | "
+		  << row.occupiedLeaves << " | " << row.freeLeaves << " | " << row.memoryBytes << " | " << row.binaryBytes
+		  << " |\n";
+	}
+	return s.str();
+}
+}  // namespace avm::maps
