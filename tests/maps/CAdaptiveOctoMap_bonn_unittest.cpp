@@ -5,6 +5,7 @@
 #include <mrpt/io/CMemoryStream.h>
 #include <mrpt/math/CMatrixDynamic.h>
 #include <mrpt/obs/TPixelLabelInfo.h>
+#include <mrpt/opengl/COctoMapVoxels.h>
 #include <mrpt/opengl/COpenGLScene.h>
 #include <mrpt/serialization/CArchive.h>
 
@@ -311,7 +312,12 @@ TEST(CAdaptiveOctoMapBonn, FilesLikelihoodRayCastAndEmptiness)
 	EXPECT_GT(highBack.getNumLeafNodes(), 0u);
 	mrpt::opengl::COpenGLScene scene;
 	ASSERT_TRUE(scene.loadFromFile(prefix + ".3Dscene"));
-	EXPECT_GT(scene.getViewport()->size(), 0u);
+	// The scene holds both trees' occupied voxels, in stock MRPT classes.
+	auto voxels = scene.getByClass<mrpt::opengl::COctoMapVoxels>();
+	ASSERT_TRUE(voxels);
+	EXPECT_EQ(voxels->getVoxelCount(0), map.lowResolutionStats().occupiedLeaves);
+	EXPECT_EQ(voxels->getVoxelCount(1), map.highResolutionStats().occupiedLeaves);
+	EXPECT_GT(voxels->getVoxelCount(1), 0u);
 
 	// The first frame is explained better at its true pose than 0.5 m off.
 	const auto& f = frames().front();
