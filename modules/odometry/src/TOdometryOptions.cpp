@@ -39,6 +39,7 @@ void forEachKey(Options& o, Visitor&& v)
 	v("keyframe_overlap", o.keyframe_overlap);
 	v("mask_people", o.mask_people);
 	v("person_box_margin", o.person_box_margin);
+	v("person_depth_band", o.person_depth_band);
 	v("threads", o.threads);
 }
 }  // namespace
@@ -94,6 +95,7 @@ void TOdometryOptions::validate(const std::string& section) const
 	require(keyframe_rotation > 0, "keyframe_rotation", keyframe_rotation, "must be > 0 deg");
 	require(keyframe_overlap > 0 && keyframe_overlap <= 1, "keyframe_overlap", keyframe_overlap, "must be in (0, 1]");
 	require(person_box_margin >= 0, "person_box_margin", person_box_margin, "must be >= 0 px");
+	require(person_depth_band >= 0, "person_depth_band", person_depth_band, "must be >= 0 m");
 	require(threads >= 1, "threads", threads, "must be >= 1");
 }
 }  // namespace avm::odometry

@@ -32,6 +32,24 @@ std::optional<double> stableDepth(const cv::Mat& depth, int u, int v, const TOdo
 	return d;
 }
 
+/** Depth beyond which a box's pixels are background: the median depth of the
+ *  box's central part (where the person is) plus `band`. Nothing when band is
+ *  0 or the centre has no depth: then the whole box is masked. */
+std::optional<float> personBackgroundDepth(const cv::Mat& depth, const cv::Rect& box, double band)
+{
+	if (band <= 0) return std::nullopt;
+	const cv::Rect centre =
+		cv::Rect(box.x + box.width / 4, box.y + box.height / 4, box.width / 2, box.height / 2) &
+		cv::Rect(0, 0, depth.cols, depth.rows);
+	std::vector<float> values;
+	for (int v = centre.y; v < centre.y + centre.height; v += 2)
+		for (int u = centre.x; u < centre.x + centre.width; u += 2)
+			if (const float d = depth.at<float>(v, u); d > 0) values.push_back(d);
+	if (values.size() < 20) return std::nullopt;
+	std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+	return values[values.size() / 2] + float(band);
+}
+
 int hamming(const cv::Mat& a, const cv::Mat& b) { return cv::hal::normHamming(a.ptr<uchar>(), b.ptr<uchar>(), a.cols); }
 }  // namespace
 
@@ -54,10 +72,22 @@ FrameFeatures FeatureFrontend::extract(
 	cv::Mat mask = depth > 0;
 	for (const auto& box : excluded)
 	{
-		const cv::Rect grown(
-			box.x - o.person_box_margin, box.y - o.person_box_margin, box.width + 2 * o.person_box_margin,
-			box.height + 2 * o.person_box_margin);
-		mask(grown & cv::Rect(0, 0, mask.cols, mask.rows)).setTo(0);
+		const cv::Rect grown =
+			cv::Rect(
+				box.x - o.person_box_margin, box.y - o.person_box_margin, box.width + 2 * o.person_box_margin,
+				box.height + 2 * o.person_box_margin) &
+			cv::Rect(0, 0, mask.cols, mask.rows);
+		if (grown.empty()) continue;
+		const auto far = personBackgroundDepth(depth, box, o.person_depth_band);
+		if (!far)
+		{
+			mask(grown).setTo(0);
+			continue;
+		}
+		// Only the person and whatever is in front: the background seen around
+		// and behind them in the box stays usable.
+		cv::Mat roiMask = mask(grown);
+		roiMask.setTo(0, depth(grown) < *far);
 	}
 	std::vector<cv::KeyPoint> detected;
 	m_orb->detect(grey, detected, mask);

@@ -28,10 +28,10 @@ struct TOdometryOptions : public mrpt::config::CLoadableOptions
 	int ransac_iterations = 100;     //!< PnP RANSAC iterations
 	int min_inliers = 20;            //!< fewer inliers than this = tracking lost
 	// --- back end
-	double huber_delta = 2.0;        //!< [px] Huber loss width of the reprojection residual
+	double huber_delta = 1.0;        //!< [px] Huber loss width of the reprojection residual
 	double depth_weight = 0.0;       //!< weight of the depth residual fx*(z-d)/d [px] beside the reprojection error (0 = off)
 	int refine_iterations = 10;      //!< Ceres iterations of the per-frame pose refinement
-	int window_size = 5;             //!< keyframes in the sliding-window bundle adjustment (0 = no BA)
+	int window_size = 8;             //!< keyframes in the sliding-window bundle adjustment (0 = no BA)
 	int ba_iterations = 8;           //!< Ceres iterations of one bundle adjustment
 	// --- keyframes
 	double keyframe_translation = 0.08;  //!< [m] motion from the last keyframe that makes a keyframe
@@ -40,6 +40,7 @@ struct TOdometryOptions : public mrpt::config::CLoadableOptions
 	// --- dynamic people
 	bool mask_people = true;         //!< ignore features inside person boxes
 	int person_box_margin = 10;      //!< [px] added on every side of a person box
+	double person_depth_band = 0.5;  //!< [m] inside a box, pixels nearer than the person's median depth plus this are masked (0 = the whole box)
 	// --- runtime
 	int threads = 1;                 //!< Ceres threads (OpenCV threads are the caller's: cv::setNumThreads)
 
