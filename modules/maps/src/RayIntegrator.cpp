@@ -70,9 +70,17 @@ void RayIntegrator::begin(const mrpt::math::TPoint3D& origin, const ScanTargets&
 	m_outsideGrid.set(targets.outside->getResolution());
 	m_hasRegions = targets.regions && !targets.regions->empty() && targets.inside;
 	if (m_hasRegions) m_insideGrid.set(targets.inside->getResolution());
-	for (auto* s : {&m_outsideEnds, &m_insideEnds, &m_crossingEnds, &m_outsideFree, &m_outsideOccupied, &m_insideFree,
-			 &m_insideOccupied})
-		s->clear();
+	for (auto* s : {&m_outsideEnds, &m_insideEnds, &m_crossingEnds, &m_outsideFree, &m_outsideOccupied}) s->clear();
+	if (m_hasRegions)
+	{
+		// Fine keys only matter inside the regions: a dense box of them.
+		mrpt::math::TBoundingBox all = targets.regions->front().box;
+		for (const auto& r : *targets.regions) all = all.unionWith(r.box);
+		const auto lo = targets.inside->coordToKey(all.min.x, all.min.y, all.min.z);
+		const auto hi = targets.inside->coordToKey(all.max.x, all.max.y, all.max.z);
+		m_insideFree.reset(lo, hi);
+		m_insideOccupied.reset(lo, hi);
+	}
 	m_lastOutsideKey = m_lastInsideKey = m_lastCrossingKey = 0;
 }
 
@@ -134,9 +142,11 @@ void RayIntegrator::castSegment(bool inside, double a, double b, bool extendStar
 			static_cast<float>(o.z + t * m_rayDir.z));
 	};
 	auto& tree = inside ? *m_targets.inside : *m_targets.outside;
-	auto& freeKeys = inside ? m_insideFree : m_outsideFree;
 	if (!tree.computeRayKeys(at(a), at(b), m_ray)) return;
-	for (const auto& k : m_ray) freeKeys.insert(packKey(k));
+	if (inside)
+		for (const auto& k : m_ray) m_insideFree.insert(packKey(k));
+	else
+		for (const auto& k : m_ray) m_outsideFree.insert(packKey(k));
 }
 
 void RayIntegrator::castRay(
@@ -168,9 +178,9 @@ void RayIntegrator::castRay(
 	if (endpoint == Endpoint::Inside && length <= m_targets.insideMaxRange) m_insideOccupied.insert(endKey);
 }
 
+template <typename Set>
 void RayIntegrator::applyUpdates(
-	octomap::OcTree& tree, const Grid& grid, const KeySet& freeKeys, const KeySet& occupiedKeys,
-	bool keepInsideRegions)
+	octomap::OcTree& tree, const Grid& grid, const Set& freeKeys, const Set& occupiedKeys, bool keepInsideRegions)
 {
 	// A voxel belongs to exactly one tree: region space to the high tree,
 	// the rest to the low tree.
@@ -345,31 +355,33 @@ void RayIntegrator::integrateDepthImage(
 				for (int u = nearFrom; u <= nearTo; u++)
 				{
 					const float a = colFactor[u];
-					auto guard = [](float c) { return std::abs(c) < 1e-9f ? 1e-9f : c; };
-					const float ix = 1.0f / guard(dx0 + f01 * a), iy = 1.0f / guard(dy0 + f11 * a),
-								iz = 1.0f / guard(dz0 + f21 * a);
+					// A tiny offset keeps axis-parallel rays finite.
+					const float ix = 1.0f / (dx0 + f01 * a + 1e-12f), iy = 1.0f / (dy0 + f11 * a + 1e-12f),
+								iz = 1.0f / (dz0 + f21 * a + 1e-12f);
 					const float x0 = (minx - ox) * ix, x1 = (maxx - ox) * ix;
 					const float y0 = (miny - oy) * iy, y1 = (maxy - oy) * iy;
 					const float z0 = (minz - oz) * iz, z1 = (maxz - oz) * iz;
 					const float e = std::max(std::max(std::min(x0, x1), std::min(y0, y1)), std::max(std::min(z0, z1), 0.0f));
 					const float x = std::min(std::min(std::max(x0, x1), std::max(y0, y1)), std::max(z0, z1));
 					const float d = depth[u];
-					const bool hit = e < x;
-					insideF[u] = (hit && d >= e && d < x) ? 1.0f : insideF[u];
-					crossTo[u] = (hit && d >= x) ? std::max(crossTo[u], x) : crossTo[u];
+					// Branch-free so that the loop vectorizes.
+					const float in = static_cast<float>((e < x) & (d >= e) & (d < x));
+					const float through = static_cast<float>((e < x) & (d >= x));
+					insideF[u] = std::max(insideF[u], in);
+					crossTo[u] = std::max(crossTo[u], through * (x + 1) - 1);
 				}
 			}
 			const float fineInverse = static_cast<float>(m_insideGrid.inverse);
 			for (int u = nearFrom; u <= nearTo; u++)
 			{
 				const float a = colFactor[u];
-				const float ts = insideF[u] > 0 ? depth[u] : crossTo[u] * (1 - 1e-5f);
+				const float ts = insideF[u] * depth[u] + (1 - insideF[u]) * crossTo[u] * (1 - 1e-5f);
 				const float kx = (ox + ts * (dx0 + f01 * a)) * fineInverse + offset;
 				const float ky = (oy + ts * (dy0 + f11 * a)) * fineInverse + offset;
 				const float kz = (oz + ts * (dz0 + f21 * a)) * fineInverse + offset;
-				fineKeys[3 * u] = kx < 0 ? -1 : static_cast<int>(kx);
-				fineKeys[3 * u + 1] = ky < 0 ? -1 : static_cast<int>(ky);
-				fineKeys[3 * u + 2] = kz < 0 ? -1 : static_cast<int>(kz);
+				fineKeys[u] = kx < 0 ? -1 : static_cast<int>(kx);
+				fineKeys[cols + u] = ky < 0 ? -1 : static_cast<int>(ky);
+				fineKeys[2 * cols + u] = kz < 0 ? -1 : static_cast<int>(kz);
 			}
 		}
 		const float* const insideF = m_near.data() + cols;
@@ -381,11 +393,10 @@ void RayIntegrator::integrateDepthImage(
 			if (row[u] == 0) continue;
 			if (rowNear && u >= nearFrom && u <= nearTo && (insideF[u] > 0 || crossTo[u] > 0))
 			{
-				const int* k = fineKeys + 3 * u;
-				if ((static_cast<unsigned>(k[0]) | static_cast<unsigned>(k[1]) | static_cast<unsigned>(k[2])) <= 0xFFFFu)
+				const int k0 = fineKeys[u], k1 = fineKeys[cols + u], k2 = fineKeys[2 * cols + u];
+				if ((static_cast<unsigned>(k0) | static_cast<unsigned>(k1) | static_cast<unsigned>(k2)) <= 0xFFFFu)
 				{
-					const std::uint64_t key =
-						((std::uint64_t(k[0]) << 32) | (std::uint64_t(k[1]) << 16) | std::uint64_t(k[2])) + 1;
+					const std::uint64_t key = ((std::uint64_t(k0) << 32) | (std::uint64_t(k1) << 16) | std::uint64_t(k2)) + 1;
 					auto& lastFine = insideF[u] > 0 ? m_lastInsideKey : m_lastCrossingKey;
 					if (key != lastFine)
 					{

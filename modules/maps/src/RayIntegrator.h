@@ -77,8 +77,9 @@ class RayIntegrator
 		bool castInside);
 	void castSegment(bool inside, double a, double b, bool extendStart, bool extendEnd, double length);
 	bool insideAnyRegion(double x, double y, double z) const;
-	void applyUpdates(octomap::OcTree& tree, const Grid& grid, const KeySet& freeKeys, const KeySet& occupiedKeys,
-		bool keepInsideRegions);
+	template <typename Set>
+	void applyUpdates(
+		octomap::OcTree& tree, const Grid& grid, const Set& freeKeys, const Set& occupiedKeys, bool keepInsideRegions);
 
 	ScanTargets m_targets;
 	mrpt::math::TPoint3D m_origin;
@@ -90,7 +91,8 @@ class RayIntegrator
 	 *  cross a region without ending in one, the fine voxel where they leave
 	 *  it (point clouds: the fine voxel of the endpoint). */
 	KeySet m_outsideEnds, m_insideEnds, m_crossingEnds;
-	KeySet m_outsideFree, m_outsideOccupied, m_insideFree, m_insideOccupied;
+	KeySet m_outsideFree, m_outsideOccupied;
+	BoxKeySet m_insideFree, m_insideOccupied;
 	std::uint64_t m_lastOutsideKey = 0, m_lastInsideKey = 0, m_lastCrossingKey = 0;
 	BatchUpdate m_batch;
 	octomap::KeyRay m_ray;
