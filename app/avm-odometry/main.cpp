@@ -59,7 +59,7 @@ int main(int argc, char** argv)
 		const auto run = odometry::runOdometry(argRawlog.getValue(), options, persons, argMax.getValue());
 		io::writeTumTrajectory(argOut.getValue(), run.trajectory(), "avm-odometry camera optical frame in the world");
 		if (argStats.isSet()) run.writeFrameStats(argStats.getValue());
-		std::cout << run.timingSummary() << "\n";
+		std::cout << run.timingSummary();
 		return 0;
 	}
 	catch (const TCLAP::ArgException& e)

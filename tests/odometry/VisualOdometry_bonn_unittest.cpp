@@ -75,7 +75,7 @@ TEST(VisualOdometryBonn, AccurateOnTheCrowdSequenceAndMaskingPeopleHelps)
 	const double peopleMasked = ate(est, 60, 0), peopleUnmasked = ate(unmasked.trajectory(), 60, 0);
 	std::cout << "ATE all " << all << " m, first 60 frames " << first60 << " m; frames 60.. with people: masked "
 			  << peopleMasked << " m, unmasked " << peopleUnmasked << " m\n"
-			  << "masked: " << masked.timingSummary() << "\nunmasked: " << unmasked.timingSummary() << "\n";
+			  << "masked: " << masked.timingSummary() << "unmasked: " << unmasked.timingSummary();
 	// A camera that never moves scores 0.092 m on these 300 frames.
 	EXPECT_LT(all, 0.04);
 	EXPECT_LT(first60, 0.02);

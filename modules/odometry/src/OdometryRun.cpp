@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <fstream>
 #include <numeric>
@@ -17,6 +18,16 @@
 
 namespace avm::odometry
 {
+namespace
+{
+double threadCpuMilliseconds()
+{
+	timespec t{};
+	::clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+	return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
+}
+}  // namespace
+
 io::Trajectory OdometryRun::trajectory() const
 {
 	io::Trajectory t;
@@ -36,28 +47,33 @@ std::size_t OdometryRun::keyframes() const
 
 std::string OdometryRun::timingSummary() const
 {
-	std::vector<double> ms;
-	for (const auto& f : frames) ms.push_back(f.milliseconds);
-	std::sort(ms.begin(), ms.end());
-	const auto at = [&](double q) { return ms.empty() ? 0.0 : ms[std::min(ms.size() - 1, std::size_t(q * ms.size()))]; };
-	const double mean = ms.empty() ? 0.0 : std::accumulate(ms.begin(), ms.end(), 0.0) / ms.size();
-	char text[256];
-	std::snprintf(
-		text, sizeof(text), "frames %zu, lost %zu, keyframes %zu, ms/frame mean %.1f median %.1f p95 %.1f max %.1f",
-		frames.size(), lostFrames(), keyframes(), mean, at(0.5), at(0.95), ms.empty() ? 0.0 : ms.back());
-	return text;
+	const auto line = [&](const char* name, double FrameRecord::*field) {
+		std::vector<double> ms;
+		for (const auto& f : frames) ms.push_back(f.*field);
+		std::sort(ms.begin(), ms.end());
+		const auto at = [&](double q) { return ms.empty() ? 0.0 : ms[std::min(ms.size() - 1, std::size_t(q * ms.size()))]; };
+		const double mean = ms.empty() ? 0.0 : std::accumulate(ms.begin(), ms.end(), 0.0) / ms.size();
+		char text[160];
+		std::snprintf(
+			text, sizeof(text), "%s ms/frame: mean %.1f median %.1f p95 %.1f max %.1f\n", name, mean, at(0.5), at(0.95),
+			ms.empty() ? 0.0 : ms.back());
+		return std::string(text);
+	};
+	return "frames " + std::to_string(frames.size()) + ", lost " + std::to_string(lostFrames()) + ", keyframes " +
+		   std::to_string(keyframes()) + "\n" + line("wall", &FrameRecord::milliseconds) +
+		   line("cpu ", &FrameRecord::cpuMilliseconds);
 }
 
 void OdometryRun::writeFrameStats(const std::filesystem::path& csv) const
 {
 	io::writeFileAtomically(csv, [&](const std::filesystem::path& tmp) {
 		std::ofstream out(tmp);
-		out << "index,timestamp,ms,tracked,keyframe,inliers,reprojection_rmse_px,person_boxes,status\n";
+		out << "index,timestamp,ms,cpu_ms,tracked,keyframe,inliers,reprojection_rmse_px,person_boxes,status\n";
 		char line[128];
 		for (const auto& f : frames)
 		{
 			std::snprintf(
-				line, sizeof(line), "%zu,%.6f,%.3f,%d,%d,%zu,%.3f,%zu,", f.index, f.timestamp, f.milliseconds,
+				line, sizeof(line), "%zu,%.6f,%.3f,%.3f,%d,%d,%zu,%.3f,%zu,", f.index, f.timestamp, f.milliseconds, f.cpuMilliseconds,
 				int(f.estimate.tracked), int(f.estimate.keyframe), f.estimate.inliers, f.estimate.reprojectionRmse,
 				f.personBoxes);
 			out << line << '"' << f.estimate.status << "\"\n";
@@ -83,7 +99,9 @@ OdometryRun runOdometry(
 		const auto boxes = personBoxes ? personBoxes(*frame) : std::vector<cv::Rect>{};
 		rec.personBoxes = boxes.size();
 		const auto start = std::chrono::steady_clock::now();
+		const double cpuStart = threadCpuMilliseconds();
 		rec.estimate = vo->process(*frame->observation, boxes);
+		rec.cpuMilliseconds = threadCpuMilliseconds() - cpuStart;
 		rec.milliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 		run.frames.push_back(std::move(rec));
 		if (progress) progress(run.frames.size());

@@ -23,7 +23,8 @@ struct FrameRecord
 	double timestamp = 0;  //!< [s] UNIX time
 	OdometryEstimate estimate;
 	std::size_t personBoxes = 0;
-	double milliseconds = 0;  //!< wall time of VisualOdometry::process (not I/O or detection)
+	double milliseconds = 0;     //!< wall time of VisualOdometry::process (not I/O or detection)
+	double cpuMilliseconds = 0;  //!< CPU time of the calling thread in it (unaffected by other processes)
 };
 
 struct OdometryRun
@@ -32,7 +33,8 @@ struct OdometryRun
 	io::Trajectory trajectory() const;
 	std::size_t lostFrames() const;
 	std::size_t keyframes() const;
-	/** "frames N, lost L, keyframes K, ms/frame mean .. median .. p95 .. max .." */
+	/** "frames N, lost L, keyframes K", then wall and thread-CPU ms per frame
+	 *  (mean, median, p95, max), one line each. */
 	std::string timingSummary() const;
 	/** Writes one CSV line per frame (atomically). */
 	void writeFrameStats(const std::filesystem::path& csv) const;

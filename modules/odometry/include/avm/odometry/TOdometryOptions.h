@@ -29,7 +29,7 @@ struct TOdometryOptions : public mrpt::config::CLoadableOptions
 	int min_inliers = 20;            //!< fewer inliers than this = tracking lost
 	// --- back end
 	double huber_delta = 1.0;        //!< [px] Huber loss width of the reprojection residual
-	double depth_weight = 0.0;       //!< weight of the depth residual fx*(z-d)/d [px] beside the reprojection error (0 = off)
+	double depth_weight = 0.05;      //!< weight of the depth residual fx*(z-d)/d [px] beside the reprojection error (0 = off)
 	int refine_iterations = 10;      //!< Ceres iterations of the per-frame pose refinement
 	int window_size = 8;             //!< keyframes in the sliding-window bundle adjustment (0 = no BA)
 	int ba_iterations = 8;           //!< Ceres iterations of one bundle adjustment
