@@ -5,6 +5,7 @@
 
 #include <octomap/OcTreeKey.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -59,7 +60,6 @@ class KeySet
 	}
 	/** The keys in insertion order. */
 	const std::vector<std::uint64_t>& keys() const { return m_keys; }
-	std::size_t size() const { return m_keys.size(); }
 
    private:
 	std::size_t mask() const { return m_slots.size() - 1; }
@@ -135,7 +135,6 @@ class BoxKeySet
 		return i != kOutside && m_stamp[i] == m_current;
 	}
 	const std::vector<std::uint64_t>& keys() const { return m_dense ? m_keys : m_sparse.keys(); }
-	std::size_t size() const { return keys().size(); }
 
    private:
 	static constexpr std::size_t kMaxCells = std::size_t(1) << 24;
