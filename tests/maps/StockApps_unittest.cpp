@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <fstream>
 #include <mutex>
+#include <string>
 #include <sstream>
 #include <thread>
 
@@ -60,13 +61,15 @@ std::string stockApp(const std::string& name)
 std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
 
 /** The first 20 frames of the Bonn rawlog (40 entries with ground truth),
- *  cut by rawlog-edit itself, with its images folder beside it. */
+ *  cut by rawlog-edit itself, with its images folder beside it; one folder
+ *  per test, so that ctest -j can run them side by side. */
 const fs::path& shortRawlogDir()
 {
 	static fs::path dir;
 	static std::once_flag once;
 	std::call_once(once, [] {
-		dir = avm::test::scratchDir("stock-apps");
+		dir = avm::test::scratchDir(
+			std::string("stock-apps-") + ::testing::UnitTest::GetInstance()->current_test_info()->name());
 		const auto source = avm::test::bonnRawlog();
 		const auto r = run("cd " + quoted(source.parent_path()) + " && " + stockApp("rawlog-edit") +
 			" --cut --from-index 0 --to-index 39 -i " + quoted(source.filename()) + " -o " +
