@@ -1,11 +1,13 @@
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
 
+#include <cmath>
 #include <fstream>
 
 #include "TestData.h"
 #include "avm/odometry/OdometryRun.h"
 #include "avm/odometry/TOdometryOptions.h"
+#include "avm/odometry/VisualOdometry.h"
 
 using namespace avm;
 
@@ -44,6 +46,11 @@ TEST(TOdometryOptions, BadValueNamesSectionAndKey)
 	o.max_depth = 0.1;
 	EXPECT_THROW(o.validate(), std::invalid_argument);
 	EXPECT_THROW(odometry::VisualOdometry{o}, std::invalid_argument);
+	o = {};
+	o.pyramid_scale = 0.5;  // OpenCV would reject it too, but with its own message
+	EXPECT_THROW(odometry::VisualOdometry{o}, std::invalid_argument);
+	EXPECT_THROW(
+		odometry::VisualOdometry({}, mrpt::poses::CPose3D(std::nan(""), 0, 0, 0, 0, 0)), std::invalid_argument);
 }
 
 TEST(TOdometryOptions, ProjectIniLoadsWithoutUnknownKeys)

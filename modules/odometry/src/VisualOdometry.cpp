@@ -1,12 +1,10 @@
 #include "avm/odometry/VisualOdometry.h"
 
 #include <mrpt/core/bits_math.h>
-#include <mrpt/img/CImage.h>
 
 #include <opencv2/imgproc.hpp>
 
 #include <deque>
-#include <sstream>
 #include <stdexcept>
 
 #include "avm/io/RgbdFrame.h"
@@ -40,15 +38,22 @@ mrpt::poses::CPose3D toPose(const Eigen::Isometry3d& T)
 	return mrpt::poses::CPose3D(R, mrpt::math::CVectorFixedDouble<3>({t.x(), t.y(), t.z()}));
 }
 
+/** Checked before the front end builds its detector from them. */
+const TOdometryOptions& validated(const TOdometryOptions& o)
+{
+	o.validate();
+	return o;
+}
+
 double rotationAngleDeg(const Eigen::Matrix3d& R) { return mrpt::RAD2DEG(Eigen::AngleAxisd(R).angle()); }
 }  // namespace
 
 struct VisualOdometry::Impl
 {
 	explicit Impl(const TOdometryOptions& o, const mrpt::poses::CPose3D& initial)
-		: options(o), frontend(options), backend(options), T_cw(toIsometry(initial).inverse())
+		: options(validated(o)), frontend(options), backend(options), T_cw(toIsometry(initial).inverse())
 	{
-		options.validate();
+		if (!io::isFinite(initial)) throw std::invalid_argument("VisualOdometry: the initial pose is not finite");
 	}
 
 	TOdometryOptions options;

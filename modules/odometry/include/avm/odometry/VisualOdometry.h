@@ -34,7 +34,8 @@ struct OdometryEstimate
 class VisualOdometry
 {
    public:
-	/** Throws std::invalid_argument (see TOdometryOptions::validate). */
+	/** Throws std::invalid_argument for bad options (see TOdometryOptions::validate)
+	 *  or a non-finite initial pose. */
 	explicit VisualOdometry(const TOdometryOptions& options, const mrpt::poses::CPose3D& initialPose = {});
 	~VisualOdometry();
 	VisualOdometry(VisualOdometry&&) noexcept;
