@@ -15,9 +15,10 @@ rawlog=$root/datasets/bonn_crowd_sub300.rawlog
 if [ ! -f "$rawlog" ]; then
   "$build/bin/avm-tum2rawlog" --camera bonn --gt-body bonn "$root/datasets/bonn_crowd_sub300" "$rawlog"
 fi
-mkdir -p "$out"
-# Stock MRPT tools find the external images only through a relative path.
-(cd "$(dirname "$rawlog")" && rawlog-edit -i "$(basename "$rawlog")" --info) | tee "$out/rawlog-info.txt"
+"$build/bin/avm-map" --config "$root/ini/default.ini" --rawlog "$rawlog" --out "$out"
 echo
-echo "demo: rawlog  $rawlog (open it with: cd datasets && RawLogViewer bonn_crowd_sub300.rawlog)"
-echo "demo: summary $out/rawlog-info.txt"
+echo "demo: outputs in $out"
+echo "  octovis $out/map_low.bt $out/map_high.bt     # the two trees"
+echo "  SceneViewer3D $out/map.3Dscene               # both resolutions in one scene"
+echo "  $out/map_top.png, $out/map_perspective.png   # pictures"
+echo "  $out/stats.json, $out/trajectory.txt (TUM), $out/detections.txt, $out/avm-map.log"

@@ -1,0 +1,45 @@
+// avm-paper: re-runs the paper's evaluation on a rawlog and writes doc/results.md.
+#include <mrpt/3rdparty/tclap/CmdLine.h>
+
+#include <iostream>
+
+#include "avm/pipeline/PaperExperiments.h"
+
+int main(int argc, char** argv)
+{
+	try
+	{
+		TCLAP::CmdLine cmd("Re-runs the paper's Table 1 and Table 2 on a rawlog and writes the results.", ' ', "avm");
+		TCLAP::ValueArg<std::string> argRawlog("r", "rawlog", "input rawlog (with ground truth)", true, "", "RAWLOG", cmd);
+		TCLAP::ValueArg<std::string> argIni("c", "config", "base ini (default ini/paper.ini)", false,
+			std::string(AVM_PROJECT_ROOT) + "/ini/paper.ini", "INI", cmd);
+		TCLAP::ValueArg<std::string> argWork("w", "work", "folder for the runs' outputs", false, "output/paper", "DIR", cmd);
+		TCLAP::ValueArg<std::string> argResults("o", "results", "markdown to write (pictures beside it in results/)",
+			false, std::string(AVM_PROJECT_ROOT) + "/doc/results.md", "FILE", cmd);
+		TCLAP::SwitchArg argNoVo("", "no-odometry", "ground-truth poses only", cmd);
+		cmd.parse(argc, argv);
+
+		avm::pipeline::PaperExperimentSettings s;
+		s.rawlog = argRawlog.getValue();
+		s.baseIni = argIni.getValue();
+		s.projectRoot = AVM_PROJECT_ROOT;
+		s.workDir = argWork.getValue();
+		s.results = argResults.getValue();
+		s.withOdometry = !argNoVo.getValue();
+		s.command = "scripts/reproduce-paper.sh";
+		mrpt::system::COutputLogger log("avm-paper");
+		log.setMinLoggingLevel(mrpt::system::LVL_INFO);
+		avm::pipeline::reproducePaper(s, log);
+		std::cout << "results: " << s.results.string() << "\n";
+		return 0;
+	}
+	catch (const TCLAP::ArgException& e)
+	{
+		std::cerr << "avm-paper: " << e.error() << " for " << e.argId() << "\n";
+	}
+	catch (const std::exception& e)
+	{
+		std::cerr << "avm-paper: error: " << e.what() << "\n";
+	}
+	return 1;
+}

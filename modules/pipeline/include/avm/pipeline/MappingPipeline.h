@@ -1,0 +1,107 @@
+// The avm application as a library: every frame of a rawlog goes through
+// odometry -> detection -> adaptive map, and the run ends in files a user
+// opens (octovis, SceneViewer3D, TUM tools, a browser for the pictures).
+//
+//   frame (RawlogFrameReader)
+//     -> person boxes   (detector; every N frames, on a worker thread if async)
+//     -> camera pose    (VisualOdometry with person boxes masked, or ground truth)
+//     -> regions        (a box + its frame's depth and pose -> world box)
+//     -> map            (CAdaptiveOctoMap, inside MRPT's CMultiMetricMap from [map])
+#pragma once
+
+#include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/system/COutputLogger.h>
+
+#include <atomic>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace avm
+{
+class CAdaptiveOctoMap;
+}
+
+namespace avm::pipeline
+{
+enum class PoseSource
+{
+	VisualOdometry,  //!< "vo"
+	GroundTruth      //!< "gt": the rawlog's CObservationRobotPose per frame
+};
+PoseSource poseSourceFromString(const std::string& name);  //!< throws on anything but vo/gt
+std::string toString(PoseSource source);
+
+/** Section [pipeline]. */
+struct TPipelineOptions : public mrpt::config::CLoadableOptions
+{
+	PoseSource poseSource = PoseSource::VisualOdometry;  //!< pose_source
+	/** Run the detector on every N-th frame; 0 turns detection off. */
+	unsigned detectEveryN = 3;
+	/** Detection on a worker thread, beside odometry and mapping. */
+	bool asyncDetection = true;
+	/** Start odometry at the first frame's ground truth, when the rawlog has it
+	 *  (so the odometry map and trajectory share the ground truth's world frame). */
+	bool startAtGroundTruth = true;
+	std::size_t maxFrames = 0;   //!< 0 = all frames
+	int pictureSize = 1200;      //!< [px] width of the PNG pictures; 0 = none
+	std::string mapSection = "map";  //!< section with MRPT's map definition
+
+	void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
+	void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
+};
+
+struct StageReport
+{
+	double meanMs = 0, medianMs = 0, p95Ms = 0;
+	std::size_t count = 0;
+};
+
+struct RunSummary
+{
+	std::size_t frames = 0;          //!< frames mapped
+	std::size_t skippedFrames = 0;   //!< frames the reader or the pose left out
+	bool interrupted = false;        //!< stopped by the caller (Ctrl-C)
+	double seconds = 0, fps = 0;
+	double realTimeFactor = 0;       //!< recorded duration / processing time
+	std::optional<std::size_t> switchFrame;  //!< first frame mapped at high resolution
+	std::size_t detectionRuns = 0, framesWithPerson = 0, regions = 0;
+	std::optional<double> ateRmse;   //!< [m] odometry vs ground truth, when both exist
+	StageReport odometry, detection, map;
+};
+
+class MappingPipeline : public mrpt::system::COutputLogger
+{
+   public:
+	/** Reads and checks the whole configuration and loads the detector: a bad
+	 *  value, an unknown pose source or a model that will not load throws here,
+	 *  before any frame is read. Relative paths (the model) resolve against
+	 *  projectRoot. Unknown keys and sections are warned about. */
+	MappingPipeline(const mrpt::config::CConfigFileBase& ini, const std::filesystem::path& projectRoot);
+	~MappingPipeline() override;
+	MappingPipeline(const MappingPipeline&) = delete;
+	MappingPipeline& operator=(const MappingPipeline&) = delete;
+
+	void setPoseSource(PoseSource source);
+
+	/** Maps the rawlog and writes every output into outDir (created if
+	 *  needed; checked for writing first). `stop` is polled once per frame:
+	 *  when set, the run ends early and saves what was mapped. Throws on bad
+	 *  input (missing or corrupt rawlog, no usable frame), leaving no outputs.
+	 *  progress(fractionOfFile, framesDone) is called after every frame. */
+	RunSummary run(
+		const std::filesystem::path& rawlog, const std::filesystem::path& outDir,
+		const std::atomic<bool>* stop = nullptr,
+		const std::function<void(double, std::size_t)>& progress = {});
+
+	/** The map of the last run. */
+	const CAdaptiveOctoMap& map() const;
+
+   private:
+	struct Impl;
+	std::unique_ptr<Impl> m_impl;
+};
+}  // namespace avm::pipeline

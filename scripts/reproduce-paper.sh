@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# Re-runs the paper's evaluation (Table 1 voxel counts, Table 2 map size against
+# the high-resolution share) on bonn_crowd_sub300, with ground-truth and with
+# odometry poses, and writes doc/results.md and doc/results/*.png.
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+build=${AVM_BUILD_DIR:-$root/build}
+
+"$root/scripts/install-deps.sh"
+cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$build" -j "$(nproc)" --target avm-paper avm-tum2rawlog
+"$root/scripts/get-data.sh"
+rawlog=$root/datasets/bonn_crowd_sub300.rawlog
+[ -f "$rawlog" ] || "$build/bin/avm-tum2rawlog" --camera bonn --gt-body bonn "$root/datasets/bonn_crowd_sub300" "$rawlog"
+"$build/bin/avm-paper" --rawlog "$rawlog" --work "$root/output/paper" --results "$root/doc/results.md" "$@"
