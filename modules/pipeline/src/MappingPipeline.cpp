@@ -3,6 +3,7 @@
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/maps/CMultiMetricMap.h>
 #include <mrpt/system/CTicTac.h>
+#include <opencv2/core/utility.hpp>
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -229,6 +230,9 @@ MappingPipeline::MappingPipeline(const mrpt::config::CConfigFileBase& ini, const
 		if (!known) logStr(mrpt::system::LVL_WARN, "unknown section [" + s + "] (ignored)\n");
 	}
 
+	// OpenCV's thread count is process-wide: the ini's value for the detector
+	// applies to the whole run.
+	if (d.detectorOptions.threads > 0) cv::setNumThreads(d.detectorOptions.threads);
 	if (d.options.detectEveryN > 0)
 	{
 		d.detector = detection::createDetector(d.detectorOptions, projectRoot);
