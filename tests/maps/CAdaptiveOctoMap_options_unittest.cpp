@@ -156,6 +156,7 @@ TEST(CAdaptiveOctoMapOptions, RejectsBadValuesNamingTheKey)
 	expectKeyInError(iniWith("", "region_expiry_frames=-3"), "region_expiry_frames");
 	expectKeyInError(iniWith("", "switch_policy=paper\nswitch_at_fraction=1.5"), "switch_at_fraction");
 	expectKeyInError(iniWith("", "switch_policy=region\nswitch_at_frame=10"), "switch_at_frame");
+	expectKeyInError(iniWith("", "switch_policy=paper\nswitch_at_frame=2.5"), "switch_at_frame");
 	// The section is named too (MRPT re-wraps the message when the map is
 	// created through it; loading the options directly keeps it verbatim).
 	const auto msg = loadError(iniWith("high_probHit=1.5"));

@@ -191,7 +191,9 @@ void CAdaptiveOctoMap::TInsertionOptions::loadFromConfigFile(
 	minLabelPixels = static_cast<std::uint32_t>(readNonNegative(c, section, "min_label_pixels", minLabelPixels));
 	labelDepthBand = readNumber(c, section, "label_depth_band", labelDepthBand);
 	labelPercentile = readNumber(c, section, "label_percentile", labelPercentile);
-	switchAtFrame = static_cast<std::int64_t>(readNumber(c, section, "switch_at_frame", static_cast<double>(switchAtFrame)));
+	const double frame = readNumber(c, section, "switch_at_frame", static_cast<double>(switchAtFrame));
+	if (frame != std::floor(frame)) reject(section, "switch_at_frame", str(frame), "must be a whole insertion index");
+	switchAtFrame = static_cast<std::int64_t>(frame);
 	switchAtFraction = readNumber(c, section, "switch_at_fraction", switchAtFraction);
 	expectedFrameCount = static_cast<std::uint64_t>(readNonNegative(c, section, "expected_frame_count",
 		static_cast<std::int64_t>(expectedFrameCount)));
