@@ -68,6 +68,9 @@ void TPipelineOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c
 	pictureSize = cfg.read_int(s, "picture_size", pictureSize);
 	if (pictureSize != 0 && (pictureSize < 200 || pictureSize > 8000))
 		throw bad("picture_size", std::to_string(pictureSize), "must be 0 (none) or 200..8000 px");
+	const int replays = cfg.read_int(s, "repeat", static_cast<int>(repeat));
+	if (replays < 1) throw bad("repeat", std::to_string(replays), "must be >= 1");
+	repeat = static_cast<unsigned>(replays);
 	mapSection = cfg.read_string(s, "map_section", mapSection);
 	if (mapSection.empty()) throw bad("map_section", "", "must name the map definition section");
 }
@@ -80,6 +83,7 @@ void TPipelineOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg, cons
 	cfg.write(s, "start_at_ground_truth", startAtGroundTruth);
 	cfg.write(s, "max_frames", static_cast<int>(maxFrames));
 	cfg.write(s, "picture_size", pictureSize);
+	cfg.write(s, "repeat", static_cast<int>(repeat));
 	cfg.write(s, "map_section", mapSection);
 }
 
@@ -149,6 +153,67 @@ void checkWritable(const fs::path& dir)
 	if (!ok) throw std::runtime_error(dir.string() + ": output folder is not writable");
 	removeStaleTemporaries(dir);
 }
+
+/** The rawlog read `repeat` times in a row as one sequence (the long-run
+ *  test): frame indices and timestamps go on across the replays. */
+class FrameSequence
+{
+   public:
+	FrameSequence(const fs::path& rawlog, unsigned repeat) : m_rawlog(rawlog), m_repeat(repeat)
+	{
+		m_reader = std::make_unique<io::RawlogFrameReader>(rawlog);
+		m_reader->logging_enable_keep_record = true;
+	}
+
+	std::optional<io::RgbdFrame> next()
+	{
+		for (;;)
+		{
+			auto frame = m_reader->next();
+			if (frame)
+			{
+				m_lastTime = frame->timestamp();
+				if (!m_firstTime) m_firstTime = m_lastTime;
+				m_framesInReplay = frame->index + 1;
+				frame->index += m_indexOffset;
+				if (m_timeOffset != 0)
+					frame->observation->timestamp = mrpt::Clock::fromDouble(m_lastTime + m_timeOffset);
+				return frame;
+			}
+			finishReplay();
+			if (++m_replay >= m_repeat || m_framesInReplay == 0) return {};
+			m_indexOffset += m_framesInReplay;
+			// The next replay starts one frame period after this one ended.
+			const double period = (m_lastTime - *m_firstTime) / std::max<std::size_t>(1, m_framesInReplay - 1);
+			m_timeOffset += m_lastTime - *m_firstTime + period;
+			m_reader = std::make_unique<io::RawlogFrameReader>(m_rawlog);
+			m_reader->logging_enable_keep_record = true;
+		}
+	}
+	double progress() const { return (m_replay + m_reader->progress()) / m_repeat; }
+	const std::vector<std::string>& skipped() const { return m_skipped; }
+	std::string log() const { return m_log + m_reader->getLogAsString(); }
+	/** Peak memory [MiB] of the process at the end of each replay. */
+	const std::vector<double>& peakMemoryPerReplay() const { return m_peaks; }
+
+   private:
+	void finishReplay()
+	{
+		m_skipped.insert(m_skipped.end(), m_reader->skipped().begin(), m_reader->skipped().end());
+		m_log += m_reader->getLogAsString();
+		m_peaks.push_back(peakMemoryMb());
+	}
+
+	fs::path m_rawlog;
+	unsigned m_repeat, m_replay = 0;
+	std::unique_ptr<io::RawlogFrameReader> m_reader;
+	std::size_t m_indexOffset = 0, m_framesInReplay = 0;
+	std::optional<double> m_firstTime;
+	double m_lastTime = 0, m_timeOffset = 0;
+	std::vector<std::string> m_skipped;
+	std::string m_log;
+	std::vector<double> m_peaks;
+};
 
 /** The adaptive map's sections: [<map>_adaptiveOctoMap_NN_creationOpts] etc. */
 void warnUnknownMapKeys(
@@ -262,8 +327,7 @@ RunSummary MappingPipeline::run(
 	const auto& opt = d.options;
 	checkWritable(outDir);
 
-	io::RawlogFrameReader reader(rawlog);
-	reader.logging_enable_keep_record = true;
+	FrameSequence frames(rawlog, opt.repeat);
 	logStr(mrpt::system::LVL_INFO, "rawlog: " + rawlog.string() + ", poses: " + toString(opt.poseSource) + "\n");
 
 	d.maps = mrpt::maps::CMultiMetricMap::Create(d.mapDefinition);
@@ -337,7 +401,7 @@ RunSummary MappingPipeline::run(
 	while (!(stop && stop->load()))
 	{
 		if (opt.maxFrames && summary.frames >= opt.maxFrames) break;
-		auto frame = reader.next();
+		auto frame = frames.next();
 		if (!frame) break;
 		const auto& obs = frame->observation;
 		const double t = frame->timestamp();
@@ -407,16 +471,16 @@ RunSummary MappingPipeline::run(
 
 		trajectory.push_back({t, pose});
 		++summary.frames;
-		if (progress) progress(reader.progress(), summary.frames);
+		if (progress) progress(frames.progress(), summary.frames);
 	}
 	collectDetection(true);
 	summary.interrupted = stop && stop->load();
 	summary.seconds = wallClock.Tac();
-	summary.skippedFrames += reader.skipped().size();
+	summary.skippedFrames += frames.skipped().size();
 	if (summary.frames == 0)
 	{
 		std::string why = rawlog.string() + ": no frame could be mapped";
-		if (!reader.skipped().empty()) why += " (" + reader.skipped().front() + ")";
+		if (!frames.skipped().empty()) why += " (" + frames.skipped().front() + ")";
 		throw std::runtime_error(why);
 	}
 	summary.fps = summary.frames / std::max(summary.seconds, 1e-9);
@@ -462,6 +526,9 @@ RunSummary MappingPipeline::run(
 		.value("fps", summary.fps)
 		.value("real_time_factor", summary.realTimeFactor)
 		.value("peak_memory_mb", peakMemoryMb());
+	json.beginArray("peak_memory_mb_per_replay");
+	for (const double mb : frames.peakMemoryPerReplay()) json.element(mb);
+	json.endArray();
 	json.beginObject("stages");
 	for (const auto& [name, s] :
 		 {std::pair{"odometry", summary.odometry}, {"detection", summary.detection}, {"map", summary.map}})
@@ -512,7 +579,7 @@ RunSummary MappingPipeline::run(
 
 	logFmt(mrpt::system::LVL_INFO, "%zu frames in %.2f s (%.1f fps, real-time factor %.2f)%s\n", summary.frames,
 		summary.seconds, summary.fps, summary.realTimeFactor, summary.interrupted ? ", interrupted" : "");
-	writeText(outDir / "avm-map.log", getLogAsString() + reader.getLogAsString());
+	writeText(outDir / "avm-map.log", getLogAsString() + frames.log());
 	return summary;
 }
 }  // namespace avm::pipeline

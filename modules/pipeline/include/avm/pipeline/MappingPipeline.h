@@ -47,6 +47,9 @@ struct TPipelineOptions : public mrpt::config::CLoadableOptions
 	 *  (so the odometry map and trajectory share the ground truth's world frame). */
 	bool startAtGroundTruth = true;
 	std::size_t maxFrames = 0;   //!< 0 = all frames
+	/** Read the rawlog this many times in a row as one sequence (frame
+	 *  indices and timestamps continued): the long-run test. */
+	unsigned repeat = 1;
 	int pictureSize = 1200;      //!< [px] width of the PNG pictures; 0 = none
 	std::string mapSection = "map";  //!< section with MRPT's map definition
 
