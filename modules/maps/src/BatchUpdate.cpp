@@ -1,5 +1,6 @@
 #include "BatchUpdate.h"
 
+#include <algorithm>
 #include <array>
 
 #include "KeySet.h"
@@ -54,6 +55,9 @@ void BatchUpdate::sortByMorton()
 	{
 		std::array<std::size_t, 257> count{};
 		for (const auto& u : m_updates) count[((u.morton >> shift) & 0xFF) + 1]++;
+		// Keys of one scan share most high digits: skip passes that would
+		// not move anything.
+		if (std::any_of(count.begin() + 1, count.end(), [&](std::size_t c) { return c == m_updates.size(); })) continue;
 		for (unsigned i = 0; i < 256; i++) count[i + 1] += count[i];
 		for (const auto& u : m_updates) m_scratch[count[(u.morton >> shift) & 0xFF]++] = u;
 		m_updates.swap(m_scratch);

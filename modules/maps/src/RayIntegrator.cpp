@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace avm::detail
 {
@@ -28,6 +29,45 @@ inline mrpt::math::TPoint3D centreOf(std::uint64_t packed, double res)
 	const std::uint64_t v = packed - 1;
 	auto c = [res](std::uint64_t k) { return (static_cast<double>(static_cast<int>(k) - kKeyOffset) + 0.5) * res; };
 	return {c(v >> 32), c((v >> 16) & 0xFFFF), c(v & 0xFFFF)};
+}
+
+/** octomap's computeRayKeys (same voxels, same order), calling `visit` for
+ *  each key instead of filling a KeyRay. */
+template <typename Visit>
+bool forEachRayKey(const octomap::OcTree& tree, const octomap::point3d& origin, const octomap::point3d& end, Visit&& visit)
+{
+	octomap::OcTreeKey current, last;
+	if (!tree.coordToKeyChecked(origin, current) || !tree.coordToKeyChecked(end, last)) return false;
+	if (current == last) return true;
+	visit(current);
+	octomap::point3d direction = end - origin;
+	const float length = static_cast<float>(direction.norm());
+	direction /= length;
+	const double res = tree.getResolution();
+	int step[3];
+	double tMax[3], tDelta[3];
+	for (unsigned i = 0; i < 3; ++i)
+	{
+		step[i] = direction(i) > 0.0 ? 1 : (direction(i) < 0.0 ? -1 : 0);
+		if (step[i] != 0)
+		{
+			double border = tree.keyToCoord(current[i]);
+			border += static_cast<float>(step[i] * res * 0.5);
+			tMax[i] = (border - origin(i)) / direction(i);
+			tDelta[i] = res / std::fabs(direction(i));
+		}
+		else
+			tMax[i] = tDelta[i] = std::numeric_limits<double>::max();
+	}
+	for (;;)
+	{
+		const unsigned dim = tMax[0] < tMax[1] ? (tMax[0] < tMax[2] ? 0 : 2) : (tMax[1] < tMax[2] ? 1 : 2);
+		current[dim] = static_cast<octomap::key_type>(current[dim] + step[dim]);
+		tMax[dim] += tDelta[dim];
+		if (current == last) return true;
+		if (std::min(std::min(tMax[0], tMax[1]), tMax[2]) > length) return true;
+		visit(current);
+	}
 }
 
 /** Parameter interval [t0, t1] within [0, 1] where o + t d lies in the box
@@ -142,11 +182,10 @@ void RayIntegrator::castSegment(bool inside, double a, double b, bool extendStar
 			static_cast<float>(o.z + t * m_rayDir.z));
 	};
 	auto& tree = inside ? *m_targets.inside : *m_targets.outside;
-	if (!tree.computeRayKeys(at(a), at(b), m_ray)) return;
 	if (inside)
-		for (const auto& k : m_ray) m_insideFree.insert(packKey(k));
+		forEachRayKey(tree, at(a), at(b), [this](const octomap::OcTreeKey& k) { m_insideFree.insert(packKey(k)); });
 	else
-		for (const auto& k : m_ray) m_outsideFree.insert(packKey(k));
+		forEachRayKey(tree, at(a), at(b), [this](const octomap::OcTreeKey& k) { m_outsideFree.insert(packKey(k)); });
 }
 
 void RayIntegrator::castRay(

@@ -95,7 +95,6 @@ class RayIntegrator
 	BoxKeySet m_insideFree, m_insideOccupied;
 	std::uint64_t m_lastOutsideKey = 0, m_lastInsideKey = 0, m_lastCrossingKey = 0;
 	BatchUpdate m_batch;
-	octomap::KeyRay m_ray;
 	std::vector<std::pair<double, double>> m_intervals;
 	std::vector<double> m_columnFactor;
 	std::vector<float> m_columnFactorF;

@@ -34,7 +34,8 @@ struct MapBenchmarkRow
 {
 	std::string name;
 	std::size_t frames = 0;
-	double meanMs = 0, medianMs = 0, p95Ms = 0;
+	double meanMs = 0, medianMs = 0, p95Ms = 0;  //!< wall time per frame
+	double meanCpuMs = 0;  //!< CPU time of the inserting thread per frame
 	std::size_t occupiedLeaves = 0, freeLeaves = 0, memoryBytes = 0, binaryBytes = 0;
 };
 
