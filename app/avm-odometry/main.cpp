@@ -23,6 +23,7 @@ int main(int argc, char** argv)
 		TCLAP::ValueArg<std::string> argPersons("", "persons", "person boxes from: detector, labels (pixelLabels \"person\"), none (default detector)", false, "detector", "detector|labels|none", cmd);
 		TCLAP::ValueArg<std::string> argModel("", "model", "detector ONNX model (default ../shared/models/yolox_nano.onnx)", false, "../shared/models/yolox_nano.onnx", "FILE", cmd);
 		TCLAP::SwitchArg argNoMask("", "no-mask", "do not mask people (sets mask_people = false)", cmd);
+		TCLAP::SwitchArg argStages("", "stage-times", "print the time per stage (CTimeLogger table)", cmd);
 		TCLAP::ValueArg<std::size_t> argMax("", "max-frames", "frames to process, 0 = all (default 0)", false, 0, "N", cmd);
 		cmd.parse(argc, argv);
 
@@ -60,6 +61,7 @@ int main(int argc, char** argv)
 		io::writeTumTrajectory(argOut.getValue(), run.trajectory(), "avm-odometry camera optical frame in the world");
 		if (argStats.isSet()) run.writeFrameStats(argStats.getValue());
 		std::cout << run.timingSummary();
+		if (argStages.getValue()) std::cout << run.stageTimes;
 		return 0;
 	}
 	catch (const TCLAP::ArgException& e)

@@ -106,6 +106,7 @@ OdometryRun runOdometry(
 		run.frames.push_back(std::move(rec));
 		if (progress) progress(run.frames.size());
 	}
+	if (vo) run.stageTimes = vo->stageTimesText();
 	return run;
 }
 

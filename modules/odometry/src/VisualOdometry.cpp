@@ -1,6 +1,7 @@
 #include "avm/odometry/VisualOdometry.h"
 
 #include <mrpt/core/bits_math.h>
+#include <mrpt/system/CTimeLogger.h>
 
 #include <opencv2/imgproc.hpp>
 
@@ -55,6 +56,10 @@ struct VisualOdometry::Impl
 	{
 		if (!io::isFinite(initial)) throw std::invalid_argument("VisualOdometry: the initial pose is not finite");
 	}
+	// CTimeLogger prints its table when destroyed with data; the owner asks for it instead.
+	~Impl() { stageTimer.clear(true); }
+	Impl(const Impl&) = delete;
+	Impl& operator=(const Impl&) = delete;
 
 	TOdometryOptions options;
 	FeatureFrontend frontend;
@@ -65,6 +70,7 @@ struct VisualOdometry::Impl
 	LandmarkMap landmarks;
 	std::deque<Keyframe> window;
 	int nextLandmarkId = 0;
+	mrpt::system::CTimeLogger stageTimer{true, "avm odometry stages"};
 
 	OdometryEstimate process(const mrpt::obs::CObservation3DRangeScan& obs, const std::vector<cv::Rect>& boxes);
 	/** A keyframe at T from the frame's matched inliers and new landmarks for
@@ -104,7 +110,10 @@ OdometryEstimate VisualOdometry::Impl::process(
 		throw std::invalid_argument("VisualOdometry: depth and colour images differ in size (not registered)");
 	const Intrinsics K{obs.cameraParams.fx(), obs.cameraParams.fy(), obs.cameraParams.cx(), obs.cameraParams.cy()};
 
-	const auto f = frontend.extract(grey, depth, K, options.mask_people ? boxes : std::vector<cv::Rect>{});
+	const auto f = [&] {
+		mrpt::system::CTimeLoggerEntry t(stageTimer, "1 features");
+		return frontend.extract(grey, depth, K, options.mask_people ? boxes : std::vector<cv::Rect>{});
+	}();
 	if (window.empty())
 	{
 		if (int(f.keypoints.size()) < options.min_inliers)
@@ -125,6 +134,7 @@ OdometryEstimate VisualOdometry::Impl::process(
 		return lost(f, std::to_string(f.keypoints.size()) + " features with depth (no depth or no texture)");
 
 	const Eigen::Isometry3d predicted = velocity * T_cw;
+	mrpt::system::CTimeLoggerEntry matchTimer(stageTimer, "2 matching + PnP");
 	auto matches = frontend.matchByProjection(f, landmarks, predicted);
 	auto pnp = frontend.solvePnp(f, landmarks, matches, predicted);
 	if (!pnp)
@@ -132,6 +142,7 @@ OdometryEstimate VisualOdometry::Impl::process(
 		matches = frontend.matchByDescriptor(f, landmarks);
 		pnp = frontend.solvePnp(f, landmarks, matches, T_cw);
 	}
+	matchTimer.stop();
 	if (!pnp) return lost(f, std::to_string(matches.size()) + " matches, PnP found no consistent pose");
 
 	Eigen::Isometry3d T = pnp->T_cw;
@@ -143,7 +154,10 @@ OdometryEstimate VisualOdometry::Impl::process(
 				 f.points[m.feature].z()});
 		return obsList;
 	};
-	backend.refinePose(T, observationsOf(pnp->inliers), landmarks, K);
+	{
+		mrpt::system::CTimeLoggerEntry t(stageTimer, "3 pose refinement");
+		backend.refinePose(T, observationsOf(pnp->inliers), landmarks, K);
+	}
 
 	// Inliers at the refined pose among all matches.
 	std::vector<Match> inliers;
@@ -212,7 +226,11 @@ void VisualOdometry::Impl::addKeyframe(const FrameFeatures& f, const std::vector
 	window.push_back(std::move(kf));
 	while (window.size() > std::size_t(std::max(1, options.window_size))) window.pop_front();
 	forgetUnobservedLandmarks();
-	if (options.window_size >= 2) backend.bundleAdjust(window, landmarks, f.K);
+	if (options.window_size >= 2)
+	{
+		mrpt::system::CTimeLoggerEntry t(stageTimer, "4 window bundle adjustment");
+		backend.bundleAdjust(window, landmarks, f.K);
+	}
 }
 
 void VisualOdometry::Impl::forgetUnobservedLandmarks()
@@ -240,4 +258,5 @@ OdometryEstimate VisualOdometry::process(
 const TOdometryOptions& VisualOdometry::options() const { return m_impl->options; }
 std::size_t VisualOdometry::keyframeCount() const { return m_impl->window.size(); }
 std::size_t VisualOdometry::landmarkCount() const { return m_impl->landmarks.size(); }
+std::string VisualOdometry::stageTimesText() const { return m_impl->stageTimer.getStatsAsText(); }
 }  // namespace avm::odometry

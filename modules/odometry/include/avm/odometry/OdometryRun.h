@@ -30,6 +30,7 @@ struct FrameRecord
 struct OdometryRun
 {
 	std::vector<FrameRecord> frames;
+	std::string stageTimes;  //!< VisualOdometry::stageTimesText() at the end of the run
 	io::Trajectory trajectory() const;
 	std::size_t lostFrames() const;
 	std::size_t keyframes() const;

@@ -51,6 +51,9 @@ class VisualOdometry
 	const TOdometryOptions& options() const;
 	std::size_t keyframeCount() const;
 	std::size_t landmarkCount() const;
+	/** Time spent per stage so far (features, matching + PnP, refinement,
+	 *  bundle adjustment), as MRPT's CTimeLogger table. */
+	std::string stageTimesText() const;
 
    private:
 	struct Impl;
