@@ -4,6 +4,7 @@
 #include <mrpt/core/bits_math.h>
 #include <mrpt/io/CMemoryStream.h>
 #include <mrpt/math/CMatrixDynamic.h>
+#include <mrpt/obs/CObservationPointCloud.h>
 #include <mrpt/obs/TPixelLabelInfo.h>
 #include <mrpt/opengl/COctoMapVoxels.h>
 #include <mrpt/opengl/COpenGLScene.h>
@@ -347,4 +348,42 @@ TEST(CAdaptiveOctoMapBonn, FilesLikelihoodRayCastAndEmptiness)
 	map.clear();
 	EXPECT_TRUE(map.isEmpty());
 	EXPECT_FALSE(map.isHighResolutionActive());
+}
+
+// The same frames given as a CObservationPointCloud (sensor frame) and as a
+// world-frame points map with its sensor origin map the same occupied voxels
+// as the depth images the map unprojects itself.
+TEST(CAdaptiveOctoMapBonn, PointCloudInputsMapLikeDepthImages)
+{
+	const std::vector<MapFrame> some(frames().begin(), frames().begin() + 5);
+	CAdaptiveOctoMap fromDepth, fromCloud, fromWorld;
+	for (auto* m : {&fromDepth, &fromCloud, &fromWorld}) m->addHighResolutionRegion(boxAheadOfFirstFrame(0.5));
+	for (const auto& f : some)
+	{
+		ASSERT_TRUE(fromDepth.insertObservation(*f.obs, f.pose));
+		auto sensorPts = mrpt::maps::CSimplePointsMap::Create();
+		f.obs->unprojectInto(*sensorPts);  // sensor frame
+		mrpt::obs::CObservationPointCloud cloud;
+		cloud.pointcloud = sensorPts;
+		cloud.sensorPose = f.obs->sensorPose;
+		ASSERT_TRUE(fromCloud.insertObservation(cloud, f.pose));
+		mrpt::maps::CSimplePointsMap world;
+		mrpt::obs::T3DPointsProjectionParams pp;
+		pp.takeIntoAccountSensorPoseOnRobot = true;
+		pp.robotPoseInTheWorld = f.pose;
+		f.obs->unprojectInto(world, pp);
+		ASSERT_TRUE(fromWorld.insertPointCloud(world, (f.pose + f.obs->sensorPose).translation()));
+	}
+	auto all = [](double, double, double) { return true; };
+	for (const auto which : {Resolution::Low, Resolution::High})
+	{
+		const auto ref = avm::test::occupiedVoxels(*fromDepth.tree(which), all);
+		const double iouCloud = avm::test::intersectionOverUnion(avm::test::occupiedVoxels(*fromCloud.tree(which), all), ref);
+		const double iouWorld = avm::test::intersectionOverUnion(avm::test::occupiedVoxels(*fromWorld.tree(which), all), ref);
+		std::cout << (which == Resolution::Low ? "low" : "high") << " tree: IoU cloud " << iouCloud << ", world points "
+				  << iouWorld << " (" << ref.size() << " occupied voxels from depth)\n";
+		EXPECT_GT(ref.size(), 100u);
+		EXPECT_GE(iouCloud, 0.95);
+		EXPECT_GE(iouWorld, 0.95);
+	}
 }
