@@ -2,6 +2,7 @@
 // MRPT apps do it, the options' save/load round trip, and rejection of bad
 // values with the key's name. Also: observations it cannot use.
 #include <gtest/gtest.h>
+#include <mrpt/config/CConfigFile.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/maps/CMultiMetricMap.h>
 #include <mrpt/maps/CSimplePointsMap.h>
@@ -9,6 +10,8 @@
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/obs/CObservationPointCloud.h>
+
+#include <filesystem>
 
 #include "avm/maps/CAdaptiveOctoMap.h"
 
@@ -218,4 +221,26 @@ TEST(CAdaptiveOctoMapOptions, OverlappingRegionsMergeAndAlignToTheLowGrid)
 	EXPECT_NEAR(r.max.z, 3.6, 1e-9);
 	EXPECT_TRUE(map.isHighResolutionActive());
 	EXPECT_EQ(map.switchInsertionIndex(), std::optional<std::size_t>(0));
+}
+
+// The stock-app examples in ini/ create the map with the values they document.
+TEST(CAdaptiveOctoMapOptions, ExampleIniFilesCreateTheMap)
+{
+	const std::filesystem::path dir = std::filesystem::path(AVM_SOURCE_DIR) / "ini";
+	for (const auto& [file, section] : std::vector<std::pair<std::string, std::string>>{
+			 {"map-observations2map.ini", "MappingApplication"},
+			 {"map-icp-slam.ini", "MappingApplication"},
+			 {"map-RawLogViewer.ini", "map"}})
+	{
+		mrpt::config::CConfigFile cfg((dir / file).string());
+		mrpt::maps::TSetOfMetricMapInitializers inits;
+		inits.loadFromConfigFile(cfg, section);
+		mrpt::maps::CMultiMetricMap multi;
+		multi.setListOfMaps(inits);
+		const auto map = multi.mapByClass<CAdaptiveOctoMap>();
+		ASSERT_TRUE(map) << file;
+		EXPECT_DOUBLE_EQ(map->creationOptions().low.resolution, 0.20) << file;
+		EXPECT_DOUBLE_EQ(map->creationOptions().high.resolution, 0.05) << file;
+		EXPECT_EQ(map->insertionOptions.switchPolicy, avm::SwitchPolicy::Region) << file;
+	}
 }
