@@ -19,6 +19,7 @@ int main(int argc, char** argv)
 		TCLAP::ValueArg<std::size_t> argFrames("", "frames", "use the first N frames (default all)", false, 0, "N", cmd);
 		TCLAP::ValueArg<double> argRange("", "max-range", "max range [m] of every map (default 5)", false, 5.0, "M", cmd);
 		TCLAP::MultiArg<double> argRegion("", "region", "region box x0 y0 z0 x1 y1 z1 [m] when the rawlog has no person labels (6 values)", false, "M", cmd);
+		TCLAP::ValueArg<unsigned> argThreads("", "threads", "also time the region policy with N insertion threads (default 1: not)", false, 1, "N", cmd);
 		TCLAP::SwitchArg argPlain("", "with-plain", "also time insertPointCloud without discretize at the fine resolution (slow)", cmd);
 		cmd.parse(argc, argv);
 
@@ -27,6 +28,8 @@ int main(int argc, char** argv)
 		opt.maxFrames = argFrames.getValue();
 		opt.maxRange = argRange.getValue();
 		opt.withPlainOctomap = argPlain.getValue();
+		opt.regionThreads = argThreads.getValue();
+		if (opt.regionThreads < 1 || opt.regionThreads > 16) throw std::runtime_error("--threads must be in [1, 16]");
 		if (!(opt.maxRange > 0)) throw std::runtime_error("--max-range must be > 0");
 		if (const auto& r = argRegion.getValue(); !r.empty())
 		{

@@ -387,3 +387,20 @@ TEST(CAdaptiveOctoMapBonn, PointCloudInputsMapLikeDepthImages)
 		EXPECT_GE(iouWorld, 0.95);
 	}
 }
+
+// Two threads for the depth-image pass build exactly the map one thread does.
+TEST(CAdaptiveOctoMapBonn, TwoInsertionThreadsGiveTheSameMap)
+{
+	CAdaptiveOctoMap::TInsertionOptions two;
+	two.insertionThreads = 2;
+	CAdaptiveOctoMap single(resolutions(0.2, 0.05), {}, {}), dual(resolutions(0.2, 0.05), two, {});
+	for (auto* m : {&single, &dual}) m->addHighResolutionRegion(boxAheadOfFirstFrame(0.6));
+	for (std::size_t i = 0; i < 8; i++)
+	{
+		ASSERT_TRUE(single.insertObservation(*frames()[i].obs, frames()[i].pose));
+		ASSERT_TRUE(dual.insertObservation(*frames()[i].obs, frames()[i].pose));
+	}
+	expectSameTree(single.tree(Resolution::Low), dual.tree(Resolution::Low));
+	expectSameTree(single.tree(Resolution::High), dual.tree(Resolution::High));
+	EXPECT_GT(dual.highResolutionStats().occupiedLeaves, 0u);
+}

@@ -132,7 +132,7 @@ TEST(CAdaptiveOctoMapOptions, SaveThenLoadGivesTheSameOptionsAndKeySet)
 	saved.getAllKeys("c", keys);
 	EXPECT_EQ(keys.size(), 14u);
 	saved.getAllKeys("i", keys);
-	EXPECT_EQ(keys.size(), 10u);
+	EXPECT_EQ(keys.size(), 11u);
 }
 
 TEST(CAdaptiveOctoMapOptions, RejectsBadValuesNamingTheKey)
@@ -156,6 +156,7 @@ TEST(CAdaptiveOctoMapOptions, RejectsBadValuesNamingTheKey)
 	expectKeyInError(iniWith("high_maxrange=0"), "high_maxrange");
 	expectKeyInError(iniWith("", "switch_policy=fast"), "switch_policy");
 	expectKeyInError(iniWith("", "region_margin=-1"), "region_margin");
+	expectKeyInError(iniWith("", "insertion_threads=0"), "insertion_threads");
 	expectKeyInError(iniWith("", "region_expiry_frames=-3"), "region_expiry_frames");
 	expectKeyInError(iniWith("", "switch_policy=paper\nswitch_at_fraction=1.5"), "switch_at_fraction");
 	expectKeyInError(iniWith("", "switch_policy=region\nswitch_at_frame=10"), "switch_at_frame");

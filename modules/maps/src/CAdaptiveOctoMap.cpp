@@ -202,6 +202,7 @@ bool CAdaptiveOctoMap::internal_insertObservation(
 		const mrpt::poses::CPose3D sensorPose = robot + scan->sensorPose;
 		for (const auto& box : detail::regionsFromPixelLabels(*scan, sensorPose, insertionOptions))
 			m_policy->addRegion(box, m_insertions);
+		m_integrator->setThreads(insertionOptions.insertionThreads);
 		m_integrator->integrateDepthImage(*scan, sensorPose, prepareInsertion());
 		finishInsertion();
 		return true;

@@ -73,7 +73,7 @@ void CAdaptiveOctoMap::serializeTo(mrpt::serialization::CArchive& out) const
 	const auto& i = insertionOptions;
 	out.WriteAs<uint8_t>(static_cast<uint8_t>(i.switchPolicy));
 	out << i.regionMargin << i.regionExpiryFrames << i.personLabel << i.minLabelPixels << i.labelDepthBand
-		<< i.labelPercentile << i.switchAtFrame << i.switchAtFraction << i.expectedFrameCount;
+		<< i.labelPercentile << i.switchAtFrame << i.switchAtFraction << i.expectedFrameCount << i.insertionThreads;
 	out << likelihoodOptions.decimation << renderingOptions.showFreeSpace << renderingOptions.showRegions;
 	out.WriteAs<uint64_t>(m_insertions);
 	m_policy->serializeTo(out);
@@ -91,7 +91,7 @@ void CAdaptiveOctoMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t 
 	auto& i = insertionOptions;
 	i.switchPolicy = static_cast<SwitchPolicy>(in.ReadAs<uint8_t>());
 	in >> i.regionMargin >> i.regionExpiryFrames >> i.personLabel >> i.minLabelPixels >> i.labelDepthBand >>
-		i.labelPercentile >> i.switchAtFrame >> i.switchAtFraction >> i.expectedFrameCount;
+		i.labelPercentile >> i.switchAtFrame >> i.switchAtFraction >> i.expectedFrameCount >> i.insertionThreads;
 	in >> likelihoodOptions.decimation >> renderingOptions.showFreeSpace >> renderingOptions.showRegions;
 	m_creation.validate("serialized creationOpts");
 	insertionOptions.validate("serialized insertOpts");

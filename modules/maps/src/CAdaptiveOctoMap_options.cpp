@@ -197,6 +197,7 @@ void CAdaptiveOctoMap::TInsertionOptions::loadFromConfigFile(
 	switchAtFraction = readNumber(c, section, "switch_at_fraction", switchAtFraction);
 	expectedFrameCount = static_cast<std::uint64_t>(readNonNegative(c, section, "expected_frame_count",
 		static_cast<std::int64_t>(expectedFrameCount)));
+	insertionThreads = static_cast<std::uint32_t>(readNonNegative(c, section, "insertion_threads", insertionThreads));
 	validate(section);
 }
 
@@ -213,6 +214,7 @@ void CAdaptiveOctoMap::TInsertionOptions::saveToConfigFile(
 	c.write(section, "switch_at_frame", str(switchAtFrame));
 	c.write(section, "switch_at_fraction", str(switchAtFraction));
 	c.write(section, "expected_frame_count", str(expectedFrameCount));
+	c.write(section, "insertion_threads", str(insertionThreads));
 }
 
 void CAdaptiveOctoMap::TInsertionOptions::validate(const std::string& section) const
@@ -220,6 +222,8 @@ void CAdaptiveOctoMap::TInsertionOptions::validate(const std::string& section) c
 	if (!(std::isfinite(regionMargin) && regionMargin >= 0))
 		reject(section, "region_margin", str(regionMargin), "must be >= 0 metres");
 	if (personLabel.empty()) reject(section, "person_label", "", "must not be empty");
+	if (insertionThreads < 1 || insertionThreads > 16)
+		reject(section, "insertion_threads", str(insertionThreads), "must be in [1, 16]");
 	if (!(std::isfinite(labelDepthBand) && labelDepthBand > 0))
 		reject(section, "label_depth_band", str(labelDepthBand), "must be > 0 metres");
 	if (!(labelPercentile >= 0 && labelPercentile < 0.5))

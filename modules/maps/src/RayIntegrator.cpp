@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <thread>
 #include <limits>
 
 namespace avm::detail
@@ -273,7 +274,6 @@ void RayIntegrator::integrateDepthImage(
 	const auto& K = obs.cameraParams;
 	const double fx = K.fx(), fy = K.fy(), cx = K.cx(), cy = K.cy(), units = obs.rangeUnits;
 	const auto R = sensorPose.getRotationMatrix();
-	const auto& t = m_origin;
 
 	// Pixels whose ray can reach a region: the box's projection (all pixels
 	// when a corner is behind the camera).
@@ -324,15 +324,68 @@ void RayIntegrator::integrateDepthImage(
 		m_columnFactor[u] = (cx - u) / fx;
 		m_columnFactorF[u] = static_cast<float>(m_columnFactor[u]);
 	}
+	RowSetup rs;
+	rs.image = &img;
+	rs.cols = cols;
+	rs.cy = cy;
+	rs.fy = fy;
+	rs.R = R;
+	rs.unitsF = static_cast<float>(units);
+	rs.colFactor = m_columnFactorF.data();
+	rs.rangeToDepth = m_rangeToDepth.empty() ? nullptr : m_rangeToDepth.data();
+	rs.regions = m_hasRegions ? targets.regions : nullptr;
+
+	// Row bands: the first feeds the scan's endpoint sets directly, the
+	// others their own, merged after the join.
+	m_bands.resize(m_threads);
+	for (std::size_t i = 0; i < m_bands.size(); i++)
+	{
+		auto& band = m_bands[i];
+		band.outside = i == 0 ? &m_outsideEnds : &band.ownOutside;
+		band.inside = i == 0 ? &m_insideEnds : &band.ownInside;
+		band.crossing = i == 0 ? &m_crossingEnds : &band.ownCrossing;
+		for (auto* set : {band.outside, band.inside, band.crossing}) set->clear();
+		band.lastInside = band.lastCrossing = 0;
+	}
+	if (m_bands.size() == 1)
+		scanRows(rs, 0, rows, m_bands[0]);
+	else
+	{
+		std::vector<std::thread> helpers;
+		const int per = (rows + static_cast<int>(m_bands.size()) - 1) / static_cast<int>(m_bands.size());
+		for (std::size_t i = 1; i < m_bands.size(); i++)
+			helpers.emplace_back([&, i] {
+				scanRows(rs, static_cast<int>(i) * per, std::min(rows, static_cast<int>(i + 1) * per), m_bands[i]);
+			});
+		scanRows(rs, 0, std::min(rows, per), m_bands[0]);
+		for (auto& h : helpers) h.join();
+		for (std::size_t i = 1; i < m_bands.size(); i++)
+		{
+			for (const auto k : m_bands[i].ownOutside.keys()) m_outsideEnds.insert(k);
+			for (const auto k : m_bands[i].ownInside.keys()) m_insideEnds.insert(k);
+			for (const auto k : m_bands[i].ownCrossing.keys()) m_crossingEnds.insert(k);
+		}
+	}
+	finish();
+}
+
+void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band) const
+{
+	const auto& img = *rs.image;
+	const int cols = rs.cols;
+	const double cy = rs.cy, fy = rs.fy;
+	const auto& R = rs.R;
+	const auto& t = m_origin;
 	const double r00 = R(0, 0), r10 = R(1, 0), r20 = R(2, 0), r01 = R(0, 1), r11 = R(1, 1), r21 = R(2, 1);
 	const float inverse = static_cast<float>(m_outsideGrid.inverse), offset = kKeyOffset;
-	const float unitsF = static_cast<float>(units);
-	m_rowKeys.resize(3 * static_cast<std::size_t>(cols));
-	int* const kxs = m_rowKeys.data();
+	const float unitsF = rs.unitsF;
+	band.rowKeys.resize(3 * static_cast<std::size_t>(cols));
+	band.near.resize(6 * static_cast<std::size_t>(cols));
+	int* const kxs = band.rowKeys.data();
 	int* const kys = kxs + cols;
 	int* const kzs = kys + cols;
-	const float* const colFactor = m_columnFactorF.data();
-	for (int v = 0; v < rows; v++)
+	const float* const colFactor = rs.colFactor;
+	for (int v = v0; v < v1; v++)
 	{
 		const double b = (cy - v) / fy;
 		const double bx = r00 + R(0, 2) * b, by = r10 + R(1, 2) * b, bz = r20 + R(2, 2) * b;
@@ -342,7 +395,7 @@ void RayIntegrator::integrateDepthImage(
 		// the tree becomes -1, caught with the invalid pixels below.
 		{
 			const float tx = t.x, ty = t.y, tz = t.z, fbx = bx, fby = by, fbz = bz, f01 = r01, f11 = r11, f21 = r21;
-			const float* const rangeScale = m_rangeToDepth.empty() ? nullptr : m_rangeToDepth.data() + static_cast<std::size_t>(v) * cols;
+			const float* const rangeScale = rs.rangeToDepth ? rs.rangeToDepth + static_cast<std::size_t>(v) * cols : nullptr;
 			for (int u = 0; u < cols; u++)
 			{
 				const float a = colFactor[u];
@@ -367,19 +420,18 @@ void RayIntegrator::integrateDepthImage(
 		// region, in depth units): 1 = the point is in a region, 2 = its ray
 		// passes through one; with the fine key of the point (1) or of the
 		// voxel where the ray leaves the farthest region it crosses (2).
-		const std::size_t nRegions = m_hasRegions ? targets.regions->size() : 0;
+		const std::size_t nRegions = rs.regions ? rs.regions->size() : 0;
 		const bool rowNear = nearTo >= nearFrom;
 		if (rowNear)
 		{
-			m_near.resize(6 * static_cast<std::size_t>(cols));
-			float* const depth = m_near.data();
+			float* const depth = band.near.data();
 			float* const insideF = depth + cols;
 			float* const crossTo = insideF + cols;
 			int* const fineKeys = reinterpret_cast<int*>(crossTo + cols);
 			const float dx0 = bx, dy0 = by, dz0 = bz, f01 = r01, f11 = r11, f21 = r21;
 			const float ox = t.x, oy = t.y, oz = t.z;
 			const float* const rangeScale =
-				m_rangeToDepth.empty() ? nullptr : m_rangeToDepth.data() + static_cast<std::size_t>(v) * cols;
+				rs.rangeToDepth ? rs.rangeToDepth + static_cast<std::size_t>(v) * cols : nullptr;
 			for (int u = nearFrom; u <= nearTo; u++)
 			{
 				depth[u] = row[u] * unitsF * (rangeScale ? rangeScale[u] : 1.0f);
@@ -388,7 +440,7 @@ void RayIntegrator::integrateDepthImage(
 			}
 			for (std::size_t ri = 0; ri < nRegions; ri++)
 			{
-				const auto& box = (*targets.regions)[ri].box;
+				const auto& box = (*rs.regions)[ri].box;
 				const float minx = box.min.x, miny = box.min.y, minz = box.min.z;
 				const float maxx = box.max.x, maxy = box.max.y, maxz = box.max.z;
 				for (int u = nearFrom; u <= nearTo; u++)
@@ -423,7 +475,7 @@ void RayIntegrator::integrateDepthImage(
 				fineKeys[2 * cols + u] = kz < 0 ? -1 : static_cast<int>(kz);
 			}
 		}
-		const float* const insideF = m_near.data() + cols;
+		const float* const insideF = band.near.data() + cols;
 		const float* const crossTo = insideF + cols;
 		const int* const fineKeys = reinterpret_cast<const int*>(crossTo + cols);
 		std::uint64_t last = 0;
@@ -436,11 +488,11 @@ void RayIntegrator::integrateDepthImage(
 				if ((static_cast<unsigned>(k0) | static_cast<unsigned>(k1) | static_cast<unsigned>(k2)) <= 0xFFFFu)
 				{
 					const std::uint64_t key = ((std::uint64_t(k0) << 32) | (std::uint64_t(k1) << 16) | std::uint64_t(k2)) + 1;
-					auto& lastFine = insideF[u] > 0 ? m_lastInsideKey : m_lastCrossingKey;
+					auto& lastFine = insideF[u] > 0 ? band.lastInside : band.lastCrossing;
 					if (key != lastFine)
 					{
 						lastFine = key;
-						(insideF[u] > 0 ? m_insideEnds : m_crossingEnds).insert(key);
+						(insideF[u] > 0 ? band.inside : band.crossing)->insert(key);
 					}
 				}
 				if (insideF[u] > 0) continue;
@@ -452,10 +504,9 @@ void RayIntegrator::integrateDepthImage(
 				((std::uint64_t(kxs[u]) << 32) | (std::uint64_t(kys[u]) << 16) | std::uint64_t(kzs[u])) + 1;
 			if (key == last) continue;
 			last = key;
-			m_outsideEnds.insert(key);
+			band.outside->insert(key);
 		}
 	}
-	finish();
 }
 
 void RayIntegrator::integrateWorldPoints(

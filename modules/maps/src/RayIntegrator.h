@@ -5,6 +5,7 @@
 // high tree while the rest updates the low tree.
 #pragma once
 
+#include <mrpt/math/CMatrixFixed.h>
 #include <mrpt/math/TPoint3D.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/poses/CPose3D.h>
@@ -50,6 +51,10 @@ class RayIntegrator
 		const float* xs, const float* ys, const float* zs, std::size_t n, const mrpt::poses::CPose3D& sensorPose,
 		const ScanTargets& targets);
 
+	/** Threads for the depth-image pass (row bands); the rays and updates
+	 *  stay on the calling thread. */
+	void setThreads(unsigned threads) { m_threads = threads < 1 ? 1 : threads; }
+
    private:
 	enum class Endpoint
 	{
@@ -66,6 +71,29 @@ class RayIntegrator
 			inverse = 1.0 / res;
 		}
 	};
+
+	/** Per-frame constants of the depth-image pass. */
+	struct RowSetup
+	{
+		const mrpt::math::CMatrix_u16* image = nullptr;
+		int cols = 0;
+		double cy = 0, fy = 0;
+		mrpt::math::CMatrixDouble33 R;
+		float unitsF = 0;
+		const float* colFactor = nullptr;
+		const float* rangeToDepth = nullptr;  //!< per pixel, range images only
+		const std::vector<Region>* regions = nullptr;
+	};
+	/** One band of rows' endpoint sets and scratch rows. */
+	struct PixelBand
+	{
+		KeySet *outside = nullptr, *inside = nullptr, *crossing = nullptr;
+		KeySet ownOutside, ownInside, ownCrossing;
+		std::uint64_t lastInside = 0, lastCrossing = 0;
+		std::vector<int> rowKeys;
+		std::vector<float> near;
+	};
+	void scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band) const;
 
 	void begin(const mrpt::math::TPoint3D& origin, const ScanTargets& targets);
 	/** `nearRegion`: the ray may end in or cross a region (false lets the
@@ -98,11 +126,9 @@ class RayIntegrator
 	std::vector<std::pair<double, double>> m_intervals;
 	std::vector<double> m_columnFactor;
 	std::vector<float> m_columnFactorF;
-	std::vector<int> m_rowKeys;
 	std::vector<float> m_rangeToDepth;
-	/** Per column of a row near a region: depth, inside flag, exit of the
-	 *  farthest region crossed, fine key (3 ints). */
-	std::vector<float> m_near;
+	unsigned m_threads = 1;
+	std::vector<PixelBand> m_bands;
 	struct PixelRect
 	{
 		int u0, u1, v0, v1;

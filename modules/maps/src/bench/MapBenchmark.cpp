@@ -150,6 +150,13 @@ MapBenchmarkResult runMapBenchmark(
 	paperIns.switchAtFraction = opts.paperSwitchFraction;
 	auto regionMap = std::make_shared<CAdaptiveOctoMap>(regionRes, regionIns, CAdaptiveOctoMap::TLikelihoodOptions());
 	auto paperMap = std::make_shared<CAdaptiveOctoMap>(paperRes, paperIns, CAdaptiveOctoMap::TLikelihoodOptions());
+	std::shared_ptr<CAdaptiveOctoMap> threadedMap;
+	if (opts.regionThreads > 1)
+	{
+		auto ins = regionIns;
+		ins.insertionThreads = opts.regionThreads;
+		threadedMap = std::make_shared<CAdaptiveOctoMap>(regionRes, ins, CAdaptiveOctoMap::TLikelihoodOptions());
+	}
 	paperMap->setExpectedFrameCount(frames.size());
 	if (labelled)
 		result.regionSource = "person pixel labels of the rawlog";
@@ -157,6 +164,7 @@ MapBenchmarkResult runMapBenchmark(
 	{
 		const auto box = opts.region ? *opts.region : defaultRegion(frames.front());
 		regionMap->addHighResolutionRegion(box);
+		if (threadedMap) threadedMap->addHighResolutionRegion(box);
 		result.regionSource = "fixed box " + box.asString() + " (no person labels in the rawlog)";
 	}
 
@@ -165,6 +173,8 @@ MapBenchmarkResult runMapBenchmark(
 	rn << "avm region " << opts.regionLow << "/" << opts.regionHigh << " m";
 	pn << "avm paper " << opts.paperLow << "/" << opts.paperHigh << " m (switch at " << opts.paperSwitchFraction << ")";
 	contenders.push_back(adaptive(rn.str(), regionMap));
+	if (threadedMap)
+		contenders.push_back(adaptive(rn.str() + ", " + std::to_string(opts.regionThreads) + " threads", threadedMap));
 	contenders.push_back(plainOctomap(opts.regionHigh, opts.maxRange, true));
 	contenders.push_back(plainOctomap(opts.regionLow, opts.maxRange, true));
 	if (opts.withPlainOctomap) contenders.push_back(plainOctomap(opts.regionHigh, opts.maxRange, false));

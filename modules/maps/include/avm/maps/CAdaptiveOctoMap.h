@@ -157,6 +157,9 @@ class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
 		double switchAtFraction = -1;
 		/** Frames in the run, for switchAtFraction (0 = unknown). */
 		std::uint64_t expectedFrameCount = 0;
+		/** Threads for unprojecting and keying a depth image (bands of rows);
+		 *  ray casting and tree updates stay on the inserting thread. */
+		std::uint32_t insertionThreads = 1;
 
 		void loadFromConfigFile(
 			const mrpt::config::CConfigFileBase& source, const std::string& section) override;

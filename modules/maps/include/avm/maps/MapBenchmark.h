@@ -26,6 +26,9 @@ struct MapBenchmarkOptions
 	 *  (world frame); by default a 1.2 x 1.2 x 2.0 m box (a person with
 	 *  margin) centred on the surface seen at the first frame's centre. */
 	std::optional<mrpt::math::TBoundingBox> region;
+	/** > 1: also time the region policy with this many insertion threads
+	 *  (a separate row; the other contenders use one thread). */
+	unsigned regionThreads = 1;
 	/** Also time insertPointCloud at regionHigh without discretize (slow). */
 	bool withPlainOctomap = false;
 };
