@@ -34,6 +34,7 @@ void forEachKey(Options& o, Visitor&& v)
 	v("refine_iterations", o.refine_iterations);
 	v("window_size", o.window_size);
 	v("ba_iterations", o.ba_iterations);
+	v("ba_max_landmarks", o.ba_max_landmarks);
 	v("keyframe_translation", o.keyframe_translation);
 	v("keyframe_rotation", o.keyframe_rotation);
 	v("keyframe_overlap", o.keyframe_overlap);
@@ -91,6 +92,7 @@ void TOdometryOptions::validate(const std::string& section) const
 	require(refine_iterations >= 0, "refine_iterations", refine_iterations, "must be >= 0");
 	require(window_size == 0 || window_size >= 2, "window_size", window_size, "must be 0 (off) or >= 2");
 	require(ba_iterations >= 1, "ba_iterations", ba_iterations, "must be >= 1");
+	require(ba_max_landmarks >= 0, "ba_max_landmarks", ba_max_landmarks, "must be >= 0 (0 = all)");
 	require(keyframe_translation > 0, "keyframe_translation", keyframe_translation, "must be > 0 m");
 	require(keyframe_rotation > 0, "keyframe_rotation", keyframe_rotation, "must be > 0 deg");
 	require(keyframe_overlap > 0 && keyframe_overlap <= 1, "keyframe_overlap", keyframe_overlap, "must be in (0, 1]");

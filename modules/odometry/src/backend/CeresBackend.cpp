@@ -3,7 +3,9 @@
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>
 
+#include <algorithm>
 #include <array>
+#include <functional>
 #include <unordered_map>
 
 #include "ReprojectionCost.h"
@@ -92,12 +94,22 @@ void CeresBackend::bundleAdjust(std::deque<Keyframe>& window, LandmarkMap& landm
 	std::vector<PoseParams> poses;
 	for (const auto& kf : window) poses.push_back(toParams(kf.T_cw));
 	std::unordered_map<int, std::array<double, 3>> points;
+	// The landmarks seen most often tie the window together best; a cap on
+	// their number bounds the time a keyframe takes.
+	std::vector<std::pair<int, int>> shared;  // (views, id)
 	for (const auto& [id, n] : seenBy)
-		if (n >= 2)
-		{
-			const auto& p = landmarks.at(id).position;
-			points[id] = {p.x(), p.y(), p.z()};
-		}
+		if (n >= 2) shared.emplace_back(n, id);
+	const std::size_t cap = m_options.ba_max_landmarks > 0 ? std::size_t(m_options.ba_max_landmarks) : shared.size();
+	if (shared.size() > cap)
+	{
+		std::nth_element(shared.begin(), shared.begin() + cap, shared.end(), std::greater<>());
+		shared.resize(cap);
+	}
+	for (const auto& [n, id] : shared)
+	{
+		const auto& p = landmarks.at(id).position;
+		points[id] = {p.x(), p.y(), p.z()};
+	}
 	if (points.empty()) return;
 
 	ceres::Problem::Options po;

@@ -33,6 +33,7 @@ struct TOdometryOptions : public mrpt::config::CLoadableOptions
 	int refine_iterations = 10;      //!< Ceres iterations of the per-frame pose refinement
 	int window_size = 8;             //!< keyframes in the sliding-window bundle adjustment (0 = no BA)
 	int ba_iterations = 8;           //!< Ceres iterations of one bundle adjustment
+	int ba_max_landmarks = 250;      //!< landmarks in one bundle adjustment, the most-viewed first (0 = all)
 	// --- keyframes
 	double keyframe_translation = 0.08;  //!< [m] motion from the last keyframe that makes a keyframe
 	double keyframe_rotation = 8.0;      //!< [deg] rotation from the last keyframe that makes a keyframe
