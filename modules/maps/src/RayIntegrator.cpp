@@ -224,10 +224,30 @@ void RayIntegrator::applyUpdates(
 {
 	// A voxel belongs to exactly one tree: region space to the high tree,
 	// the rest to the low tree.
-	auto belongs = [&](std::uint64_t k) {
+	// Regions are whole coarse voxels and the fine edge divides the coarse
+	// one, so "centre inside a region" is a range test on the keys.
+	m_keyBoxes.clear();
+	if (m_hasRegions)
+		for (const auto& r : *m_targets.regions)
+		{
+			KeyBox b;
+			for (int i = 0; i < 3; i++)
+			{
+				b.lo[i] = static_cast<std::int64_t>(std::llround(r.box.min[i] * grid.inverse)) + kKeyOffset;
+				b.hi[i] = static_cast<std::int64_t>(std::llround(r.box.max[i] * grid.inverse)) + kKeyOffset;
+			}
+			m_keyBoxes.push_back(b);
+		}
+	auto belongs = [&](std::uint64_t packed) {
 		if (!m_hasRegions) return true;
-		const auto c = centreOf(k, grid.resolution);
-		return insideAnyRegion(c.x, c.y, c.z) == keepInsideRegions;
+		const std::uint64_t v = packed - 1;
+		const std::int64_t k[3] = {static_cast<std::int64_t>(v >> 32), static_cast<std::int64_t>((v >> 16) & 0xFFFF),
+			static_cast<std::int64_t>(v & 0xFFFF)};
+		bool inside = false;
+		for (const auto& b : m_keyBoxes)
+			inside |= k[0] >= b.lo[0] && k[0] < b.hi[0] && k[1] >= b.lo[1] && k[1] < b.hi[1] && k[2] >= b.lo[2] &&
+					  k[2] < b.hi[2];
+		return inside == keepInsideRegions;
 	};
 	m_batch.clear();
 	for (const auto k : freeKeys.keys())

@@ -127,6 +127,12 @@ class RayIntegrator
 	std::vector<double> m_columnFactor;
 	std::vector<float> m_columnFactorF;
 	std::vector<float> m_rangeToDepth;
+	/** Regions as half-open key ranges of the grid being updated. */
+	struct KeyBox
+	{
+		std::int64_t lo[3], hi[3];
+	};
+	std::vector<KeyBox> m_keyBoxes;
 	unsigned m_threads = 1;
 	std::vector<PixelBand> m_bands;
 	struct PixelRect
