@@ -8,6 +8,7 @@
 
 #include "TestData.h"
 #include "avm/io/RawlogFrameReader.h"
+#include "avm/odometry/OdometryRun.h"
 #include "avm/odometry/VisualOdometry.h"
 
 using namespace avm;
@@ -138,4 +139,22 @@ TEST(VisualOdometry, NoDepthOrNoTextureIsLossWithoutNaN)
 	const auto back = vo.process(obs);
 	EXPECT_TRUE(back.tracked) << back.status;
 	EXPECT_LT(back.pose.translation().norm(), 1e-3);
+}
+
+TEST(VisualOdometry, PersonBoxesFromPixelLabels)
+{
+	auto obs = *bonnFrame(0).observation;
+	EXPECT_TRUE(odometry::personBoxesFromLabels(obs).empty());
+	auto labels = std::make_shared<mrpt::obs::TPixelLabelInfo<1>>();
+	labels->setSize(int(obs.rangeImage.rows()), int(obs.rangeImage.cols()));
+	labels->setLabelName(0, "chair");
+	labels->setLabelName(3, "person");
+	for (int r = 100; r < 300; ++r)
+		for (int c = 50; c < 120; ++c) labels->setLabel(r, c, 3);
+	for (int r = 10; r < 40; ++r)
+		for (int c = 400; c < 500; ++c) labels->setLabel(r, c, 0);  // not a person
+	obs.pixelLabels = labels;
+	const auto boxes = odometry::personBoxesFromLabels(obs);
+	ASSERT_EQ(boxes.size(), 1u);
+	EXPECT_EQ(boxes.front(), cv::Rect(50, 100, 70, 200));
 }
