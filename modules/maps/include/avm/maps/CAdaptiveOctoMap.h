@@ -5,8 +5,10 @@
 //
 // Where things live: src/ResolutionPolicy.cpp decides which space goes to
 // which tree (Algorithm 1, regions, triggers), src/RayIntegrator.cpp turns a
-// scan into per-tree free/occupied key sets (the hot path),
-// src/CAdaptiveOctoMap_{options,query,likelihood,io,render}.cpp the rest.
+// scan into per-tree free/occupied key sets (the hot path, and Algorithm 2),
+// src/BatchUpdate.cpp applies them to a tree in one sweep,
+// src/CAdaptiveOctoMap_{options,query,likelihood,io,render}.cpp the rest
+// (doc/map.md has the full map of files).
 #pragma once
 
 #include <mrpt/config/CLoadableOptions.h>
