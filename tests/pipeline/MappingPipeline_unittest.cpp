@@ -123,9 +123,12 @@ TEST_F(PipelineOnBonn, AllOutputsExistAndLoad)
 	octomap::OcTree low(0.1), high(0.1);
 	ASSERT_TRUE(low.readBinary((out / "map_low.bt").string()));
 	ASSERT_TRUE(high.readBinary((out / "map_high.bt").string()));
-	EXPECT_GT(low.size(), 1000u);
-	EXPECT_GT(high.size(), 100u);
-	EXPECT_LT(high.getResolution(), low.getResolution());
+	// People walk through most of the near field here, so their merged
+	// region holds most of the map; the low tree keeps the rest.
+	EXPECT_GT(low.size(), 10u);
+	EXPECT_GT(high.size(), 1000u);
+	EXPECT_DOUBLE_EQ(low.getResolution(), 0.20);
+	EXPECT_DOUBLE_EQ(high.getResolution(), 0.05);
 
 	mrpt::opengl::COpenGLScene scene;
 	ASSERT_TRUE(scene.loadFromFile((out / "map.3Dscene").string()));
