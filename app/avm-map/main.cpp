@@ -79,6 +79,13 @@ int main(int argc, char** argv)
 				  << "switch:      "
 				  << (summary.switchFrame ? "frame " + std::to_string(*summary.switchFrame) : std::string("never"))
 				  << ", " << summary.regions << " person regions\n";
+		std::printf("stages [ms]: odometry mean %.1f median %.1f p95 %.1f | detection mean %.1f median %.1f p95 %.1f "
+					"(%zu runs) | map mean %.1f median %.1f p95 %.1f\n",
+			summary.odometry.meanMs, summary.odometry.medianMs, summary.odometry.p95Ms, summary.detection.meanMs,
+			summary.detection.medianMs, summary.detection.p95Ms, summary.detection.count, summary.map.meanMs,
+			summary.map.medianMs, summary.map.p95Ms);
+		std::printf("memory:      peak %.0f MiB\n", summary.peakMemoryMb);
+		std::fflush(stdout);
 		if (summary.ateRmse) std::cout << "odometry:    ATE RMSE " << *summary.ateRmse << " m against the rawlog's ground truth\n";
 		std::cout << "outputs in:  " << argOut.getValue()
 				  << " (map_low.bt, map_high.bt, map.3Dscene, trajectory.txt, detections.txt, stats.json, "

@@ -490,6 +490,7 @@ RunSummary MappingPipeline::run(
 								double(trajectory.size()) / double(trajectory.size() - 1);
 		summary.realTimeFactor = recorded / std::max(summary.seconds, 1e-9);
 	}
+	summary.peakMemoryMb = peakMemoryMb();
 	summary.odometry = reportOf(odometryTimes);
 	summary.detection = reportOf(detectionTimes);
 	summary.map = reportOf(mapTimes);
@@ -525,7 +526,7 @@ RunSummary MappingPipeline::run(
 		.value("seconds", summary.seconds)
 		.value("fps", summary.fps)
 		.value("real_time_factor", summary.realTimeFactor)
-		.value("peak_memory_mb", peakMemoryMb());
+		.value("peak_memory_mb", summary.peakMemoryMb);
 	json.beginArray("peak_memory_mb_per_replay");
 	for (const double mb : frames.peakMemoryPerReplay()) json.element(mb);
 	json.endArray();

@@ -73,6 +73,7 @@ struct RunSummary
 	std::optional<std::size_t> switchFrame;  //!< first frame mapped at high resolution
 	std::size_t detectionRuns = 0, framesWithPerson = 0, regions = 0;
 	std::optional<double> ateRmse;   //!< [m] odometry vs ground truth, when both exist
+	double peakMemoryMb = 0;         //!< [MiB] peak resident memory of the process
 	StageReport odometry, detection, map;
 };
 

@@ -1,0 +1,54 @@
+#!/usr/bin/env bash
+# End-to-end benchmark of avm-map on the default dataset (odometry + detection
+# + map, all 300 frames at 640x480, ini/default.ini) and a long run (the
+# sequence replayed 10 times, 3000 frames, ground-truth poses), written to
+# doc/performance.md with the commands and the machine.
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+build=${AVM_BUILD_DIR:-$root/build}
+out=$root/output/benchmark
+doc=$root/doc/performance.md
+
+"$root/scripts/install-deps.sh"
+cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$build" -j "$(nproc)" --target avm-map avm-tum2rawlog
+"$root/scripts/get-data.sh"
+rawlog=$root/datasets/bonn_crowd_sub300.rawlog
+[ -f "$rawlog" ] || "$build/bin/avm-tum2rawlog" --camera bonn --gt-body bonn "$root/datasets/bonn_crowd_sub300" "$rawlog"
+
+run() {  # run NAME ARGS... : prints the command and avm-map's summary
+  local name=$1; shift
+  local cmd=(build/bin/avm-map -q -c ini/default.ini -r datasets/bonn_crowd_sub300.rawlog -o "output/benchmark/$name" "$@")
+  echo "\`\`\`"
+  echo "${cmd[*]}"
+  (cd "$root" && "${cmd[@]}" | grep -vE '^ done\.$|^outputs in')
+  echo "\`\`\`"
+}
+
+tmp=$(mktemp "$root/doc/.performance.XXXX")
+{
+  echo "# End-to-end performance"
+  echo
+  echo "Made by \`scripts/benchmark.sh\` on $(date -u '+%Y-%m-%d %H:%M UTC'): $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //'), $(nproc) cores, $(free -g | awk '/Mem:/{print $2}') GiB, load average before the runs $(cut -d' ' -f1-3 /proc/loadavg)."
+  echo "Release build. Every figure below is printed by the command above it (also in \`output/benchmark/*/stats.json\`)."
+  echo
+  echo "## The default run: odometry + detection every third frame on a worker thread + region map"
+  echo
+  echo "Targets: at least 30 frames per second over all 300 frames (real-time factor >= 1 for this 30 Hz camera), peak memory below 1 GB."
+  echo
+  run default
+  echo
+  echo "## Detection on every frame, synchronous (the slowest setting)"
+  echo
+  run every-frame --set pipeline:detect_every_n=1 --set pipeline:async_detection=false
+  echo
+  echo "## Long run: the sequence 10 times in one process (3000 frames), ground-truth poses"
+  echo
+  echo "Peak memory after each replay is in \`output/benchmark/long-run/stats.json\` (\`peak_memory_mb_per_replay\`):"
+  echo
+  run long-run --poses gt --set pipeline:repeat=10
+  echo
+  echo "Peak memory per replay [MiB]: $(tr -d '\n ' < "$out/long-run/stats.json" | sed -E 's/.*"peak_memory_mb_per_replay":\[([^]]*)\].*/\1/')"
+} > "$tmp"
+mv "$tmp" "$doc"
+cat "$doc"
