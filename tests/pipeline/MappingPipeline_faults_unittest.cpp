@@ -9,12 +9,21 @@
 #include <spawn.h>
 #include <sys/wait.h>
 
+#include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/obs/CObservationRobotPose.h>
+#include <mrpt/serialization/CArchive.h>
+
 #include <chrono>
+#include <limits>
 #include <opencv2/imgcodecs.hpp>
 #include <thread>
 
 #include "TestData.h"
+#include "avm/io/RawlogFrameReader.h"
 #include "avm/io/Trajectory.h"
+#include "avm/maps/CAdaptiveOctoMap.h"
+#include "avm/pipeline/MappingPipeline.h"
 
 extern char** environ;
 
@@ -133,4 +142,45 @@ TEST(MappingPipelineFaults, InterruptStopsAndSavesWhatWasMapped)
 	const auto stats = mrpt::containers::yaml::FromFile((out / "stats.json").string());
 	EXPECT_TRUE(stats["interrupted"].as<bool>());
 	EXPECT_LT(stats["frames"].as<int>(), 300);
+}
+
+TEST(MappingPipelineFaults, NanPosesAndEmptyDepthNeverReachTheMap)
+{
+	// Three real frames: the second with a NaN ground-truth pose, the third
+	// with depth all zeros. The map must equal the map of the first alone.
+	const auto dir = test::scratchDir("map-nan");
+	const auto src = test::bonnRawlog();
+	fs::create_directory_symlink(src.parent_path() / (src.stem().string() + "_Images"), dir / "three_Images");
+	{
+		io::RawlogFrameReader reader(src);
+		mrpt::io::CFileGZOutputStream file((dir / "three.rawlog").string());
+		auto out = mrpt::serialization::archiveFrom(file);
+		for (int i = 0; i < 3; ++i)
+		{
+			auto f = reader.next();
+			ASSERT_TRUE(f && f->groundTruth);
+			auto pose = mrpt::obs::CObservationRobotPose::Create();
+			pose->timestamp = f->observation->timestamp;
+			auto p = *f->groundTruth;
+			if (i == 1) p.x(std::numeric_limits<double>::quiet_NaN());
+			pose->pose = mrpt::poses::CPose3DPDFGaussian(p);
+			if (i == 2) f->observation->rangeImage.fill(0);
+			out << *f->observation << *pose;
+		}
+	}
+	const auto runOn = [&](const std::string& maxFrames) {
+		mrpt::config::CConfigFileMemory ini(
+			"[pipeline]\npose_source=gt\ndetect_every_n=0\npicture_size=0\nmax_frames=" + maxFrames +
+			"\n[map]\nadaptiveOctoMap_count=1\n");
+		pipeline::MappingPipeline p(ini, AVM_SOURCE_DIR);
+		const auto summary = p.run(dir / "three.rawlog", dir / ("out" + maxFrames));
+		return std::make_pair(summary, p.map().lowResolutionStats());
+	};
+	const auto [all, allStats] = runOn("0");
+	const auto [first, firstStats] = runOn("1");
+	EXPECT_EQ(all.skippedFrames, 1u) << "the NaN pose frame";
+	EXPECT_EQ(all.frames, 2u);
+	EXPECT_GT(firstStats.occupiedLeaves, 100u);
+	EXPECT_EQ(allStats.occupiedLeaves, firstStats.occupiedLeaves);
+	EXPECT_EQ(allStats.freeLeaves, firstStats.freeLeaves);
 }
