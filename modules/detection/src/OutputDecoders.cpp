@@ -53,6 +53,11 @@ void addCandidate(
 		if (s > bestScore && wanted(p, c)) best = c, bestScore = s;
 	}
 	if (best < 0 || bestScore < p.scoreThreshold) return;
+	// A broken model can output NaN or infinities; such a box has no place in
+	// the image (found by fuzzing: NaN passed std::clamp into the boxes).
+	if (!std::isfinite(bestScore) || !std::isfinite(cx) || !std::isfinite(cy) || !std::isfinite(w) ||
+		!std::isfinite(h))
+		return;
 	const cv::Rect2f box = lb.toImage(cx, cy, w, h);
 	if (box.width <= 0 || box.height <= 0) return;
 	out.push_back({box, best, cocoClassName(best), bestScore});

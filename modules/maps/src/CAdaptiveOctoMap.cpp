@@ -32,10 +32,21 @@ CAdaptiveOctoMap::TMapDefinition::TMapDefinition() = default;
 void CAdaptiveOctoMap::TMapDefinition::loadFromConfigFile_map_specific(
 	const mrpt::config::CConfigFileBase& source, const std::string& prefix)
 {
-	creationOpts.loadFromConfigFile(source, prefix + "_creationOpts");
-	insertionOpts.loadFromConfigFile(source, prefix + "_insertOpts");
-	likelihoodOpts.loadFromConfigFile(source, prefix + "_likelihoodOpts");
-	renderOpts.loadFromConfigFile(source, prefix + "_renderOpts");
+	// MRPT 2.5.8's TSetOfMetricMapInitializers::loadFromConfigFile leaks the
+	// definition when this throws (found by fuzzing), so a bad value is kept
+	// and thrown when the map is created, with the same message.
+	try
+	{
+		creationOpts.loadFromConfigFile(source, prefix + "_creationOpts");
+		insertionOpts.loadFromConfigFile(source, prefix + "_insertOpts");
+		likelihoodOpts.loadFromConfigFile(source, prefix + "_likelihoodOpts");
+		renderOpts.loadFromConfigFile(source, prefix + "_renderOpts");
+		loadError.clear();
+	}
+	catch (const std::exception& e)
+	{
+		loadError = e.what();
+	}
 }
 
 void CAdaptiveOctoMap::TMapDefinition::dumpToTextStream_map_specific(std::ostream& out) const
@@ -50,6 +61,7 @@ mrpt::maps::CMetricMap* CAdaptiveOctoMap::internal_CreateFromMapDefinition(
 	const mrpt::maps::TMetricMapInitializer& def)
 {
 	const auto& d = dynamic_cast<const TMapDefinition&>(def);
+	if (!d.loadError.empty()) throw std::invalid_argument(d.loadError);
 	auto* map = new CAdaptiveOctoMap(d.creationOpts, d.insertionOpts, d.likelihoodOpts);
 	map->renderingOptions = d.renderOpts;
 	return map;

@@ -302,6 +302,9 @@ class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
 	TInsertionOptions insertionOpts;
 	TLikelihoodOptions likelihoodOpts;
 	TRenderingOptions renderOpts;
+	/** Why the options were rejected ("" = valid); thrown when the map is
+	 *  created (see loadFromConfigFile_map_specific). */
+	std::string loadError;
 	MAP_DEFINITION_END(CAdaptiveOctoMap)
 
    protected:
