@@ -3,9 +3,12 @@
 #pragma once
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 namespace avm::test
@@ -45,5 +48,23 @@ inline std::filesystem::path scratchDir(const std::string& name)
 inline std::filesystem::path binary(const std::string& name)
 {
 	return std::filesystem::path(AVM_BIN_DIR) / name;
+}
+
+struct CommandResult
+{
+	int exitCode;        //!< -1 when the command did not exit normally
+	std::string output;  //!< stdout and stderr together
+};
+
+/** Runs a shell command, its output captured through a file in `scratch`. */
+inline CommandResult runCommand(const std::string& command, const std::filesystem::path& scratch)
+{
+	const auto log = scratch / "command-output.log";
+	const int status = std::system((command + " > '" + log.string() + "' 2>&1").c_str());
+	std::ifstream in(log);
+	std::stringstream text;
+	text << in.rdbuf();
+	std::filesystem::remove(log);
+	return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, text.str()};
 }
 }  // namespace avm::test

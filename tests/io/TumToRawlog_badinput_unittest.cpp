@@ -15,24 +15,12 @@ namespace fs = std::filesystem;
 
 namespace
 {
-struct RunResult
-{
-	int exitCode;
-	std::string output;
-};
-
-RunResult runConverter(
+test::CommandResult runConverter(
 	const fs::path& dataset, const fs::path& out, const std::string& options = "--camera bonn --gt-body bonn")
 {
-	const fs::path log = out.parent_path() / "converter.log";
-	const std::string cmd = test::binary("avm-tum2rawlog").string() + " " + options + " '" + dataset.string() + "' '" + out.string() + "' > '" + log.string() +
-							"' 2>&1";
-	const int status = std::system(cmd.c_str());
-	std::ifstream in(log);
-	std::stringstream ss;
-	ss << in.rdbuf();
-	fs::remove(log);
-	return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ss.str()};
+	return test::runCommand(
+		test::binary("avm-tum2rawlog").string() + " " + options + " '" + dataset.string() + "' '" + out.string() + "'",
+		out.parent_path());
 }
 
 /** A 3-frame copy of the Bonn dataset to damage. */

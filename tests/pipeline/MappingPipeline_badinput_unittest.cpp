@@ -13,22 +13,9 @@ namespace fs = std::filesystem;
 
 namespace
 {
-struct RunResult
+test::CommandResult runMap(const std::string& args, const fs::path& logDir)
 {
-	int exitCode;
-	std::string output;
-};
-
-RunResult runMap(const std::string& args, const fs::path& logDir)
-{
-	const fs::path log = logDir / "avm-map-test.log";
-	const std::string cmd = test::binary("avm-map").string() + " -q " + args + " > '" + log.string() + "' 2>&1";
-	const int status = std::system(cmd.c_str());
-	std::ifstream in(log);
-	std::stringstream ss;
-	ss << in.rdbuf();
-	fs::remove(log);
-	return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ss.str()};
+	return test::runCommand(test::binary("avm-map").string() + " -q " + args, logDir);
 }
 
 /** ini/default.ini with ground-truth poses and no detector: the quick run. */
@@ -38,7 +25,7 @@ std::string quickConfig(const std::string& extra = "")
 		   " -s pipeline:detect_every_n=0 -s pipeline:pose_source=gt " + extra;
 }
 
-void expectFailureWithoutOutputs(const RunResult& r, const fs::path& out, const std::string& expected)
+void expectFailureWithoutOutputs(const test::CommandResult& r, const fs::path& out, const std::string& expected)
 {
 	EXPECT_NE(r.exitCode, 0) << r.output;
 	EXPECT_NE(r.output.find(expected), std::string::npos) << "expected '" << expected << "' in: " << r.output;

@@ -1,7 +1,5 @@
 #include "avm/detection/DetectApp.h"
 
-#include <mrpt/config/CConfigFile.h>
-#include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/system/progress.h>
 
 #include <opencv2/imgcodecs.hpp>
@@ -14,6 +12,7 @@
 #include <stdexcept>
 
 #include "avm/io/AtomicFile.h"
+#include "avm/io/IniOptions.h"
 
 namespace avm::detection
 {
@@ -21,26 +20,7 @@ namespace fs = std::filesystem;
 
 TDetectorOptions loadDetectorOptions(const fs::path& ini, const std::string& section, std::vector<std::string>& unknownKeys)
 {
-	if (!fs::is_regular_file(ini)) throw std::runtime_error(ini.string() + ": config file not found");
-	mrpt::config::CConfigFile cfg(ini.string());
-	if (!cfg.sectionExists(section)) throw std::runtime_error(ini.string() + ": no section [" + section + "]");
-	TDetectorOptions options;
-	mrpt::config::CConfigFileMemory known;
-	options.saveToConfigFile(known, section);
-	std::vector<std::string> knownKeys, userKeys;
-	known.getAllKeys(section, knownKeys);
-	cfg.getAllKeys(section, userKeys);
-	for (const auto& k : userKeys)
-		if (std::find(knownKeys.begin(), knownKeys.end(), k) == knownKeys.end()) unknownKeys.push_back(k);
-	try
-	{
-		options.loadFromConfigFile(cfg, section);
-	}
-	catch (const std::invalid_argument& e)
-	{
-		throw std::invalid_argument(ini.string() + ": " + e.what());
-	}
-	return options;
+	return io::loadOptionsFromFile<TDetectorOptions>(ini, section, unknownKeys);
 }
 
 cv::Mat drawDetections(const cv::Mat& bgr, const std::vector<Detection>& detections)

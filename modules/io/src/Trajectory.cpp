@@ -17,6 +17,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "TextLines.h"
 #include "avm/io/AtomicFile.h"
 
 namespace avm::io
@@ -25,11 +26,6 @@ namespace fs = std::filesystem;
 
 namespace
 {
-[[noreturn]] void fail(const fs::path& file, std::size_t line, const std::string& what)
-{
-	throw std::runtime_error(file.string() + ":" + std::to_string(line) + ": " + what);
-}
-
 Eigen::Quaterniond quaternionOf(const mrpt::poses::CPose3D& p)
 {
 	const auto& R = p.getRotationMatrix();
@@ -48,17 +44,8 @@ mrpt::poses::CPose3D poseOf(const Eigen::Vector3d& t, const Eigen::Quaterniond& 
 
 Trajectory readTumTrajectory(const fs::path& file)
 {
-	std::ifstream in(file);
-	if (!in) throw std::runtime_error(file.string() + ": cannot open trajectory file");
 	Trajectory out;
-	std::string text;
-	std::size_t lineNo = 0;
-	while (std::getline(in, text))
-	{
-		++lineNo;
-		const auto first = text.find_first_not_of(" \t\r");
-		if (first == std::string::npos || text[first] == '#') continue;
-		std::istringstream ss(text);
+	detail::forEachDataLine(file, [&](std::istream& ss, std::size_t lineNo) {
 		double v[8];
 		for (double& x : v)
 		{
@@ -67,17 +54,16 @@ Trajectory readTumTrajectory(const fs::path& file)
 			std::string token;
 			char* end = nullptr;
 			if (!(ss >> token) || (x = std::strtod(token.c_str(), &end), *end != '\0'))
-				fail(file, lineNo, "expected 'timestamp tx ty tz qx qy qz qw'");
+				detail::failAt(file, lineNo, "expected 'timestamp tx ty tz qx qy qz qw'");
 		}
 		if (!std::all_of(std::begin(v), std::end(v), [](double x) { return std::isfinite(x); }))
-			fail(file, lineNo, "non-finite value");
+			detail::failAt(file, lineNo, "non-finite value");
 		Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
 		if (std::abs(q.norm() - 1.0) > 1e-2)
-			fail(file, lineNo, "quaternion is not of unit norm (" + std::to_string(q.norm()) + ")");
-		if (!out.empty() && v[0] <= out.back().timestamp)
-			fail(file, lineNo, "timestamps out of order");
+			detail::failAt(file, lineNo, "quaternion is not of unit norm (" + std::to_string(q.norm()) + ")");
+		if (!out.empty() && v[0] <= out.back().timestamp) detail::failAt(file, lineNo, "timestamps out of order");
 		out.push_back({v[0], poseOf({v[1], v[2], v[3]}, q.normalized())});
-	}
+	});
 	return out;
 }
 

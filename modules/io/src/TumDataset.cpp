@@ -5,6 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "TextLines.h"
 #include "avm/io/Trajectory.h"
 
 namespace avm::io
@@ -13,29 +14,6 @@ namespace fs = std::filesystem;
 
 namespace
 {
-[[noreturn]] void fail(const fs::path& file, std::size_t line, const std::string& what)
-{
-	throw std::runtime_error(file.string() + ":" + std::to_string(line) + ": " + what);
-}
-
-/** Calls onLine(stream, lineNo) for every line that is not blank or a comment. */
-template <typename OnLine>
-void forEachDataLine(const fs::path& file, OnLine onLine)
-{
-	std::ifstream in(file);
-	if (!in) throw std::runtime_error(file.string() + ": cannot open");
-	std::string text;
-	std::size_t lineNo = 0;
-	while (std::getline(in, text))
-	{
-		++lineNo;
-		const auto first = text.find_first_not_of(" \t\r");
-		if (first == std::string::npos || text[first] == '#') continue;
-		std::istringstream ss(text);
-		onLine(ss, lineNo);
-	}
-}
-
 bool readEntry(std::istream& ss, TumListEntry& e)
 {
 	return static_cast<bool>(ss >> e.timestamp >> e.file) && std::isfinite(e.timestamp);
@@ -45,10 +23,10 @@ bool readEntry(std::istream& ss, TumListEntry& e)
 std::vector<TumListEntry> readTumFileList(const fs::path& file)
 {
 	std::vector<TumListEntry> out;
-	forEachDataLine(file, [&](std::istream& ss, std::size_t line) {
+	detail::forEachDataLine(file, [&](std::istream& ss, std::size_t line) {
 		TumListEntry e;
-		if (!readEntry(ss, e)) fail(file, line, "expected 'timestamp filename'");
-		if (!out.empty() && e.timestamp <= out.back().timestamp) fail(file, line, "timestamps out of order");
+		if (!readEntry(ss, e)) detail::failAt(file, line, "expected 'timestamp filename'");
+		if (!out.empty() && e.timestamp <= out.back().timestamp) detail::failAt(file, line, "timestamps out of order");
 		out.push_back(std::move(e));
 	});
 	return out;
@@ -57,12 +35,12 @@ std::vector<TumListEntry> readTumFileList(const fs::path& file)
 std::vector<RgbdPair> readAssociations(const fs::path& file)
 {
 	std::vector<RgbdPair> out;
-	forEachDataLine(file, [&](std::istream& ss, std::size_t line) {
+	detail::forEachDataLine(file, [&](std::istream& ss, std::size_t line) {
 		RgbdPair p;
 		if (!readEntry(ss, p.rgb) || !readEntry(ss, p.depth))
-			fail(file, line, "expected 't_rgb rgb_file t_depth depth_file'");
+			detail::failAt(file, line, "expected 't_rgb rgb_file t_depth depth_file'");
 		if (!out.empty() && p.rgb.timestamp <= out.back().rgb.timestamp)
-			fail(file, line, "timestamps out of order");
+			detail::failAt(file, line, "timestamps out of order");
 		out.push_back(std::move(p));
 	});
 	return out;

@@ -1,7 +1,5 @@
 #include "avm/odometry/OdometryRun.h"
 
-#include <mrpt/config/CConfigFile.h>
-#include <mrpt/config/CConfigFileMemory.h>
 
 #include <opencv2/imgproc.hpp>
 
@@ -14,6 +12,7 @@
 #include <sstream>
 
 #include "avm/io/AtomicFile.h"
+#include "avm/io/IniOptions.h"
 #include "avm/io/RawlogFrameReader.h"
 
 namespace avm::odometry
@@ -130,25 +129,6 @@ std::vector<cv::Rect> personBoxesFromLabels(const mrpt::obs::CObservation3DRange
 TOdometryOptions loadOdometryOptions(
 	const std::filesystem::path& ini, const std::string& section, std::vector<std::string>& unknownKeys)
 {
-	if (!std::filesystem::is_regular_file(ini)) throw std::runtime_error(ini.string() + ": config file not found");
-	mrpt::config::CConfigFile cfg(ini.string());
-	if (!cfg.sectionExists(section)) throw std::runtime_error(ini.string() + ": no section [" + section + "]");
-	TOdometryOptions options;
-	mrpt::config::CConfigFileMemory known;
-	options.saveToConfigFile(known, section);
-	std::vector<std::string> knownKeys, userKeys;
-	known.getAllKeys(section, knownKeys);
-	cfg.getAllKeys(section, userKeys);
-	for (const auto& k : userKeys)
-		if (std::find(knownKeys.begin(), knownKeys.end(), k) == knownKeys.end()) unknownKeys.push_back(k);
-	try
-	{
-		options.loadFromConfigFile(cfg, section);
-	}
-	catch (const std::invalid_argument& e)
-	{
-		throw std::invalid_argument(ini.string() + ": " + e.what());
-	}
-	return options;
+	return io::loadOptionsFromFile<TOdometryOptions>(ini, section, unknownKeys);
 }
 }  // namespace avm::odometry

@@ -15,7 +15,7 @@
 #include <map>
 #include <sstream>
 
-#include "ConfigCheck.h"
+#include "avm/io/IniOptions.h"
 #include "JsonWriter.h"
 #include "avm/detection/Detector.h"
 #include "avm/detection/PersonRegion.h"
@@ -224,7 +224,7 @@ void warnUnknownMapKeys(
 		"enableSaveAs3DObject", "enableObservationLikelihood", "enableObservationInsertion"};
 	const CAdaptiveOctoMap defaults;
 	const auto check = [&](const std::string& section, const mrpt::config::CLoadableOptions& opts, bool creation) {
-		for (const auto& key : unknownKeys(ini, section, opts))
+		for (const auto& key : io::unknownKeys(ini, section, opts))
 			if (!creation || std::find(generic.begin(), generic.end(), key) == generic.end())
 				log.logStr(mrpt::system::LVL_WARN, "unknown key [" + section + "] " + key + " (ignored)\n");
 	};
@@ -279,7 +279,7 @@ MappingPipeline::MappingPipeline(const mrpt::config::CConfigFileBase& ini, const
 	d.mapDefinition.loadFromConfigFile(ini, d.options.mapSection);
 
 	const auto warnUnknown = [&](const std::string& section, const mrpt::config::CLoadableOptions& opts) {
-		for (const auto& key : unknownKeys(ini, section, opts))
+		for (const auto& key : io::unknownKeys(ini, section, opts))
 			logStr(mrpt::system::LVL_WARN, "unknown key [" + section + "] " + key + " (ignored)\n");
 	};
 	warnUnknown(kPipelineSection, d.options);

@@ -1,11 +1,11 @@
-#include "ConfigCheck.h"
+#include "avm/io/IniOptions.h"
 
 #include <mrpt/config/CConfigFileMemory.h>
 
 #include <algorithm>
 #include <cctype>
 
-namespace avm::pipeline
+namespace avm::io
 {
 std::vector<std::string> unknownKeys(
 	const mrpt::config::CConfigFileBase& ini, const std::string& section,
@@ -26,4 +26,4 @@ std::vector<std::string> unknownKeys(
 		if (std::find(knownKeys.begin(), knownKeys.end(), lower(k)) == knownKeys.end()) unknown.push_back(k);
 	return unknown;
 }
-}  // namespace avm::pipeline
+}  // namespace avm::io
