@@ -6,6 +6,7 @@
 #include <octomap/OcTree.h>
 
 #include <fstream>
+#include <mutex>
 #include <sstream>
 
 #include "TestData.h"
@@ -43,25 +44,35 @@ std::vector<PersonDetection> personsIn(const fs::path& detectionsTxt)
 	return out;
 }
 
-/** Shared by the tests below: one run of the default configuration. */
-class PipelineOnBonn : public ::testing::Test
+struct DefaultRun
 {
-   protected:
-	static void SetUpTestSuite()
-	{
-		out = test::scratchDir("pipeline-gt");
+	fs::path out;
+	pipeline::RunSummary summary;
+};
+
+/** One run of the default configuration, shared by the tests of a process.
+ *  Not SetUpTestSuite: gtest reports its exceptions as skipped tests. The
+ *  folder is named after the test because ctest -j runs each test in its own
+ *  process, side by side. */
+const DefaultRun& defaultRun()
+{
+	static DefaultRun run;
+	static std::once_flag once;
+	std::call_once(once, [] {
+		run.out = test::scratchDir(
+			std::string("pipeline-gt-") + ::testing::UnitTest::GetInstance()->current_test_info()->name());
 		const mrpt::config::CConfigFile ini((fs::path(AVM_SOURCE_DIR) / "ini/default.ini").string());
 		pipeline::MappingPipeline p(ini, AVM_SOURCE_DIR);
 		p.setPoseSource(pipeline::PoseSource::GroundTruth);
-		summary = p.run(test::bonnRawlog(), out);
-	}
-	static inline fs::path out;
-	static inline pipeline::RunSummary summary;
-};
+		run.summary = p.run(test::bonnRawlog(), run.out);
+	});
+	return run;
+}
 }  // namespace
 
-TEST_F(PipelineOnBonn, MapsEveryFrameAndSwitchesAfterThePersonAppears)
+TEST(PipelineOnBonn, MapsEveryFrameAndSwitchesAfterThePersonAppears)
 {
+	const auto& [out, summary] = defaultRun();
 	EXPECT_EQ(summary.frames, 300u);
 	const auto persons = personsIn(out / "detections.txt");
 	ASSERT_FALSE(persons.empty()) << "no person detected in the whole sequence";
@@ -73,8 +84,9 @@ TEST_F(PipelineOnBonn, MapsEveryFrameAndSwitchesAfterThePersonAppears)
 	EXPECT_GT(summary.regions, 0u);
 }
 
-TEST_F(PipelineOnBonn, ARegionEnclosesThePerson)
+TEST(PipelineOnBonn, ARegionEnclosesThePerson)
 {
+	const auto& [out, summary] = defaultRun();
 	// The 3D point at the centre of a detected person's box, placed with that
 	// frame's ground truth, lies inside one of the map's high-resolution regions.
 	const auto persons = personsIn(out / "detections.txt");
@@ -114,8 +126,9 @@ TEST_F(PipelineOnBonn, ARegionEnclosesThePerson)
 	EXPECT_TRUE(inside) << "person at " << p.asString() << " (frame " << target.frame << ") in no region";
 }
 
-TEST_F(PipelineOnBonn, AllOutputsExistAndLoad)
+TEST(PipelineOnBonn, AllOutputsExistAndLoad)
 {
+	const auto& [out, summary] = defaultRun();
 	for (const char* name : {"map_low.bt", "map_high.bt", "map.3Dscene", "trajectory.txt", "detections.txt",
 							 "stats.json", "map_top.png", "map_perspective.png", "avm-map.log"})
 		EXPECT_TRUE(fs::exists(out / name)) << name;
