@@ -4,7 +4,6 @@
 #include <mrpt/maps/CMultiMetricMap.h>
 #include <mrpt/system/CTicTac.h>
 #include <opencv2/core/utility.hpp>
-#include <sys/resource.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -16,6 +15,7 @@
 #include <sstream>
 
 #include "avm/io/IniOptions.h"
+#include "FrameSequence.h"
 #include "JsonWriter.h"
 #include "avm/detection/Detector.h"
 #include "avm/detection/PersonRegion.h"
@@ -71,6 +71,9 @@ void TPipelineOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c
 	const int replays = cfg.read_int(s, "repeat", static_cast<int>(repeat));
 	if (replays < 1) throw bad("repeat", std::to_string(replays), "must be >= 1");
 	repeat = static_cast<unsigned>(replays);
+	const int ahead = cfg.read_int(s, "read_ahead_frames", static_cast<int>(readAheadFrames));
+	if (ahead < 0 || ahead > 100) throw bad("read_ahead_frames", std::to_string(ahead), "must be 0..100 (0 = no reader thread)");
+	readAheadFrames = static_cast<unsigned>(ahead);
 	mapSection = cfg.read_string(s, "map_section", mapSection);
 	if (mapSection.empty()) throw bad("map_section", "", "must name the map definition section");
 }
@@ -84,6 +87,7 @@ void TPipelineOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg, cons
 	cfg.write(s, "max_frames", static_cast<int>(maxFrames));
 	cfg.write(s, "picture_size", pictureSize);
 	cfg.write(s, "repeat", static_cast<int>(repeat));
+	cfg.write(s, "read_ahead_frames", static_cast<int>(readAheadFrames));
 	cfg.write(s, "map_section", mapSection);
 }
 
@@ -97,13 +101,6 @@ StageReport reportOf(const StageTimes& t)
 {
 	const auto s = t.summary();
 	return {s.meanMs, s.medianMs, s.p95Ms, s.count};
-}
-
-double peakMemoryMb()
-{
-	rusage usage{};
-	getrusage(RUSAGE_SELF, &usage);
-	return usage.ru_maxrss / 1024.0;  // ru_maxrss is in KiB on Linux
 }
 
 /** A detection run on one frame: the boxes, and the frame they belong to
@@ -153,67 +150,6 @@ void checkWritable(const fs::path& dir)
 	if (!ok) throw std::runtime_error(dir.string() + ": output folder is not writable");
 	removeStaleTemporaries(dir);
 }
-
-/** The rawlog read `repeat` times in a row as one sequence (the long-run
- *  test): frame indices and timestamps go on across the replays. */
-class FrameSequence
-{
-   public:
-	FrameSequence(const fs::path& rawlog, unsigned repeat) : m_rawlog(rawlog), m_repeat(repeat)
-	{
-		m_reader = std::make_unique<io::RawlogFrameReader>(rawlog);
-		m_reader->logging_enable_keep_record = true;
-	}
-
-	std::optional<io::RgbdFrame> next()
-	{
-		for (;;)
-		{
-			auto frame = m_reader->next();
-			if (frame)
-			{
-				m_lastTime = frame->timestamp();
-				if (!m_firstTime) m_firstTime = m_lastTime;
-				m_framesInReplay = frame->index + 1;
-				frame->index += m_indexOffset;
-				if (m_timeOffset != 0)
-					frame->observation->timestamp = mrpt::Clock::fromDouble(m_lastTime + m_timeOffset);
-				return frame;
-			}
-			finishReplay();
-			if (++m_replay >= m_repeat || m_framesInReplay == 0) return {};
-			m_indexOffset += m_framesInReplay;
-			// The next replay starts one frame period after this one ended.
-			const double period = (m_lastTime - *m_firstTime) / std::max<std::size_t>(1, m_framesInReplay - 1);
-			m_timeOffset += m_lastTime - *m_firstTime + period;
-			m_reader = std::make_unique<io::RawlogFrameReader>(m_rawlog);
-			m_reader->logging_enable_keep_record = true;
-		}
-	}
-	double progress() const { return (m_replay + m_reader->progress()) / m_repeat; }
-	const std::vector<std::string>& skipped() const { return m_skipped; }
-	std::string log() const { return m_log + m_reader->getLogAsString(); }
-	/** Peak memory [MiB] of the process at the end of each replay. */
-	const std::vector<double>& peakMemoryPerReplay() const { return m_peaks; }
-
-   private:
-	void finishReplay()
-	{
-		m_skipped.insert(m_skipped.end(), m_reader->skipped().begin(), m_reader->skipped().end());
-		m_log += m_reader->getLogAsString();
-		m_peaks.push_back(peakMemoryMb());
-	}
-
-	fs::path m_rawlog;
-	unsigned m_repeat, m_replay = 0;
-	std::unique_ptr<io::RawlogFrameReader> m_reader;
-	std::size_t m_indexOffset = 0, m_framesInReplay = 0;
-	std::optional<double> m_firstTime;
-	double m_lastTime = 0, m_timeOffset = 0;
-	std::vector<std::string> m_skipped;
-	std::string m_log;
-	std::vector<double> m_peaks;
-};
 
 /** The adaptive map's sections: [<map>_adaptiveOctoMap_NN_creationOpts] etc. */
 void warnUnknownMapKeys(
@@ -327,9 +263,7 @@ RunSummary MappingPipeline::run(
 	const auto& opt = d.options;
 	checkWritable(outDir);
 
-	FrameSequence frames(rawlog, opt.repeat);
 	logStr(mrpt::system::LVL_INFO, "rawlog: " + rawlog.string() + ", poses: " + toString(opt.poseSource) + "\n");
-
 	d.maps = mrpt::maps::CMultiMetricMap::Create(d.mapDefinition);
 	d.adaptive = d.maps->mapByClass<CAdaptiveOctoMap>();
 	// A switch at a fraction of the run needs the run's length.
@@ -338,6 +272,10 @@ RunSummary MappingPipeline::run(
 		const std::size_t frames = io::countFrames(rawlog);
 		d.adaptive->setExpectedFrameCount(opt.maxFrames ? std::min(opt.maxFrames, frames) : frames);
 	}
+
+	// The clock starts before the reader thread does: reading is part of the run.
+	mrpt::system::CTicTac wallClock;
+	detail::FrameSequence frames(rawlog, opt.repeat, opt.readAheadFrames);
 
 	std::optional<odometry::VisualOdometry> vo;
 	StageTimes odometryTimes, detectionTimes, mapTimes;
@@ -397,7 +335,6 @@ RunSummary MappingPipeline::run(
 		applyDetection(pendingDetection.get());
 	};
 
-	mrpt::system::CTicTac wallClock;
 	while (!(stop && stop->load()))
 	{
 		if (opt.maxFrames && summary.frames >= opt.maxFrames) break;
@@ -412,8 +349,13 @@ RunSummary MappingPipeline::run(
 		{
 			if (!opt.asyncDetection)
 				detectedNow = runDetector(frame->index, t, obs);
-			else if (!pendingDetection.valid())
+			else
+			{
+				// Every N-th frame is detected: a detection still running
+				// holds the loop up rather than being skipped.
+				collectDetection(true);
 				pendingDetection = std::async(std::launch::async, runDetector, frame->index, t, obs);
+			}
 		}
 		if (detectedNow)
 		{
@@ -474,8 +416,9 @@ RunSummary MappingPipeline::run(
 		if (progress) progress(frames.progress(), summary.frames);
 	}
 	collectDetection(true);
-	summary.interrupted = stop && stop->load();
 	summary.seconds = wallClock.Tac();
+	frames.close();
+	summary.interrupted = stop && stop->load();
 	summary.skippedFrames += frames.skipped().size();
 	if (summary.frames == 0)
 	{

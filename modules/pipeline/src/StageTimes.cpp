@@ -1,5 +1,7 @@
 #include "avm/pipeline/StageTimes.h"
 
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <numeric>
 
@@ -19,5 +21,12 @@ StageSummary StageTimes::summary() const
 	s.p95Ms = at(0.95);
 	s.maxMs = sorted.back();
 	return s;
+}
+
+double peakMemoryMb()
+{
+	rusage usage{};
+	getrusage(RUSAGE_SELF, &usage);
+	return usage.ru_maxrss / 1024.0;  // ru_maxrss is in KiB on Linux
 }
 }  // namespace avm::pipeline

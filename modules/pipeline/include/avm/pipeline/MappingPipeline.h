@@ -51,6 +51,8 @@ struct TPipelineOptions : public mrpt::config::CLoadableOptions
 	 *  indices and timestamps continued): the long-run test. */
 	unsigned repeat = 1;
 	int pictureSize = 1200;      //!< [px] width of the PNG pictures; 0 = none
+	/** Frames decoded ahead on a reader thread; 0 reads on the loop's thread. */
+	unsigned readAheadFrames = 4;
 	std::string mapSection = "map";  //!< section with MRPT's map definition
 
 	void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;

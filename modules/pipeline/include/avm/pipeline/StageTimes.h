@@ -1,5 +1,6 @@
-// Wall-clock durations of one pipeline stage, frame by frame, summarised as
-// mean / median / 95th percentile (CTimeLogger keeps no percentiles).
+// What a run measures about itself: wall-clock durations of one pipeline
+// stage, frame by frame, summarised as mean / median / 95th percentile
+// (CTimeLogger keeps no percentiles), and the process's peak memory.
 #pragma once
 
 #include <cstddef>
@@ -22,4 +23,7 @@ class StageTimes
    private:
 	std::vector<double> m_samples;
 };
+
+/** [MiB] Peak resident memory of this process so far. */
+double peakMemoryMb();
 }  // namespace avm::pipeline
