@@ -10,12 +10,8 @@ build=${AVM_BUILD_DIR:-$root/build}
 out=$root/output/benchmark
 doc=$root/doc/performance.md
 
-"$root/scripts/install-deps.sh"
-cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build "$build" -j "$(nproc)" --target avm-map avm-tum2rawlog
-"$root/scripts/get-data.sh"
-rawlog=$root/datasets/bonn_crowd_sub300.rawlog
-[ -f "$rawlog" ] || "$build/bin/avm-tum2rawlog" --camera bonn --gt-body bonn "$root/datasets/bonn_crowd_sub300" "$rawlog"
+source "$root/scripts/prepare.sh"
+avm_prepare "$build" -DCMAKE_BUILD_TYPE=Release avm-map
 
 run() {  # run NAME ARGS... : prints the command and avm-map's summary
   local name=$1; shift

@@ -6,15 +6,8 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${AVM_BUILD_DIR:-$root/build}
 out=${1:-$root/output}
 
-"$root/scripts/install-deps.sh"
-cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build "$build" -j "$(nproc)"
-"$root/scripts/get-data.sh"
-
-rawlog=$root/datasets/bonn_crowd_sub300.rawlog
-if [ ! -f "$rawlog" ]; then
-  "$build/bin/avm-tum2rawlog" --camera bonn --gt-body bonn "$root/datasets/bonn_crowd_sub300" "$rawlog"
-fi
+source "$root/scripts/prepare.sh"
+avm_prepare "$build" -DCMAKE_BUILD_TYPE=Release
 "$build/bin/avm-map" --config "$root/ini/default.ini" --rawlog "$rawlog" --out "$out"
 echo
 echo "demo: outputs in $out"

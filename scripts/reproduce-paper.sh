@@ -6,10 +6,6 @@ set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${AVM_BUILD_DIR:-$root/build}
 
-"$root/scripts/install-deps.sh"
-cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build "$build" -j "$(nproc)" --target avm-paper avm-tum2rawlog
-"$root/scripts/get-data.sh"
-rawlog=$root/datasets/bonn_crowd_sub300.rawlog
-[ -f "$rawlog" ] || "$build/bin/avm-tum2rawlog" --camera bonn --gt-body bonn "$root/datasets/bonn_crowd_sub300" "$rawlog"
+source "$root/scripts/prepare.sh"
+avm_prepare "$build" -DCMAKE_BUILD_TYPE=Release avm-paper
 "$build/bin/avm-paper" --rawlog "$rawlog" --work "$root/output/paper" --results "$root/doc/results.md" "$@"

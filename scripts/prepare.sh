@@ -1,0 +1,22 @@
+# shellcheck shell=bash
+# Sourced by the scripts that run avm on the default dataset:
+#   avm_prepare BUILD_DIR "CMAKE_OPTIONS" [TARGET...]
+# installs what is missing, configures and builds BUILD_DIR (all targets when
+# none are named), fills datasets/ (scripts/get-data.sh) and converts the
+# default dataset to datasets/bonn_crowd_sub300.rawlog once. Sets $rawlog.
+avm_prepare() {
+  local build=$1 options=$2
+  shift 2
+  local root
+  root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+  "$root/scripts/install-deps.sh"
+  # shellcheck disable=SC2086  # the options are words
+  cmake -S "$root" -B "$build" $options >/dev/null
+  local targets=()
+  for t in "$@"; do targets+=(--target "$t"); done
+  [ $# -eq 0 ] || targets+=(--target avm-tum2rawlog)
+  cmake --build "$build" -j "$(nproc)" "${targets[@]}"
+  "$root/scripts/get-data.sh"
+  rawlog=$root/datasets/bonn_crowd_sub300.rawlog
+  [ -f "$rawlog" ] || "$build/bin/avm-tum2rawlog" --camera bonn --gt-body bonn "$root/datasets/bonn_crowd_sub300" "$rawlog"
+}
