@@ -32,17 +32,9 @@ TEST(BatchUpdate, GivesTheSameTreeAsUpdateNodeOnBonnScans)
 		avm::detail::BatchUpdate batch;
 		for (const auto& f : frames)
 		{
-			mrpt::maps::CSimplePointsMap pts;
-			mrpt::obs::T3DPointsProjectionParams pp;
-			pp.takeIntoAccountSensorPoseOnRobot = true;
-			pp.robotPoseInTheWorld = f.pose;
-			f.obs->unprojectInto(pts, pp);
-			octomap::Pointcloud cloud;
-			for (std::size_t i = 0; i < pts.size(); i++)
-				cloud.push_back(pts.getPointsBufferRef_x()[i], pts.getPointsBufferRef_y()[i], pts.getPointsBufferRef_z()[i]);
-			const auto o = (f.pose + f.obs->sensorPose).translation();
+			const auto cloud = avm::test::worldCloud(f);
 			octomap::KeySet freeCells, occupiedCells;
-			reference.computeUpdate(cloud, octomap::point3d(o.x, o.y, o.z), freeCells, occupiedCells, 5.0);
+			reference.computeUpdate(cloud.points, cloud.origin, freeCells, occupiedCells, 5.0);
 			for (const auto& k : freeCells) reference.updateNode(k, false);
 			for (const auto& k : occupiedCells) reference.updateNode(k, true);
 			for (const auto& k : freeCells) batch.add(avm::detail::packKey(k), false);

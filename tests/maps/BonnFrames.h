@@ -39,23 +39,37 @@ inline std::vector<MapFrame> bonnFrames(std::size_t count, std::size_t step)
 	return out;
 }
 
-/** A single-resolution OctoMap built by octomap itself: MRPT unprojects the
- *  depth image, octomap's insertPointCloud(discretize = true) integrates it. */
-inline void insertWithOctomap(octomap::OcTree& tree, const MapFrame& f, double maxRange)
+/** The frame as octomap takes it: MRPT unprojects the depth image into the
+ *  world frame; the rays start at the sensor. */
+struct WorldCloud
+{
+	octomap::Pointcloud points;
+	octomap::point3d origin;
+};
+inline WorldCloud worldCloud(const MapFrame& f)
 {
 	mrpt::maps::CSimplePointsMap pts;
 	mrpt::obs::T3DPointsProjectionParams pp;
 	pp.takeIntoAccountSensorPoseOnRobot = true;
 	pp.robotPoseInTheWorld = f.pose;
 	f.obs->unprojectInto(pts, pp);
-	octomap::Pointcloud cloud;
-	cloud.reserve(pts.size());
+	WorldCloud c;
+	c.points.reserve(pts.size());
 	const auto& xs = pts.getPointsBufferRef_x();
 	const auto& ys = pts.getPointsBufferRef_y();
 	const auto& zs = pts.getPointsBufferRef_z();
-	for (std::size_t i = 0; i < pts.size(); i++) cloud.push_back(xs[i], ys[i], zs[i]);
+	for (std::size_t i = 0; i < pts.size(); i++) c.points.push_back(xs[i], ys[i], zs[i]);
 	const auto o = (f.pose + f.obs->sensorPose).translation();
-	tree.insertPointCloud(cloud, octomap::point3d(o.x, o.y, o.z), maxRange, false, true);
+	c.origin = octomap::point3d(o.x, o.y, o.z);
+	return c;
+}
+
+/** A single-resolution OctoMap built by octomap itself:
+ *  insertPointCloud(discretize = true) integrates the frame's cloud. */
+inline void insertWithOctomap(octomap::OcTree& tree, const MapFrame& f, double maxRange)
+{
+	const auto c = worldCloud(f);
+	tree.insertPointCloud(c.points, c.origin, maxRange, false, true);
 }
 
 using VoxelKey = std::tuple<int, int, int>;
