@@ -8,12 +8,12 @@
 #include <cstdio>
 #include <iostream>
 
+#include "avm/io/ProgramMain.h"
 #include "avm/maps/MapBenchmark.h"
 
 int main(int argc, char** argv)
 {
-	try
-	{
+	return avm::io::runProgram("avm-bench-map", [&] {
 		TCLAP::CmdLine cmd("Times map insertion: avm adaptive map vs octomap insertPointCloud.", ' ', "avm");
 		TCLAP::UnlabeledValueArg<std::string> argRawlog("RAWLOG", "rawlog with ground truth (avm-tum2rawlog)", true, "", "RAWLOG", cmd);
 		TCLAP::ValueArg<std::size_t> argFrames("", "frames", "use the first N frames (default all)", false, 0, "N", cmd);
@@ -44,10 +44,5 @@ int main(int argc, char** argv)
 		});
 		std::cout << avm::maps::toMarkdown(result);
 		return 0;
-	}
-	catch (const std::exception& e)
-	{
-		std::cerr << "avm-bench-map: " << e.what() << "\n";
-		return 1;
-	}
+	});
 }

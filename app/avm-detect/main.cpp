@@ -7,6 +7,7 @@
 
 #include <iostream>
 
+#include "avm/io/ProgramMain.h"
 #include "avm/detection/DetectApp.h"
 #include "avm/detection/Detector.h"
 
@@ -14,8 +15,7 @@ using namespace avm::detection;
 
 int main(int argc, char** argv)
 {
-	try
-	{
+	return avm::io::runProgram("avm-detect", [&] {
 		TCLAP::CmdLine cmd("Detects persons (COCO classes) on an image or every frame of a rawlog.", ' ', "avm");
 		TCLAP::ValueArg<std::string> argConfig("c", "config", "ini with a [detection] section (e.g. ini/detect.ini)", false, "", "INI", cmd);
 		TCLAP::ValueArg<std::string> argModel("m", "model", "ONNX model (overrides the ini; \"\" = HOG people detector)", false, "", "FILE", cmd);
@@ -64,14 +64,5 @@ int main(int argc, char** argv)
 		std::cout << summaryText(labelRawlog(
 			*detector, opt, argRawlog.getValue(), argOut.getValue(), argEvery.getValue(), progressBar(!argQuiet.getValue())));
 		return 0;
-	}
-	catch (const TCLAP::ArgException& e)
-	{
-		std::cerr << "avm-detect: " << e.error() << " for " << e.argId() << "\n";
-	}
-	catch (const std::exception& e)
-	{
-		std::cerr << "avm-detect: error: " << e.what() << "\n";
-	}
-	return 1;
+	});
 }

@@ -4,12 +4,12 @@
 
 #include <iostream>
 
+#include "avm/io/ProgramMain.h"
 #include "avm/evaluation/TrajectoryEvaluation.h"
 
 int main(int argc, char** argv)
 {
-	try
-	{
+	return avm::io::runProgram("avm-eval", [&] {
 		TCLAP::CmdLine cmd("ATE (SE(3)-aligned) and RPE of a TUM trajectory against TUM ground truth.", ' ', "avm");
 		TCLAP::UnlabeledValueArg<std::string> argEst("ESTIMATE", "estimated trajectory (TUM)", true, "", "EST.txt", cmd);
 		TCLAP::UnlabeledValueArg<std::string> argGt("GROUNDTRUTH", "ground truth (TUM)", true, "", "GT.txt", cmd);
@@ -28,14 +28,5 @@ int main(int argc, char** argv)
 		const auto gt = avm::io::readTumTrajectory(argGt.getValue());
 		std::cout << avm::evaluation::formatReport(avm::evaluation::evaluateTrajectory(est, gt, opt));
 		return 0;
-	}
-	catch (const TCLAP::ArgException& e)
-	{
-		std::cerr << "avm-eval: " << e.error() << " for " << e.argId() << "\n";
-	}
-	catch (const std::exception& e)
-	{
-		std::cerr << "avm-eval: error: " << e.what() << "\n";
-	}
-	return 1;
+	});
 }

@@ -12,6 +12,7 @@
 #include <sstream>
 #include <iostream>
 
+#include "avm/io/ProgramMain.h"
 #include "avm/pipeline/MappingPipeline.h"
 
 namespace
@@ -41,8 +42,7 @@ void applyOverride(mrpt::config::CConfigFileMemory& ini, const std::string& assi
 
 int main(int argc, char** argv)
 {
-	try
-	{
+	return avm::io::runProgram("avm-map", [&] {
 		TCLAP::CmdLine cmd("Maps an RGB-D rawlog: odometry -> person detection -> adaptive octree map.", ' ', "avm");
 		TCLAP::ValueArg<std::string> argConfig("c", "config", "ini file (e.g. ini/default.ini)", true, "", "INI", cmd);
 		TCLAP::ValueArg<std::string> argRawlog("r", "rawlog", "input rawlog of CObservation3DRangeScan", true, "", "RAWLOG", cmd);
@@ -91,14 +91,5 @@ int main(int argc, char** argv)
 				  << " (map_low.bt, map_high.bt, map.3Dscene, trajectory.txt, detections.txt, stats.json, "
 					 "map_top.png, map_perspective.png, avm-map.log)\n";
 		return summary.interrupted ? 130 : 0;
-	}
-	catch (const TCLAP::ArgException& e)
-	{
-		std::cerr << "avm-map: " << e.error() << " for " << e.argId() << "\n";
-	}
-	catch (const std::exception& e)
-	{
-		std::cerr << "avm-map: error: " << e.what() << "\n";
-	}
-	return 1;
+	});
 }

@@ -7,14 +7,14 @@
 
 #include <iostream>
 
+#include "avm/io/ProgramMain.h"
 #include "avm/detection/Detector.h"
 #include "avm/odometry/OdometryRun.h"
 
 int main(int argc, char** argv)
 {
 	using namespace avm;
-	try
-	{
+	return avm::io::runProgram("avm-odometry", [&] {
 		TCLAP::CmdLine cmd("RGB-D visual odometry over a rawlog: TUM trajectory, per-frame stats, timing.", ' ', "avm");
 		TCLAP::UnlabeledValueArg<std::string> argRawlog("RAWLOG", "input rawlog", true, "", "IN.rawlog", cmd);
 		TCLAP::UnlabeledValueArg<std::string> argOut("TRAJECTORY", "output TUM trajectory", true, "", "OUT.txt", cmd);
@@ -63,14 +63,5 @@ int main(int argc, char** argv)
 		std::cout << run.timingSummary();
 		if (argStages.getValue()) std::cout << run.stageTimes;
 		return 0;
-	}
-	catch (const TCLAP::ArgException& e)
-	{
-		std::cerr << "avm-odometry: " << e.error() << " for " << e.argId() << "\n";
-	}
-	catch (const std::exception& e)
-	{
-		std::cerr << "avm-odometry: error: " << e.what() << "\n";
-	}
-	return 1;
+	});
 }

@@ -3,12 +3,12 @@
 
 #include <iostream>
 
+#include "avm/io/ProgramMain.h"
 #include "avm/pipeline/PaperExperiments.h"
 
 int main(int argc, char** argv)
 {
-	try
-	{
+	return avm::io::runProgram("avm-paper", [&] {
 		TCLAP::CmdLine cmd("Re-runs the paper's Table 1 and Table 2 on a rawlog and writes the results.", ' ', "avm");
 		TCLAP::ValueArg<std::string> argRawlog("r", "rawlog", "input rawlog (with ground truth)", true, "", "RAWLOG", cmd);
 		TCLAP::ValueArg<std::string> argIni("c", "config", "base ini (default ini/paper.ini)", false,
@@ -32,14 +32,5 @@ int main(int argc, char** argv)
 		avm::pipeline::reproducePaper(s, log);
 		std::cout << "results: " << s.results.string() << "\n";
 		return 0;
-	}
-	catch (const TCLAP::ArgException& e)
-	{
-		std::cerr << "avm-paper: " << e.error() << " for " << e.argId() << "\n";
-	}
-	catch (const std::exception& e)
-	{
-		std::cerr << "avm-paper: error: " << e.what() << "\n";
-	}
-	return 1;
+	});
 }

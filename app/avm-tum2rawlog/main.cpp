@@ -8,12 +8,12 @@
 #include <cstdio>
 #include <iostream>
 
+#include "avm/io/ProgramMain.h"
 #include "avm/io/TumToRawlog.h"
 
 int main(int argc, char** argv)
 {
-	try
-	{
+	return avm::io::runProgram("avm-tum2rawlog", [&] {
 		TCLAP::CmdLine cmd(
 			"Converts a TUM RGB-D layout folder (rgb.txt + depth.txt, or associations.txt; "
 			"groundtruth.txt optional) into an MRPT rawlog.",
@@ -73,14 +73,5 @@ int main(int argc, char** argv)
 				  << "skipped:      " << summary.skipped.size() << "\n";
 		for (const auto& s : summary.skipped) std::cout << "  " << s << "\n";
 		return 0;
-	}
-	catch (const TCLAP::ArgException& e)
-	{
-		std::cerr << "avm-tum2rawlog: " << e.error() << " for " << e.argId() << "\n";
-	}
-	catch (const std::exception& e)
-	{
-		std::cerr << "avm-tum2rawlog: error: " << e.what() << "\n";
-	}
-	return 1;
+	});
 }
