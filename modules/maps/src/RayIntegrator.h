@@ -89,9 +89,9 @@ class RayIntegrator
 	{
 		KeySet *outside = nullptr, *inside = nullptr, *crossing = nullptr;
 		KeySet ownOutside, ownInside, ownCrossing;
-		std::uint64_t lastInside = 0, lastCrossing = 0;
-		std::vector<int> rowKeys;
+		std::vector<int> keys;
 		std::vector<float> near;
+		std::vector<std::uint8_t> flags;
 	};
 	void scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band) const;
 
@@ -119,6 +119,8 @@ class RayIntegrator
 	 *  cross a region without ending in one, the fine voxel where they leave
 	 *  it (point clouds: the fine voxel of the endpoint). */
 	KeySet m_outsideEnds, m_insideEnds, m_crossingEnds;
+	/** Coarse voxels of m_insideEnds. */
+	KeySet m_insideCoarseEnds;
 	KeySet m_outsideFree, m_outsideOccupied;
 	BoxKeySet m_insideFree, m_insideOccupied;
 	std::uint64_t m_lastOutsideKey = 0, m_lastInsideKey = 0, m_lastCrossingKey = 0;
