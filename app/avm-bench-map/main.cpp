@@ -20,6 +20,7 @@ int main(int argc, char** argv)
 		TCLAP::ValueArg<double> argRange("", "max-range", "max range [m] of every map (default 5)", false, 5.0, "M", cmd);
 		TCLAP::MultiArg<double> argRegion("", "region", "region box x0 y0 z0 x1 y1 z1 [m] when the rawlog has no person labels (6 values)", false, "M", cmd);
 		TCLAP::ValueArg<unsigned> argThreads("", "threads", "also time the region policy with N insertion threads (default 1: not)", false, 1, "N", cmd);
+		TCLAP::ValueArg<std::size_t> argTurn("", "turn", "frames each map inserts before the next map's turn (default 1: every frame goes to every map in turn, the caches cold as in avm-map; e.g. 10: warm, as when a process only maps)", false, 1, "N", cmd);
 		TCLAP::SwitchArg argPlain("", "with-plain", "also time insertPointCloud without discretize at the fine resolution (slow)", cmd);
 		cmd.parse(argc, argv);
 
@@ -29,6 +30,8 @@ int main(int argc, char** argv)
 		opt.maxRange = argRange.getValue();
 		opt.withPlainOctomap = argPlain.getValue();
 		opt.regionThreads = argThreads.getValue();
+		opt.framesPerTurn = argTurn.getValue();
+		if (opt.framesPerTurn < 1) throw std::runtime_error("--turn must be >= 1");
 		if (opt.regionThreads < 1 || opt.regionThreads > 16) throw std::runtime_error("--threads must be in [1, 16]");
 		if (!(opt.maxRange > 0)) throw std::runtime_error("--max-range must be > 0");
 		if (const auto& r = argRegion.getValue(); !r.empty())

@@ -183,33 +183,41 @@ MapBenchmarkResult runMapBenchmark(
 	contenders.push_back(plainOctomap(opts.paperHigh, opts.maxRange, true));
 
 	std::size_t points = 0;
-	for (std::size_t i = 0; i < frames.size(); i++)
+	const std::size_t turn = std::max<std::size_t>(1, opts.framesPerTurn);
+	for (std::size_t begin = 0; begin < frames.size(); begin += turn)
 	{
-		const auto& f = frames[i];
+		const std::size_t end = std::min(frames.size(), begin + turn);
 		// octomap's input, made outside its timer.
-		mrpt::maps::CSimplePointsMap pts;
-		mrpt::obs::T3DPointsProjectionParams pp;
-		pp.takeIntoAccountSensorPoseOnRobot = true;
-		pp.robotPoseInTheWorld = f.pose;
-		f.obs->unprojectInto(pts, pp);
-		octomap::Pointcloud cloud;
-		cloud.reserve(pts.size());
-		const auto& xs = pts.getPointsBufferRef_x();
-		const auto& ys = pts.getPointsBufferRef_y();
-		const auto& zs = pts.getPointsBufferRef_z();
-		for (std::size_t k = 0; k < pts.size(); k++) cloud.push_back(xs[k], ys[k], zs[k]);
-		points += pts.size();
-		const auto o = (f.pose + f.obs->sensorPose).translation();
-		const octomap::point3d origin(o.x, o.y, o.z);
-		for (auto& c : contenders)
+		std::vector<octomap::Pointcloud> clouds(end - begin);
+		std::vector<octomap::point3d> origins(end - begin);
+		for (std::size_t i = begin; i < end; i++)
 		{
-			const auto t0 = std::chrono::steady_clock::now();
-			const double cpu0 = threadCpuMs();
-			c.insert(f, cloud, origin);
-			c.cpuMs.push_back(threadCpuMs() - cpu0);
-			c.ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+			const auto& f = frames[i];
+			mrpt::maps::CSimplePointsMap pts;
+			mrpt::obs::T3DPointsProjectionParams pp;
+			pp.takeIntoAccountSensorPoseOnRobot = true;
+			pp.robotPoseInTheWorld = f.pose;
+			f.obs->unprojectInto(pts, pp);
+			auto& cloud = clouds[i - begin];
+			cloud.reserve(pts.size());
+			const auto& xs = pts.getPointsBufferRef_x();
+			const auto& ys = pts.getPointsBufferRef_y();
+			const auto& zs = pts.getPointsBufferRef_z();
+			for (std::size_t k = 0; k < pts.size(); k++) cloud.push_back(xs[k], ys[k], zs[k]);
+			points += pts.size();
+			const auto o = (f.pose + f.obs->sensorPose).translation();
+			origins[i - begin] = octomap::point3d(o.x, o.y, o.z);
 		}
-		if (progress) progress(i + 1, frames.size());
+		for (auto& c : contenders)
+			for (std::size_t i = begin; i < end; i++)
+			{
+				const auto t0 = std::chrono::steady_clock::now();
+				const double cpu0 = threadCpuMs();
+				c.insert(frames[i], clouds[i - begin], origins[i - begin]);
+				c.cpuMs.push_back(threadCpuMs() - cpu0);
+				c.ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+			}
+		if (progress) progress(end, frames.size());
 	}
 	result.meanPointsPerFrame = static_cast<double>(points) / static_cast<double>(frames.size());
 	for (auto& c : contenders) result.rows.push_back(summarize(c));

@@ -29,6 +29,12 @@ struct MapBenchmarkOptions
 	/** > 1: also time the region policy with this many insertion threads
 	 *  (a separate row; the other contenders use one thread). */
 	unsigned regionThreads = 1;
+	/** Frames each map inserts before the next map's turn. 1: every map
+	 *  gets each frame in turn, so each insertion starts with caches full of
+	 *  the other maps' data (as in avm-map, where odometry and detection run
+	 *  between insertions). Larger: each map's data stays in the caches
+	 *  within its turn, as when a process only maps. */
+	std::size_t framesPerTurn = 1;
 	/** Also time insertPointCloud at regionHigh without discretize (slow). */
 	bool withPlainOctomap = false;
 };
