@@ -402,6 +402,140 @@ void RayIntegrator::integrateDepthImage(
 
 namespace
 {
+// The row passes below are plain loops the compiler vectorizes; they are
+// built twice, for AVX2 and for any x86-64, and the loader picks one. AVX2
+// without FMA gives the same floats, so the same map, on every machine.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define AVM_ROW_PASS [[gnu::target_clones("avx2", "default")]]
+#else
+#define AVM_ROW_PASS
+#endif
+
+/** The rays of one image row: pixel u at depth d is the point
+ *  origin + d * (base + colFactor[u] * slope). */
+struct RowRays
+{
+	float ox, oy, oz;
+	float bx, by, bz;
+	float sx, sy, sz;
+	const float* colFactor;
+};
+
+/** Voxel keys of one image row, an array per axis; -1 marks "no voxel". */
+struct RowKeys
+{
+	int *x, *y, *z;
+};
+
+/** The depth of each pixel of a row (range images: scaled to depth). */
+AVM_ROW_PASS void rowDepth(const std::uint16_t* row, const float* rangeScale, float units, int cols, float* depth)
+{
+	if (rangeScale)
+		for (int u = 0; u < cols; u++) depth[u] = row[u] * units * rangeScale[u];
+	else
+		for (int u = 0; u < cols; u++) depth[u] = row[u] * units;
+}
+
+/** Keys (octomap's floor(coord / res) + 32768, on floats as octomap) of
+ *  the points of a row; -1 where there is no depth or below the tree. */
+AVM_ROW_PASS void coarseRowKeys(const RowRays& r, const float* depth, float inverse, int cols, RowKeys out)
+{
+	const float offset = kKeyOffset;
+	int* const __restrict kx = out.x;
+	int* const __restrict ky = out.y;
+	int* const __restrict kz = out.z;
+	for (int u = 0; u < cols; u++)
+	{
+		const float a = r.colFactor[u], d = depth[u];
+		const float x = (r.ox + d * (r.bx + r.sx * a)) * inverse + offset;
+		const float y = (r.oy + d * (r.by + r.sy * a)) * inverse + offset;
+		const float z = (r.oz + d * (r.bz + r.sz * a)) * inverse + offset;
+		kx[u] = (x < 0) | (d <= 0) ? -1 : static_cast<int>(x);
+		ky[u] = y < 0 ? -1 : static_cast<int>(y);
+		kz[u] = z < 0 ? -1 : static_cast<int>(z);
+	}
+}
+
+/** Slab method against one box, in depth units: inside[u] becomes 1 where
+ *  the point lies in the box; crossTo[u] the depth where the ray leaves the
+ *  box if the point lies beyond it (the farthest such box wins). */
+AVM_ROW_PASS void classifyAgainstBox(
+	const RowRays& r, const float* depth, const mrpt::math::TBoundingBox& box, int from, int to, float* inside,
+	float* crossTo)
+{
+	auto relative = [](double bound, float origin) { return static_cast<float>(bound) - origin; };
+	const float minx = relative(box.min.x, r.ox), miny = relative(box.min.y, r.oy), minz = relative(box.min.z, r.oz);
+	const float maxx = relative(box.max.x, r.ox), maxy = relative(box.max.y, r.oy), maxz = relative(box.max.z, r.oz);
+	for (int u = from; u < to; u++)
+	{
+		const float a = r.colFactor[u];
+		// A tiny offset keeps axis-parallel rays finite.
+		const float ix = 1.0f / (r.bx + r.sx * a + 1e-12f), iy = 1.0f / (r.by + r.sy * a + 1e-12f),
+					iz = 1.0f / (r.bz + r.sz * a + 1e-12f);
+		const float x0 = minx * ix, x1 = maxx * ix;
+		const float y0 = miny * iy, y1 = maxy * iy;
+		const float z0 = minz * iz, z1 = maxz * iz;
+		const float e = std::max(std::max(std::min(x0, x1), std::min(y0, y1)), std::max(std::min(z0, z1), 0.0f));
+		const float x = std::min(std::min(std::max(x0, x1), std::max(y0, y1)), std::max(z0, z1));
+		const float d = depth[u];
+		const float in = static_cast<float>((e < x) & (d >= e) & (d < x) & (d > 0));
+		const float through = static_cast<float>((e < x) & (d >= x));
+		inside[u] = std::max(inside[u], in);
+		crossTo[u] = std::max(crossTo[u], through * (x + 1) - 1);
+	}
+}
+
+constexpr int kInsideTag = 1 << 16;
+
+/** Fine keys of the classified pixels: of the point where it lies in a
+ *  region, else of the voxel where its ray leaves the farthest region it
+ *  crosses; -1 in x for neither. The category rides on the x key (above
+ *  the tree's keys) so that a change of it is a change of voxel too. A
+ *  point inside a region is no coarse endpoint: its coarse x becomes -1. */
+AVM_ROW_PASS void fineRowKeys(
+	const RowRays& r, const float* depth, const float* inside, const float* crossTo, float inverse, int from, int to,
+	RowKeys out, int* coarseX)
+{
+	const float offset = kKeyOffset;
+	int* const __restrict kx = out.x;
+	int* const __restrict ky = out.y;
+	int* const __restrict kz = out.z;
+	for (int u = from; u < to; u++)
+	{
+		const float a = r.colFactor[u];
+		const float ts = inside[u] * depth[u] + (1 - inside[u]) * crossTo[u] * (1 - 1e-5f);
+		const float x = (r.ox + ts * (r.bx + r.sx * a)) * inverse + offset;
+		const float y = (r.oy + ts * (r.by + r.sy * a)) * inverse + offset;
+		const float z = (r.oz + ts * (r.bz + r.sz * a)) * inverse + offset;
+		const bool none = std::max(inside[u], crossTo[u]) <= 0;
+		const int tag = static_cast<int>(inside[u]) * kInsideTag;
+		kx[u] = (x < 0) | (x >= 65536.0f) | none ? -1 : static_cast<int>(x) + tag;
+		ky[u] = y < 0 ? -1 : static_cast<int>(y);
+		kz[u] = z < 0 ? -1 : static_cast<int>(z);
+	}
+	for (int u = from; u < to; u++) coarseX[u] = inside[u] > 0 ? -1 : coarseX[u];
+}
+
+/** flags[u] = 1 where the voxel at u may be new to the scan: it differs
+ *  from the voxels at u - 1, u - 2 and at u in the row above. Every key
+ *  these arrays held before is already in the scan's set (or is -1), so
+ *  the others need no lookup: on the Bonn frames one pixel in 80 (coarse)
+ *  or 30 (fine) is looked up, a quarter of the pixels where the voxel
+ *  changes along the row. */
+AVM_ROW_PASS void flagNewVoxels(const RowKeys& row, const RowKeys& above, int from, int to, std::uint8_t* flags)
+{
+	const int *const __restrict x = row.x, *const __restrict y = row.y, *const __restrict z = row.z;
+	const int *const __restrict ax = above.x, *const __restrict ay = above.y, *const __restrict az = above.z;
+	auto differs = [&](int u, const int* ox, const int* oy, const int* oz, int w) {
+		return (x[u] != ox[w]) | (y[u] != oy[w]) | (z[u] != oz[w]);
+	};
+	if (from < to) flags[from] = differs(from, ax, ay, az, from);
+	if (from + 1 < to) flags[from + 1] = differs(from + 1, ax, ay, az, from + 1) & differs(from + 1, x, y, z, from);
+	for (int u = from + 2; u < to; u++)
+		flags[u] = static_cast<std::uint8_t>(
+			differs(u, ax, ay, az, u) & differs(u, x, y, z, u - 1) & differs(u, x, y, z, u - 2));
+}
+
 /** Calls `visit(u)` for every u in [from, to) whose byte in `flags` is 1.
  *  Most bytes are 0, so whole words are skipped at once; `flags` must be
  *  readable for 7 bytes past `to`. */
@@ -421,31 +555,6 @@ inline void forEachFlagged(const std::uint8_t* flags, int from, int to, Visit&& 
 	}
 }
 
-/** Voxel keys of one image row, an array per axis; -1 marks "no voxel". */
-struct RowKeys
-{
-	int *x, *y, *z;
-	bool differ(int u, const RowKeys& other, int w) const
-	{
-		return (x[u] != other.x[w]) | (y[u] != other.y[w]) | (z[u] != other.z[w]);
-	}
-};
-
-/** flags[u] = 1 where the voxel at u may be new to the scan: it differs
- *  from the voxels at u - 1, u - 2 and at u in the row above. Every key
- *  these arrays held before is already in the scan's set (or is -1), so
- *  the others need no lookup: on the Bonn frames one pixel in 80 (coarse)
- *  or 30 (fine) is looked up, a quarter of the pixels where the voxel
- *  changes along the row. The main loop vectorizes. */
-inline void flagNewVoxels(const RowKeys& row, const RowKeys& above, int from, int to, std::uint8_t* flags)
-{
-	if (from < to) flags[from] = row.differ(from, above, from);
-	if (from + 1 < to) flags[from + 1] = row.differ(from + 1, above, from + 1) & row.differ(from + 1, row, from);
-	for (int u = from + 2; u < to; u++)
-		flags[u] = static_cast<std::uint8_t>(
-			row.differ(u, above, u) & row.differ(u, row, u - 1) & row.differ(u, row, u - 2));
-}
-
 inline bool validKey(int x, int y, int z)
 {
 	// -1 marks "no voxel"; beyond the tree is no voxel either.
@@ -460,16 +569,10 @@ inline std::uint64_t packedKey(int x, int y, int z)
 
 void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band) const
 {
-	const auto& img = *rs.image;
 	const int cols = rs.cols;
-	const double cy = rs.cy, fy = rs.fy;
 	const auto& R = rs.R;
-	const auto& t = m_origin;
-	const double r00 = R(0, 0), r10 = R(1, 0), r20 = R(2, 0), r01 = R(0, 1), r11 = R(1, 1), r21 = R(2, 1);
-	const float offset = kKeyOffset, unitsF = rs.unitsF;
 	const float coarseInverse = static_cast<float>(m_outsideGrid.inverse);
 	const float fineInverse = static_cast<float>(m_insideGrid.inverse);
-	const float ox = t.x, oy = t.y, oz = t.z, f01 = r01, f11 = r11, f21 = r21;
 	const std::size_t n = static_cast<std::size_t>(cols);
 	// Two rows of coarse and fine keys: this one and the one above, which
 	// starts as "no voxel".
@@ -484,42 +587,21 @@ void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band
 	float* const insideF = depth + n;  // 1: the point lies in a region
 	float* const crossTo = insideF + n;  // >= 0: depth where its ray leaves the farthest region it crosses
 	std::uint8_t* const flags = band.flags.data();
-	constexpr int kInsideTag = 1 << 16;
-	const float* const colFactor = rs.colFactor;
-	const std::size_t nRegions = rs.regions ? rs.regions->size() : 0;
 
 	for (int v = v0; v < v1; v++)
 	{
-		const double b = (cy - v) / fy;
-		const float dx0 = static_cast<float>(r00 + R(0, 2) * b), dy0 = static_cast<float>(r10 + R(1, 2) * b),
-					dz0 = static_cast<float>(r20 + R(2, 2) * b);
-		const uint16_t* row = &img(v, 0);
+		const double b = (rs.cy - v) / rs.fy;
+		const RowRays rays{static_cast<float>(m_origin.x), static_cast<float>(m_origin.y), static_cast<float>(m_origin.z),
+			static_cast<float>(R(0, 0) + R(0, 2) * b), static_cast<float>(R(1, 0) + R(1, 2) * b),
+			static_cast<float>(R(2, 0) + R(2, 2) * b), static_cast<float>(R(0, 1)), static_cast<float>(R(1, 1)),
+			static_cast<float>(R(2, 1)), rs.colFactor};
 		const RowKeys coarse = rowKeys(v, 0), coarseAbove = rowKeys(v + 1, 0);
 		// Fine keys of near pixels; outside this row's near columns they
 		// keep older rows' keys, all in the scan's sets already.
 		const RowKeys fine = rowKeys(v, 1), fineAbove = rowKeys(v + 1, 1);
-		int* const kxs = coarse.x;
-		int* const kys = coarse.y;
-		int* const kzs = coarse.z;
-		int* const fxs = fine.x;  // + kInsideTag for a point inside a region
-		int* const fys = fine.y;
-		int* const fzs = fine.z;
-		const float* const rangeScale = rs.rangeToDepth ? rs.rangeToDepth + static_cast<std::size_t>(v) * n : nullptr;
-		for (int u = 0; u < cols; u++) depth[u] = row[u] * unitsF * (rangeScale ? rangeScale[u] : 1.0f);
-
-		// Coarse keys of the whole row in branch-free loops the compiler
-		// vectorizes (octomap too works on float coordinates). A pixel
-		// without depth, or a key below the tree, becomes -1.
-		for (int u = 0; u < cols; u++)
-		{
-			const float a = colFactor[u], d = depth[u];
-			const float kx = (ox + d * (dx0 + f01 * a)) * coarseInverse + offset;
-			const float ky = (oy + d * (dy0 + f11 * a)) * coarseInverse + offset;
-			const float kz = (oz + d * (dz0 + f21 * a)) * coarseInverse + offset;
-			kxs[u] = (kx < 0) | (d <= 0) ? -1 : static_cast<int>(kx);
-			kys[u] = ky < 0 ? -1 : static_cast<int>(ky);
-			kzs[u] = kz < 0 ? -1 : static_cast<int>(kz);
-		}
+		rowDepth(&(*rs.image)(v, 0), rs.rangeToDepth ? rs.rangeToDepth + static_cast<std::size_t>(v) * n : nullptr,
+			rs.unitsF, cols, depth);
+		coarseRowKeys(rays, depth, coarseInverse, cols, coarse);
 
 		// Columns of this row whose rays can reach a region (empty: none).
 		int nearFrom = cols, nearTo = -1;
@@ -532,70 +614,25 @@ void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band
 		const int nearEnd = nearTo + 1;
 		if (nearEnd > nearFrom)
 		{
-			// Near pixels, classified branch-free (slab method per region,
-			// in depth units), with the fine key of the point (inside) or
-			// of the voxel where the ray leaves the farthest region it
-			// crosses (crossing).
-			for (int u = nearFrom; u < nearEnd; u++)
-			{
-				insideF[u] = 0;
-				crossTo[u] = -1;
-			}
-			for (std::size_t ri = 0; ri < nRegions; ri++)
-			{
-				const auto& box = (*rs.regions)[ri].box;
-				const float minx = box.min.x, miny = box.min.y, minz = box.min.z;
-				const float maxx = box.max.x, maxy = box.max.y, maxz = box.max.z;
-				for (int u = nearFrom; u < nearEnd; u++)
-				{
-					const float a = colFactor[u];
-					// A tiny offset keeps axis-parallel rays finite.
-					const float ix = 1.0f / (dx0 + f01 * a + 1e-12f), iy = 1.0f / (dy0 + f11 * a + 1e-12f),
-								iz = 1.0f / (dz0 + f21 * a + 1e-12f);
-					const float x0 = (minx - ox) * ix, x1 = (maxx - ox) * ix;
-					const float y0 = (miny - oy) * iy, y1 = (maxy - oy) * iy;
-					const float z0 = (minz - oz) * iz, z1 = (maxz - oz) * iz;
-					const float e = std::max(std::max(std::min(x0, x1), std::min(y0, y1)), std::max(std::min(z0, z1), 0.0f));
-					const float x = std::min(std::min(std::max(x0, x1), std::max(y0, y1)), std::max(z0, z1));
-					const float d = depth[u];
-					const float in = static_cast<float>((e < x) & (d >= e) & (d < x) & (d > 0));
-					const float through = static_cast<float>((e < x) & (d >= x));
-					insideF[u] = std::max(insideF[u], in);
-					crossTo[u] = std::max(crossTo[u], through * (x + 1) - 1);
-				}
-			}
-			for (int u = nearFrom; u < nearEnd; u++)
-			{
-				const float a = colFactor[u];
-				const float ts = insideF[u] * depth[u] + (1 - insideF[u]) * crossTo[u] * (1 - 1e-5f);
-				const float kx = (ox + ts * (dx0 + f01 * a)) * fineInverse + offset;
-				const float ky = (oy + ts * (dy0 + f11 * a)) * fineInverse + offset;
-				const float kz = (oz + ts * (dz0 + f21 * a)) * fineInverse + offset;
-				const bool none = std::max(insideF[u], crossTo[u]) <= 0;
-				// The category rides on the x key (above the tree's keys) so
-				// that a change of it is a change of voxel too.
-				const int tag = static_cast<int>(insideF[u]) * kInsideTag;
-				fxs[u] = (kx < 0) | (kx >= 65536.0f) | none ? -1 : static_cast<int>(kx) + tag;
-				fys[u] = ky < 0 ? -1 : static_cast<int>(ky);
-				fzs[u] = kz < 0 ? -1 : static_cast<int>(kz);
-			}
-			// A point inside a region is no coarse endpoint.
-			for (int u = nearFrom; u < nearEnd; u++) kxs[u] = insideF[u] > 0 ? -1 : kxs[u];
+			std::fill(insideF + nearFrom, insideF + nearEnd, 0.0f);
+			std::fill(crossTo + nearFrom, crossTo + nearEnd, -1.0f);
+			for (const auto& region : *rs.regions)
+				classifyAgainstBox(rays, depth, region.box, nearFrom, nearEnd, insideF, crossTo);
+			fineRowKeys(rays, depth, insideF, crossTo, fineInverse, nearFrom, nearEnd, fine, coarse.x);
 			flagNewVoxels(fine, fineAbove, nearFrom, nearEnd, flags);
 			forEachFlagged(flags, nearFrom, nearEnd, [&](int u) {
-				const bool inside = fxs[u] >= kInsideTag;
-				const int x = fxs[u] < 0 ? -1 : fxs[u] & 0xFFFF;
-				if (!validKey(x, fys[u], fzs[u])) return;
-				(inside ? band.inside : band.crossing)->insert(packedKey(x, fys[u], fzs[u]));
+				const bool inside = fine.x[u] >= kInsideTag;
+				const int x = fine.x[u] < 0 ? -1 : fine.x[u] & 0xFFFF;
+				if (!validKey(x, fine.y[u], fine.z[u])) return;
+				(inside ? band.inside : band.crossing)->insert(packedKey(x, fine.y[u], fine.z[u]));
 			});
 			std::fill(flags + nearFrom, flags + nearEnd, 0);
 		}
 
-		// Most pixels fall in the previous pixel's coarse voxel: only the
-		// changes are looked up.
 		flagNewVoxels(coarse, coarseAbove, 0, cols, flags);
 		forEachFlagged(flags, 0, cols, [&](int u) {
-			if (validKey(kxs[u], kys[u], kzs[u])) band.outside->insert(packedKey(kxs[u], kys[u], kzs[u]));
+			if (validKey(coarse.x[u], coarse.y[u], coarse.z[u]))
+				band.outside->insert(packedKey(coarse.x[u], coarse.y[u], coarse.z[u]));
 		});
 	}
 }
