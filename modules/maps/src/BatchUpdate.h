@@ -23,12 +23,8 @@ class BatchUpdate
 	void applyTo(octomap::OcTree& tree);
 
    private:
-	struct Update
-	{
-		std::uint64_t morton;
-		std::uint64_t packed;
-		bool hit;
-	};
+	/** Morton code << 1 | hit: one word, so that sorting moves little. */
+	using Update = std::uint64_t;
 	void sortByMorton();
 
 	std::vector<Update> m_updates, m_scratch;

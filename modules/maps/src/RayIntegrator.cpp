@@ -34,27 +34,33 @@ inline mrpt::math::TPoint3D centreOf(std::uint64_t packed, double res)
 }
 
 /** octomap's computeRayKeys (same voxels, same order), calling `visit` for
- *  each key instead of filling a KeyRay. */
+ *  each packed key instead of filling a KeyRay. The key moves by adding to
+ *  the packed word, and the axis of each step is chosen without branches:
+ *  which axis comes next is a coin toss on most rays. */
 template <typename Visit>
 bool forEachRayKey(const octomap::OcTree& tree, const octomap::point3d& origin, const octomap::point3d& end, Visit&& visit)
 {
-	octomap::OcTreeKey current, last;
-	if (!tree.coordToKeyChecked(origin, current) || !tree.coordToKeyChecked(end, last)) return false;
-	if (current == last) return true;
+	octomap::OcTreeKey first, last;
+	if (!tree.coordToKeyChecked(origin, first) || !tree.coordToKeyChecked(end, last)) return false;
+	if (first == last) return true;
+	std::uint64_t current = packKey(first);
+	const std::uint64_t stop = packKey(last);
 	visit(current);
 	octomap::point3d direction = end - origin;
 	const float length = static_cast<float>(direction.norm());
 	direction /= length;
 	const double res = tree.getResolution();
-	int step[3];
+	constexpr std::uint64_t kUnit[3] = {std::uint64_t(1) << 32, std::uint64_t(1) << 16, 1};
+	std::uint64_t move[3];
 	double tMax[3], tDelta[3];
 	for (unsigned i = 0; i < 3; ++i)
 	{
-		step[i] = direction(i) > 0.0 ? 1 : (direction(i) < 0.0 ? -1 : 0);
-		if (step[i] != 0)
+		const int step = direction(i) > 0.0 ? 1 : (direction(i) < 0.0 ? -1 : 0);
+		move[i] = step * kUnit[i];  // -unit wraps: adding it subtracts
+		if (step != 0)
 		{
-			double border = tree.keyToCoord(current[i]);
-			border += static_cast<float>(step[i] * res * 0.5);
+			double border = tree.keyToCoord(first[i]);
+			border += static_cast<float>(step * res * 0.5);
 			tMax[i] = (border - origin(i)) / direction(i);
 			tDelta[i] = res / std::fabs(direction(i));
 		}
@@ -63,10 +69,14 @@ bool forEachRayKey(const octomap::OcTree& tree, const octomap::point3d& origin, 
 	}
 	for (;;)
 	{
-		const unsigned dim = tMax[0] < tMax[1] ? (tMax[0] < tMax[2] ? 0 : 2) : (tMax[1] < tMax[2] ? 1 : 2);
-		current[dim] = static_cast<octomap::key_type>(current[dim] + step[dim]);
+		// octomap's choice, ties included: x if before y and z, else y if
+		// before z, else z.
+		const bool xFirst = tMax[0] < tMax[1];
+		const double xy = xFirst ? tMax[0] : tMax[1];
+		const unsigned dim = xy < tMax[2] ? (xFirst ? 0u : 1u) : 2u;
+		current += move[dim];
 		tMax[dim] += tDelta[dim];
-		if (current == last) return true;
+		if (current == stop) return true;
 		if (std::min(std::min(tMax[0], tMax[1]), tMax[2]) > length) return true;
 		visit(current);
 	}
@@ -185,9 +195,9 @@ void RayIntegrator::castSegment(bool inside, double a, double b, bool extendStar
 	};
 	auto& tree = inside ? *m_targets.inside : *m_targets.outside;
 	if (inside)
-		forEachRayKey(tree, at(a), at(b), [this](const octomap::OcTreeKey& k) { m_insideFree.insert(packKey(k)); });
+		forEachRayKey(tree, at(a), at(b), [this](std::uint64_t k) { m_insideFree.insert(k); });
 	else
-		forEachRayKey(tree, at(a), at(b), [this](const octomap::OcTreeKey& k) { m_outsideFree.insert(packKey(k)); });
+		forEachRayKey(tree, at(a), at(b), [this](std::uint64_t k) { m_outsideFree.insert(k); });
 }
 
 void RayIntegrator::castRay(
