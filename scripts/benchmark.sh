@@ -22,6 +22,14 @@ run() {  # run NAME ARGS... : prints the command and avm-map's summary
   echo "\`\`\`"
 }
 
+field() {  # field RUN KEY : a top-level number from the run's stats.json
+  tr -d '\n ' < "$out/$1/stats.json" | sed -E "s/.*\"$2\":([-0-9.eE+]+).*/\1/"
+  echo
+}
+stage() {  # stage RUN NAME : mean_ms of one stage
+  tr -d '\n ' < "$out/$1/stats.json" | sed -E "s/.*\"$2\":\{\"mean_ms\":([-0-9.eE+]+).*/\1/" | awk '{printf "%.1f", $1}'
+}
+
 tmp=$(mktemp "$root/doc/.performance.XXXX")
 {
   echo "# End-to-end performance"
@@ -57,6 +65,15 @@ tmp=$(mktemp "$root/doc/.performance.XXXX")
   run long-run --poses gt --set pipeline:repeat=10
   echo
   echo "Peak memory per replay [MiB]: $(tr -d '\n ' < "$out/long-run/stats.json" | sed -E 's/.*"peak_memory_mb_per_replay":\[([^]]*)\].*/\1/')"
+  echo
+  echo "## Against the targets"
+  echo
+  echo "| target | the three default runs |"
+  echo "|---|---|"
+  echo "| >= 30 frames per second, detection on at least every third frame | $(for r in default default-2 default-3; do field "$r" fps; done | awk '{printf "%s%.1f", (NR > 1 ? ", " : ""), $1; n+=($1>=30)} END {printf " fps: met in %d of 3", n}') |"
+  echo "| peak memory < 1 GB | $(for r in default default-2 default-3; do field "$r" peak_memory_mb; done | awk '{printf "%s%.0f", (NR > 1 ? ", " : ""), $1; n+=($1<1024)} END {printf " MiB: met in %d of 3", n}') |"
+  echo
+  echo "Mean stage times of the three runs [ms] (odometry / detection per run / map), which show how fast the machine was: $(for r in default default-2 default-3; do echo "$(stage "$r" odometry) / $(stage "$r" detection) / $(stage "$r" map)"; done | paste -sd';' | sed 's/;/; /g')."
 } > "$tmp"
 mv "$tmp" "$doc"
 cat "$doc"
