@@ -351,6 +351,7 @@ void RayIntegrator::integrateDepthImage(
 	// Sensor frame: X forward, Y left, Z up; pixel (u, v) with depth d is
 	// d * (1, (cx - u)/fx, (cy - v)/fy), so world = t + d * (R0 + a_u R1 + b_v R2).
 	m_columnFactor.resize(cols);
+	for (int u = 0; u < cols; u++) m_columnFactor[u] = static_cast<float>((cx - u) / fx);
 	// Range (not depth) images: the per-pixel factor from range to depth.
 	m_rangeToDepth.clear();
 	if (!obs.range_is_depth)
@@ -360,12 +361,6 @@ void RayIntegrator::integrateDepthImage(
 				const double a = (cx - u) / fx, b = (cy - v) / fy;
 				m_rangeToDepth.push_back(static_cast<float>(1.0 / std::sqrt(1 + a * a + b * b)));
 			}
-	m_columnFactorF.resize(cols);
-	for (int u = 0; u < cols; u++)
-	{
-		m_columnFactor[u] = (cx - u) / fx;
-		m_columnFactorF[u] = static_cast<float>(m_columnFactor[u]);
-	}
 	RowSetup rs;
 	rs.image = &img;
 	rs.cols = cols;
@@ -373,7 +368,7 @@ void RayIntegrator::integrateDepthImage(
 	rs.fy = fy;
 	rs.R = R;
 	rs.unitsF = static_cast<float>(units);
-	rs.colFactor = m_columnFactorF.data();
+	rs.colFactor = m_columnFactor.data();
 	rs.rangeToDepth = m_rangeToDepth.empty() ? nullptr : m_rangeToDepth.data();
 	rs.regions = m_hasRegions ? targets.regions : nullptr;
 

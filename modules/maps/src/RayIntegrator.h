@@ -126,8 +126,7 @@ class RayIntegrator
 	std::uint64_t m_lastOutsideKey = 0, m_lastInsideKey = 0, m_lastCrossingKey = 0;
 	BatchUpdate m_batch;
 	std::vector<std::pair<double, double>> m_intervals;
-	std::vector<double> m_columnFactor;
-	std::vector<float> m_columnFactorF;
+	std::vector<float> m_columnFactor;
 	std::vector<float> m_rangeToDepth;
 	/** Regions as half-open key ranges of the grid being updated. */
 	struct KeyBox
