@@ -20,9 +20,8 @@ inline bool packedKeyOf(double x, double y, double z, double inverseRes, std::ui
 	const double fx = x * inverseRes + kKeyOffset, fy = y * inverseRes + kKeyOffset, fz = z * inverseRes + kKeyOffset;
 	constexpr double kEnd = 2.0 * kKeyOffset;
 	if (!(fx >= 0 && fx < kEnd && fy >= 0 && fy < kEnd && fz >= 0 && fz < kEnd)) return false;
-	out = ((std::uint64_t(static_cast<unsigned>(fx)) << 32) | (std::uint64_t(static_cast<unsigned>(fy)) << 16) |
-			  std::uint64_t(static_cast<unsigned>(fz))) +
-		  1;
+	out = packKey(octomap::OcTreeKey(
+		static_cast<octomap::key_type>(fx), static_cast<octomap::key_type>(fy), static_cast<octomap::key_type>(fz)));
 	return true;
 }
 
@@ -560,15 +559,13 @@ inline void forEachFlagged(const std::uint8_t* flags, int from, int to, Visit&& 
 	}
 }
 
-inline bool validKey(int x, int y, int z)
+/** packKey() of the row passes' key components, or 0 (no key, as in the
+ *  KeySets) where one is -1 ("no voxel") or beyond the tree. */
+inline std::uint64_t packedOrNone(int x, int y, int z)
 {
-	// -1 marks "no voxel"; beyond the tree is no voxel either.
-	return (static_cast<unsigned>(x) | static_cast<unsigned>(y) | static_cast<unsigned>(z)) <= 0xFFFFu;
-}
-
-inline std::uint64_t packedKey(int x, int y, int z)
-{
-	return ((std::uint64_t(x) << 32) | (std::uint64_t(y) << 16) | std::uint64_t(z)) + 1;
+	if ((static_cast<unsigned>(x) | static_cast<unsigned>(y) | static_cast<unsigned>(z)) > 0xFFFFu) return 0;
+	return packKey(octomap::OcTreeKey(
+		static_cast<octomap::key_type>(x), static_cast<octomap::key_type>(y), static_cast<octomap::key_type>(z)));
 }
 }  // namespace
 
@@ -628,16 +625,14 @@ void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band
 			forEachFlagged(flags, nearFrom, nearEnd, [&](int u) {
 				const bool inside = fine.x[u] >= kInsideTag;
 				const int x = fine.x[u] < 0 ? -1 : fine.x[u] & 0xFFFF;
-				if (!validKey(x, fine.y[u], fine.z[u])) return;
-				(inside ? band.inside : band.crossing)->insert(packedKey(x, fine.y[u], fine.z[u]));
+				if (const auto key = packedOrNone(x, fine.y[u], fine.z[u])) (inside ? band.inside : band.crossing)->insert(key);
 			});
 			std::fill(flags + nearFrom, flags + nearEnd, 0);
 		}
 
 		flagNewVoxels(coarse, coarseAbove, 0, cols, flags);
 		forEachFlagged(flags, 0, cols, [&](int u) {
-			if (validKey(coarse.x[u], coarse.y[u], coarse.z[u]))
-				band.outside->insert(packedKey(coarse.x[u], coarse.y[u], coarse.z[u]));
+			if (const auto key = packedOrNone(coarse.x[u], coarse.y[u], coarse.z[u])) band.outside->insert(key);
 		});
 	}
 }
