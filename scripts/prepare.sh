@@ -4,6 +4,9 @@
 # installs what is missing, configures and builds BUILD_DIR (all targets when
 # none are named), fills datasets/ (scripts/get-data.sh) and converts the
 # default dataset to datasets/bonn_crowd_sub300.rawlog once. Sets $rawlog.
+# The rawlog holds the frames as a camera gives them (colour inside, no gzip:
+# ~460 MB): replaying it decodes nothing, where PNG colour and gzip cost ~15 ms
+# of CPU a frame, half a frame period at 30 Hz (doc/performance.md).
 avm_prepare() {
   local build=$1 options=$2
   shift 2
@@ -18,5 +21,10 @@ avm_prepare() {
   cmake --build "$build" -j "$(nproc)" "${targets[@]}"
   "$root/scripts/get-data.sh"
   rawlog=$root/datasets/bonn_crowd_sub300.rawlog
-  [ -f "$rawlog" ] || "$build/bin/avm-tum2rawlog" --camera bonn --gt-body bonn "$root/datasets/bonn_crowd_sub300" "$rawlog"
+  # A gzip rawlog is the form earlier versions made: converted again.
+  if [ ! -f "$rawlog" ] || [ "$(head -c2 "$rawlog" | od -An -tx1 | tr -d ' ')" = 1f8b ]; then
+    rm -rf "${rawlog%.rawlog}_Images"
+    "$build/bin/avm-tum2rawlog" --camera bonn --gt-body bonn --embed-images --compression 0 \
+      "$root/datasets/bonn_crowd_sub300" "$rawlog"
+  fi
 }

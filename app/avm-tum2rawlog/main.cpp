@@ -34,6 +34,8 @@ int main(int argc, char** argv)
 			false, "none", "bonn|none|FILE", cmd);
 		TCLAP::SwitchArg argNoGt("", "no-gt", "ignore groundtruth.txt", cmd);
 		TCLAP::SwitchArg argEmbed("", "embed-images", "store colour images inside the rawlog", cmd);
+		TCLAP::ValueArg<int> argCompression(
+			"", "compression", "gzip level of the rawlog 1..9, 0 = plain file (default 1)", false, 1, "0-9", cmd);
 		TCLAP::SwitchArg argQuiet("q", "quiet", "no progress bar", cmd);
 		cmd.parse(argc, argv);
 
@@ -53,6 +55,9 @@ int main(int argc, char** argv)
 		opt.groundTruthBodyToCamera = avm::io::groundTruthBodyToCamera(argBody.getValue());
 		opt.useGroundTruth = !argNoGt.getValue();
 		opt.embedImages = argEmbed.getValue();
+		if (argCompression.getValue() < 0 || argCompression.getValue() > 9)
+			throw std::runtime_error("--compression must be 0..9");
+		opt.compressionLevel = argCompression.getValue();
 
 		// Redraw the bar in a terminal; in a log, only the final line.
 		const bool bar = !argQuiet.getValue();

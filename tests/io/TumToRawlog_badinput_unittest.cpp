@@ -8,6 +8,8 @@
 #include <sstream>
 
 #include "TestData.h"
+#include "avm/io/RawlogFrameReader.h"
+#include "avm/io/RgbdFrame.h"
 #include "avm/io/TumDataset.h"
 
 using namespace avm;
@@ -100,6 +102,42 @@ TEST(TumToRawlogBadInput, SmallDatasetConverts)
 	EXPECT_TRUE(fs::exists(out));
 	EXPECT_TRUE(fs::exists(ds.parent_path() / "ok_Images"));
 	EXPECT_TRUE(fs::exists(ds.parent_path() / "ok_groundtruth.txt"));
+}
+
+TEST(TumToRawlogBadInput, PlainRawlogWithEmbeddedImagesHasTheSameFrames)
+{
+	// The fast-to-replay form (--embed-images --compression 0): no gzip, colour
+	// inside; the same pixels and poses as the default form.
+	const auto ds = smallDataset("plain-embedded");
+	const fs::path gz = ds.parent_path() / "gz.rawlog", plain = ds.parent_path() / "plain.rawlog";
+	ASSERT_EQ(runConverter(ds, gz).exitCode, 0);
+	const auto r = runConverter(ds, plain, "--camera bonn --gt-body bonn --embed-images --compression 0");
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	EXPECT_FALSE(fs::exists(ds.parent_path() / "plain_Images"));
+	std::ifstream head(plain, std::ios::binary);
+	const int b0 = head.get(), b1 = head.get();
+	EXPECT_FALSE(b0 == 0x1f && b1 == 0x8b) << "a gzip header in a --compression 0 rawlog";
+	EXPECT_GT(fs::file_size(plain), 3u * 640 * 480 * 5) << "3 frames of raw depth (2 B) and colour (3 B) a pixel";
+
+	// One reader at a time: MRPT's folder of external images is process-wide.
+	const auto framesOf = [](const fs::path& rawlog) {
+		io::RawlogFrameReader reader(rawlog);
+		std::vector<io::RgbdFrame> out;
+		while (auto f = reader.next()) out.push_back(*f);
+		return out;
+	};
+	const auto fromGz = framesOf(gz), fromPlain = framesOf(plain);
+	ASSERT_EQ(fromGz.size(), 3u);
+	ASSERT_EQ(fromPlain.size(), 3u);
+	for (std::size_t i = 0; i < 3; ++i)
+	{
+		const auto &fa = fromGz[i], &fb = fromPlain[i];
+		EXPECT_EQ(cv::norm(io::depthInMetres(*fa.observation), io::depthInMetres(*fb.observation), cv::NORM_INF), 0);
+		EXPECT_EQ(cv::norm(io::colourImage(*fa.observation), io::colourImage(*fb.observation), cv::NORM_INF), 0);
+		ASSERT_TRUE(fa.groundTruth && fb.groundTruth);
+		EXPECT_EQ(fa.groundTruth->asString(), fb.groundTruth->asString());
+	}
+	EXPECT_NE(runConverter(ds, plain, "--compression 10").exitCode, 0);
 }
 
 TEST(TumToRawlogBadInput, MissingFolder)

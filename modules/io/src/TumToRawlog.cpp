@@ -1,6 +1,7 @@
 #include "avm/io/TumToRawlog.h"
 
 #include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/io/CFileOutputStream.h>
 #include <mrpt/math/CMatrixFixed.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/obs/CObservationRobotPose.h>
@@ -8,6 +9,7 @@
 #include <mrpt/system/datetime.h>
 
 #include <opencv2/imgcodecs.hpp>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 
@@ -136,9 +138,16 @@ TumConversionSummary convertTumToRawlog(
 	try
 	{
 		writeFileAtomically(outRawlog, [&](const fs::path& tmp) {
-			mrpt::io::CFileGZOutputStream file;
-			if (!file.open(tmp.string())) throw std::runtime_error(outRawlog.string() + ": cannot write");
-			auto out = mrpt::serialization::archiveFrom(file);
+			std::unique_ptr<mrpt::io::CStream> file;
+			if (opt.compressionLevel > 0)
+			{
+				auto gz = std::make_unique<mrpt::io::CFileGZOutputStream>();
+				if (gz->open(tmp.string(), opt.compressionLevel)) file = std::move(gz);
+			}
+			else if (auto plain = std::make_unique<mrpt::io::CFileOutputStream>(); plain->open(tmp.string()))
+				file = std::move(plain);
+			if (!file) throw std::runtime_error(outRawlog.string() + ": cannot write");
+			auto out = mrpt::serialization::archiveFrom(*file);
 			for (std::size_t i = 0; i < pairs.size(); ++i)
 			{
 				auto obs = makeObservation(pairs[i], dir, opt, partialImages);
