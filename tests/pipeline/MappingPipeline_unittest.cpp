@@ -196,3 +196,33 @@ TEST(PipelineReadAhead, SameFramesInTheSameOrderAsReadingInTheLoop)
 		EXPECT_EQ(bytes(inLoop / name), bytes(ahead / name)) << name;
 	}
 }
+
+TEST(PipelineAsyncMapping, SameMapAsInsertingInTheLoop)
+{
+	// Synchronous detection on every third frame makes the regions, and the
+	// frames they are added before, the same in both runs; the mapping thread
+	// must not change the map, byte for byte, high-resolution tree included.
+	const auto dir = test::scratchDir("pipeline-async-mapping");
+	const auto runWith = [&](const std::string& async) {
+		mrpt::config::CConfigFileMemory ini(
+			"[pipeline]\npose_source=gt\ndetect_every_n=3\nasync_detection=false\npicture_size=0\nmax_frames=150\n"
+			"async_mapping=" + async + "\n[detection]\nmodel=" + test::sharedFile("models/yolox_nano.onnx").string() +
+			"\ninput_width=320\ninput_height=256\n[map]\nadaptiveOctoMap_count=1\n");
+		pipeline::MappingPipeline p(ini, AVM_SOURCE_DIR);
+		const auto out = dir / ("async-mapping-" + async);
+		const auto summary = p.run(test::bonnRawlog(), out);
+		EXPECT_EQ(summary.frames, 150u);
+		EXPECT_TRUE(summary.switchFrame) << "the person appears before frame 150";
+		return out;
+	};
+	const auto inLoop = runWith("false"), async = runWith("true");
+	const auto bytes = [](const fs::path& file) {
+		std::ifstream in(file, std::ios::binary);
+		return std::string(std::istreambuf_iterator<char>(in), {});
+	};
+	for (const char* name : {"map_low.bt", "map_high.bt", "detections.txt", "trajectory.txt"})
+	{
+		EXPECT_GT(bytes(inLoop / name).size(), 100u) << name;
+		EXPECT_EQ(bytes(inLoop / name), bytes(async / name)) << name;
+	}
+}

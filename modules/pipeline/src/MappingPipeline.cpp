@@ -61,6 +61,7 @@ void TPipelineOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c
 	if (every < 0) throw bad("detect_every_n", std::to_string(every), "must be >= 0 (0 = no detection)");
 	detectEveryN = static_cast<unsigned>(every);
 	asyncDetection = cfg.read_bool(s, "async_detection", asyncDetection);
+	asyncMapping = cfg.read_bool(s, "async_mapping", asyncMapping);
 	startAtGroundTruth = cfg.read_bool(s, "start_at_ground_truth", startAtGroundTruth);
 	const int frames = cfg.read_int(s, "max_frames", static_cast<int>(maxFrames));
 	if (frames < 0) throw bad("max_frames", std::to_string(frames), "must be >= 0 (0 = all)");
@@ -83,6 +84,7 @@ void TPipelineOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg, cons
 	cfg.write(s, "pose_source", toString(poseSource));
 	cfg.write(s, "detect_every_n", static_cast<int>(detectEveryN));
 	cfg.write(s, "async_detection", asyncDetection);
+	cfg.write(s, "async_mapping", asyncMapping);
 	cfg.write(s, "start_at_ground_truth", startAtGroundTruth);
 	cfg.write(s, "max_frames", static_cast<int>(maxFrames));
 	cfg.write(s, "picture_size", pictureSize);
@@ -294,17 +296,22 @@ RunSummary MappingPipeline::run(
 		r.milliseconds = timer.Tac() * 1e3;
 		return r;
 	};
-	// Boxes mask the odometry at once; regions need the pose of their frame.
-	const auto applyDetection = [&](const DetectionResult& r) {
+	// Boxes mask the odometry at once; regions need the pose of their frame
+	// and wait until no insertion is running (addRegions).
+	std::vector<DetectionResult> detectionsWithoutRegions;
+	const auto useBoxes = [&](DetectionResult r) {
 		detectionTimes.add(r.milliseconds);
 		++summary.detectionRuns;
-		latestPersonBoxes.clear();
 		if (!r.persons.empty()) ++summary.framesWithPerson;
+		latestPersonBoxes.clear();
+		for (const auto& p : r.persons) latestPersonBoxes.push_back(cv::Rect(p.box));
+		detectionsWithoutRegions.push_back(std::move(r));
+	};
+	const auto addRegions = [&](const DetectionResult& r) {
 		const auto pose = recentPoses.find(r.frameIndex);
 		const cv::Mat depth = r.persons.empty() ? cv::Mat() : io::depthInMetres(*r.observation);
 		for (const auto& p : r.persons)
 		{
-			latestPersonBoxes.push_back(cv::Rect(p.box));
 			char line[256];
 			std::snprintf(line, sizeof(line), "%zu %.6f %s %.3f %.1f %.1f %.1f %.1f", r.frameIndex, r.timestamp,
 				p.className.c_str(), p.score, p.box.x, p.box.y, p.box.width, p.box.height);
@@ -332,7 +339,19 @@ RunSummary MappingPipeline::run(
 	const auto collectDetection = [&](bool wait) {
 		if (!pendingDetection.valid()) return;
 		if (!wait && pendingDetection.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
-		applyDetection(pendingDetection.get());
+		useBoxes(pendingDetection.get());
+	};
+
+	// The map insertion in flight (asynchronous mapping): its frame index and
+	// its duration [ms]. Joined before anything else touches the map.
+	std::optional<std::size_t> insertingFrame;
+	std::future<double> pendingInsertion;
+	const auto finishInsertion = [&] {
+		if (!insertingFrame) return;
+		const std::size_t index = *insertingFrame;
+		insertingFrame.reset();
+		mapTimes.add(pendingInsertion.get());
+		if (!summary.switchFrame && d.adaptive->isHighResolutionActive()) summary.switchFrame = index;
 	};
 
 	while (!(stop && stop->load()))
@@ -344,11 +363,10 @@ RunSummary MappingPipeline::run(
 		const double t = frame->timestamp();
 
 		// 1. Person boxes: on the worker thread, or here when synchronous.
-		std::optional<DetectionResult> detectedNow;
 		if (d.detector && frame->index % opt.detectEveryN == 0)
 		{
 			if (!opt.asyncDetection)
-				detectedNow = runDetector(frame->index, t, obs);
+				useBoxes(runDetector(frame->index, t, obs));
 			else
 			{
 				// Every N-th frame is detected: a detection still running
@@ -356,11 +374,6 @@ RunSummary MappingPipeline::run(
 				collectDetection(true);
 				pendingDetection = std::async(std::launch::async, runDetector, frame->index, t, obs);
 			}
-		}
-		if (detectedNow)
-		{
-			latestPersonBoxes.clear();
-			for (const auto& p : detectedNow->persons) latestPersonBoxes.push_back(cv::Rect(p.box));
 		}
 
 		// 2. Camera pose (optical frame in the world).
@@ -401,21 +414,30 @@ RunSummary MappingPipeline::run(
 		while (recentPoses.size() > 64) recentPoses.erase(recentPoses.begin());
 		if (frame->groundTruth) groundTruth.push_back({t, *frame->groundTruth});
 
-		// 3. Regions of the detections that are ready.
-		if (detectedNow) applyDetection(*detectedNow);
+		// 3. Regions of the detections that are ready, once the previous
+		// frame is in the map: the same order as without a mapping thread.
 		collectDetection(false);
+		finishInsertion();
+		for (const auto& r : detectionsWithoutRegions) addRegions(r);
+		detectionsWithoutRegions.clear();
 
-		// 4. The map.
-		mrpt::system::CTicTac timer;
-		d.maps->insertObservation(*obs, pose);
-		mapTimes.add(timer.Tac() * 1e3);
-		if (!summary.switchFrame && d.adaptive->isHighResolutionActive()) summary.switchFrame = frame->index;
+		// 4. The map: on the worker thread while the next frame's odometry runs.
+		const auto insert = [&maps = *d.maps, obs, pose] {
+			mrpt::system::CTicTac timer;
+			maps.insertObservation(*obs, pose);
+			return timer.Tac() * 1e3;
+		};
+		insertingFrame = frame->index;
+		pendingInsertion = std::async(opt.asyncMapping ? std::launch::async : std::launch::deferred, insert);
+		if (!opt.asyncMapping) finishInsertion();
 
 		trajectory.push_back({t, pose});
 		++summary.frames;
 		if (progress) progress(frames.progress(), summary.frames);
 	}
+	finishInsertion();
 	collectDetection(true);
+	for (const auto& r : detectionsWithoutRegions) addRegions(r);
 	summary.seconds = wallClock.Tac();
 	frames.close();
 	summary.interrupted = stop && stop->load();

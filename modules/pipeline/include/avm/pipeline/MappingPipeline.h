@@ -43,6 +43,10 @@ struct TPipelineOptions : public mrpt::config::CLoadableOptions
 	unsigned detectEveryN = 3;
 	/** Detection on a worker thread, beside odometry and mapping. */
 	bool asyncDetection = true;
+	/** A frame's map insertion on a worker thread while odometry processes the
+	 *  next frame. The map is the same either way: regions are added, and
+	 *  frames inserted, in the same order. */
+	bool asyncMapping = true;
 	/** Start odometry at the first frame's ground truth, when the rawlog has it
 	 *  (so the odometry map and trajectory share the ground truth's world frame). */
 	bool startAtGroundTruth = true;
