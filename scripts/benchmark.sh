@@ -49,7 +49,7 @@ tmp=$(mktemp "$root/doc/.performance.XXXX")
   echo
   echo "## What the default's speed settings buy"
   echo
-  echo "The default detects at 320x320 and reads frames ahead on a thread of its own. YOLOX-Nano's native 416x416 input, and reading on the main loop's thread:"
+  echo "The default detects at 320x256 (a 640x480 frame letterboxed to 320x240 and 16 rows of padding) and reads frames ahead on a thread of its own. YOLOX-Nano's native 416x416 input, and reading on the main loop's thread:"
   echo
   run input-416 --set detection:input_width=416 --set detection:input_height=416
   run no-read-ahead --set pipeline:read_ahead_frames=0
