@@ -6,6 +6,9 @@
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
+#include <array>
+#include <cstdint>
+#include <cstring>
 #include <vector>
 
 namespace avm::odometry::detail
@@ -15,6 +18,9 @@ struct Intrinsics
 	double fx = 0, fy = 0, cx = 0, cy = 0;
 };
 
+/** 256 bits, as ORB computes them. */
+using OrbDescriptor = std::array<std::uint8_t, 32>;
+
 /** Features of one frame; every one has a valid depth. */
 struct FrameFeatures
 {
@@ -23,12 +29,20 @@ struct FrameFeatures
 	std::vector<Eigen::Vector3d> points;   //!< [m] back-projected in the camera optical frame
 	Intrinsics K;
 	cv::Size imageSize;
+
+	const std::uint8_t* descriptorData(int i) const { return descriptors.ptr<std::uint8_t>(i); }
+	OrbDescriptor descriptor(int i) const
+	{
+		OrbDescriptor d;
+		std::memcpy(d.data(), descriptorData(i), d.size());
+		return d;
+	}
 };
 
 struct Landmark
 {
 	Eigen::Vector3d position;  //!< [m] world
-	cv::Mat descriptor;        //!< 1x32 CV_8U, from the latest keyframe that saw it
+	OrbDescriptor descriptor;  //!< from the latest keyframe that saw it
 };
 
 /** A landmark seen at a pixel with a measured depth. */

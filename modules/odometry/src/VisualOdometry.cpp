@@ -209,7 +209,7 @@ void VisualOdometry::Impl::addKeyframe(const FrameFeatures& f, const std::vector
 	for (const auto& m : inliers)
 	{
 		matched[m.feature] = true;
-		f.descriptors.row(m.feature).copyTo(landmarks.at(m.landmark).descriptor);
+		landmarks.at(m.landmark).descriptor = f.descriptor(m.feature);
 		kf.observations.push_back(
 			{m.landmark, Eigen::Vector2d(f.keypoints[m.feature].pt.x, f.keypoints[m.feature].pt.y),
 			 f.points[m.feature].z()});
@@ -219,7 +219,7 @@ void VisualOdometry::Impl::addKeyframe(const FrameFeatures& f, const std::vector
 	{
 		if (matched[i]) continue;
 		const int id = nextLandmarkId++;
-		landmarks[id] = Landmark{T_wc * f.points[i], f.descriptors.row(int(i)).clone()};
+		landmarks[id] = Landmark{T_wc * f.points[i], f.descriptor(int(i))};
 		kf.observations.push_back(
 			{id, Eigen::Vector2d(f.keypoints[i].pt.x, f.keypoints[i].pt.y), f.points[i].z()});
 	}

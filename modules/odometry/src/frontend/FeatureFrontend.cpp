@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace avm::odometry::detail
 {
@@ -50,7 +51,7 @@ std::optional<float> personBackgroundDepth(const cv::Mat& depth, const cv::Rect&
 	return values[values.size() / 2] + float(band);
 }
 
-int hamming(const cv::Mat& a, const cv::Mat& b) { return cv::hal::normHamming(a.ptr<uchar>(), b.ptr<uchar>(), a.cols); }
+int hamming(const std::uint8_t* a, const OrbDescriptor& b) { return cv::hal::normHamming(a, b.data(), int(b.size())); }
 }  // namespace
 
 FeatureFrontend::FeatureFrontend(const TOdometryOptions& options)
@@ -161,7 +162,7 @@ std::vector<Match> FeatureFrontend::matchByProjection(
 				{
 					const auto& p = frame.keypoints[i].pt;
 					if ((p.x - u) * (p.x - u) + (p.y - v) * (p.y - v) > r2) continue;
-					const int d = hamming(frame.descriptors.row(i), lm.descriptor);
+					const int d = hamming(frame.descriptorData(i), lm.descriptor);
 					if (d < d1)
 					{
 						d2 = d1;
@@ -183,11 +184,11 @@ std::vector<Match> FeatureFrontend::matchByProjection(
 std::vector<Match> FeatureFrontend::matchByDescriptor(const FrameFeatures& frame, const LandmarkMap& landmarks) const
 {
 	if (landmarks.empty() || frame.descriptors.empty()) return {};
-	cv::Mat train(int(landmarks.size()), 32, CV_8U);
+	cv::Mat train(int(landmarks.size()), int(OrbDescriptor().size()), CV_8U);
 	std::vector<int> ids;
 	for (const auto& [id, lm] : landmarks)
 	{
-		lm.descriptor.copyTo(train.row(int(ids.size())));
+		std::memcpy(train.ptr(int(ids.size())), lm.descriptor.data(), lm.descriptor.size());
 		ids.push_back(id);
 	}
 	cv::BFMatcher matcher(cv::NORM_HAMMING);
