@@ -85,6 +85,10 @@ int main(int argc, char** argv)
 			summary.detection.medianMs, summary.detection.p95Ms, summary.detection.count, summary.map.meanMs,
 			summary.map.medianMs, summary.map.p95Ms);
 		std::printf("memory:      peak %.0f MiB\n", summary.peakMemoryMb);
+		std::printf("cpu:         %.1f ms a frame (all threads)", summary.cpuMsPerFrame);
+		if (summary.stolenCpuShare)
+			std::printf("; %.0f%% of the machine's CPU time went to other virtual machines", 100 * *summary.stolenCpuShare);
+		std::printf("\n");
 		std::fflush(stdout);
 		if (summary.ateRmse) std::cout << "odometry:    ATE RMSE " << *summary.ateRmse << " m against the rawlog's ground truth\n";
 		std::cout << "outputs in:  " << argOut.getValue()

@@ -156,6 +156,11 @@ TEST(PipelineOnBonn, AllOutputsExistAndLoad)
 	const auto stats = mrpt::containers::yaml::FromFile((out / "stats.json").string());
 	EXPECT_EQ(stats["frames"].as<int>(), 300);
 	EXPECT_GT(stats["fps"].as<double>(), 0.0);
+	// Detection, odometry-free mapping and reading of 300 frames take well
+	// over a millisecond of CPU a frame; the whole run is in the figure.
+	EXPECT_GT(stats["cpu_ms_per_frame"].as<double>(), 1.0);
+	const double stolen = stats["cpu_stolen_percent"].as<double>();
+	EXPECT_TRUE(stolen >= 0 && stolen <= 100) << stolen;
 	for (const char* stage : {"detection", "map"})
 		EXPECT_GT(stats["stages"][stage]["mean_ms"].as<double>(), 0.0) << stage;
 	EXPECT_GT(stats["map"]["low"]["occupied_voxels"].as<int>(), 0);

@@ -277,6 +277,8 @@ RunSummary MappingPipeline::run(
 
 	// The clock starts before the reader thread does: reading is part of the run.
 	mrpt::system::CTicTac wallClock;
+	const double cpuAtStart = processCpuSeconds();
+	const StolenCpuTime stolenDuringRun;
 	detail::FrameSequence frames(rawlog, opt.repeat, opt.readAheadFrames);
 
 	std::optional<odometry::VisualOdometry> vo;
@@ -342,16 +344,14 @@ RunSummary MappingPipeline::run(
 		useBoxes(pendingDetection.get());
 	};
 
-	// The map insertion in flight (asynchronous mapping): its frame index and
-	// its duration [ms]. Joined before anything else touches the map.
-	std::optional<std::size_t> insertingFrame;
-	std::future<double> pendingInsertion;
+	// The map insertion in flight (asynchronous mapping) and its frame.
+	// Joined before anything else touches the map.
+	std::future<double> pendingInsertion;  // its duration [ms]
+	std::size_t insertingFrame = 0;
 	const auto finishInsertion = [&] {
-		if (!insertingFrame) return;
-		const std::size_t index = *insertingFrame;
-		insertingFrame.reset();
+		if (!pendingInsertion.valid()) return;
 		mapTimes.add(pendingInsertion.get());
-		if (!summary.switchFrame && d.adaptive->isHighResolutionActive()) summary.switchFrame = index;
+		if (!summary.switchFrame && d.adaptive->isHighResolutionActive()) summary.switchFrame = insertingFrame;
 	};
 
 	while (!(stop && stop->load()))
@@ -439,6 +439,8 @@ RunSummary MappingPipeline::run(
 	collectDetection(true);
 	for (const auto& r : detectionsWithoutRegions) addRegions(r);
 	summary.seconds = wallClock.Tac();
+	const double cpuSeconds = processCpuSeconds() - cpuAtStart;
+	summary.stolenCpuShare = stolenDuringRun.stolen();
 	frames.close();
 	summary.interrupted = stop && stop->load();
 	summary.skippedFrames += frames.skipped().size();
@@ -449,6 +451,7 @@ RunSummary MappingPipeline::run(
 		throw std::runtime_error(why);
 	}
 	summary.fps = summary.frames / std::max(summary.seconds, 1e-9);
+	summary.cpuMsPerFrame = cpuSeconds * 1e3 / double(summary.frames);
 	if (trajectory.size() > 1)
 	{
 		const double recorded = (trajectory.back().timestamp - trajectory.front().timestamp) *
@@ -491,7 +494,12 @@ RunSummary MappingPipeline::run(
 		.value("seconds", summary.seconds)
 		.value("fps", summary.fps)
 		.value("real_time_factor", summary.realTimeFactor)
-		.value("peak_memory_mb", summary.peakMemoryMb);
+		.value("peak_memory_mb", summary.peakMemoryMb)
+		.value("cpu_ms_per_frame", summary.cpuMsPerFrame);
+	if (summary.stolenCpuShare)
+		json.value("cpu_stolen_percent", 100 * *summary.stolenCpuShare);
+	else
+		json.null("cpu_stolen_percent");
 	json.beginArray("peak_memory_mb_per_replay");
 	for (const double mb : frames.peakMemoryPerReplay()) json.element(mb);
 	json.endArray();

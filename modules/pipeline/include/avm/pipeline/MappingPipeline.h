@@ -80,6 +80,9 @@ struct RunSummary
 	std::size_t detectionRuns = 0, framesWithPerson = 0, regions = 0;
 	std::optional<double> ateRmse;   //!< [m] odometry vs ground truth, when both exist
 	double peakMemoryMb = 0;         //!< [MiB] peak resident memory of the process
+	double cpuMsPerFrame = 0;        //!< [ms] CPU time of the run (all threads) per frame mapped
+	/** [0..1] share of the machine's CPU time a hypervisor took during the run. */
+	std::optional<double> stolenCpuShare;
 	StageReport odometry, detection, map;
 };
 
