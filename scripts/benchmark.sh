@@ -54,10 +54,10 @@ tmp=$(mktemp "$root/doc/.performance.XXXX")
   echo
   echo "## What the default's speed settings buy"
   echo
-  echo "The default detects at 320x256 (a 640x480 frame letterboxed to 320x240 and 16 rows of padding), reads frames ahead on a thread of its own, inserts a frame into the map on a worker thread while odometry processes the next, and replays a rawlog that holds the frames as a camera gives them (\`avm-tum2rawlog --embed-images --compression 0\`). Against: YOLOX-Nano's native 416x416 input; 320x320; reading on the main loop's thread; mapping on the main loop's thread; the gzip rawlog with the colour as PNG files (the converter's default form):"
+  echo "The default detects at 256x192 (the 640x480 frame scaled by 0.4, no padding), reads frames ahead on a thread of its own, inserts a frame into the map on a worker thread while odometry processes the next, and replays a rawlog that holds the frames as a camera gives them (\`avm-tum2rawlog --embed-images --compression 0\`). Against: YOLOX-Nano's native 416x416 input; 320x256; reading on the main loop's thread; mapping on the main loop's thread; the gzip rawlog with the colour as PNG files (the converter's default form):"
   echo
   run input-416 --set detection:input_width=416 --set detection:input_height=416
-  run input-320x320 --set detection:input_width=320 --set detection:input_height=320
+  run input-320x256 --set detection:input_width=320 --set detection:input_height=256
   run no-read-ahead --set pipeline:read_ahead_frames=0
   run no-mapping-thread --set pipeline:async_mapping=false
   run gzip-png-rawlog --rawlog output/benchmark/bonn_crowd_sub300_gz.rawlog

@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# The detector's input size against what it finds and what it costs: YOLOX-Nano
+# (ini/detect.ini) at several network inputs over the 300 frames of the default
+# rawlog, with avm-detect's benchmark (1 and 2 OpenCV threads), written to
+# doc/detector-inputs.md with the commands and the machine.
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+build=${AVM_BUILD_DIR:-$root/build}
+doc=$root/doc/detector-inputs.md
+
+source "$root/scripts/prepare.sh"
+avm_prepare "$build" -DCMAKE_BUILD_TYPE=Release avm-detect
+
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+tmp=$(mktemp "$root/doc/.detector-inputs.XXXX")
+{
+  echo "# Detector input size: persons found and time"
+  echo
+  echo "Made by \`scripts/detector-inputs.sh\` on $(date -u '+%Y-%m-%d %H:%M UTC'): $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //'), $(nproc) cores, load average before the runs $(cut -d' ' -f1-3 /proc/loadavg). Release build."
+  echo
+  echo "YOLOX-Nano on the 300 colour frames of \`datasets/bonn_crowd_sub300.rawlog\`, \`ini/detect.ini\` with only the input size changed. The 640x480 frame is letterboxed: scaled by min(width/640, height/480), the rest padded. Persons nearer than the depth range (6 m) are at least ~60 px tall at 256x192."
+  echo
+  for size in 416x416 320x320 320x256 256x192; do
+    w=${size%x*} h=${size#*x}
+    sed -E -e "s/^input_width *=[^/]*/input_width = $w /" -e "s/^input_height *=[^/]*/input_height = $h /" \
+      "$root/ini/detect.ini" > "$work/detect-$size.ini"
+    echo "### $size"
+    echo
+    echo "\`\`\`"
+    echo "build/bin/avm-detect -c ini/detect.ini (input_width = $w, input_height = $h) --rawlog datasets/bonn_crowd_sub300.rawlog --bench"
+    echo "\`\`\`"
+    echo
+    (cd "$root" && "$build/bin/avm-detect" -c "$work/detect-$size.ini" --rawlog datasets/bonn_crowd_sub300.rawlog --bench 2>/dev/null)
+    echo
+  done
+} > "$tmp"
+mv "$tmp" "$doc"
+cat "$doc"
