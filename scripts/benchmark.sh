@@ -26,6 +26,14 @@ run() {  # run NAME [--rawlog FILE] ARGS... : prints the command and avm-map's s
   echo "\`\`\`"
 }
 
+quiet_run() {  # quiet_run NAME ARGS... : a run of the default rawlog, only its stats.json kept
+  (cd "$root" && build/bin/avm-map -q -c ini/default.ini -r datasets/bonn_crowd_sub300.rawlog -o "output/benchmark/$1" "${@:2}" >/dev/null)
+}
+
+pair_field() {  # pair_field I KEY DECIMALS : "with / without" the mapping thread in pair I
+  printf "%.${3}f / %.${3}f" "$(field "mapping-thread-$1" "$2")" "$(field "no-mapping-thread-$1" "$2")"
+}
+
 field() {  # field RUN KEY : a top-level number from the run's stats.json, or n/a
   tr -d '\n ' < "$out/$1/stats.json" | sed -nE "s/.*\"$2\":([-0-9.eE+]+).*/\1/p" | grep . || echo n/a
 }
@@ -54,13 +62,24 @@ tmp=$(mktemp "$root/doc/.performance.XXXX")
   echo
   echo "## What the default's speed settings buy"
   echo
-  echo "The default detects at 256x192 (the 640x480 frame scaled by 0.4, no padding), reads frames ahead on a thread of its own, inserts a frame into the map on a worker thread while odometry processes the next, and replays a rawlog that holds the frames as a camera gives them (\`avm-tum2rawlog --embed-images --compression 0\`). Against: YOLOX-Nano's native 416x416 input; 320x256; reading on the main loop's thread; mapping on the main loop's thread; the gzip rawlog with the colour as PNG files (the converter's default form):"
+  echo "The default detects at 256x192 (the 640x480 frame scaled by 0.4, no padding), reads frames ahead on a thread of its own, inserts a frame into the map on a worker thread while odometry processes the next, and replays a rawlog that holds the frames as a camera gives them (\`avm-tum2rawlog --embed-images --compression 0\`). Against: YOLOX-Nano's native 416x416 input; 320x256; reading on the main loop's thread; the gzip rawlog with the colour as PNG files (the converter's default form):"
   echo
   run input-416 --set detection:input_width=416 --set detection:input_height=416
   run input-320x256 --set detection:input_width=320 --set detection:input_height=256
   run no-read-ahead --set pipeline:read_ahead_frames=0
-  run no-mapping-thread --set pipeline:async_mapping=false
   run gzip-png-rawlog --rawlog output/benchmark/bonn_crowd_sub300_gz.rawlog
+  echo
+  echo "## The mapping thread, alternating runs"
+  echo
+  echo "Three pairs, each the default and then the same without the mapping thread (\`--set pipeline:async_mapping=false\`), so that both see the machine in the same mood:"
+  echo
+  echo "| pair | fps with / without | CPU [ms a frame] with / without | CPU time stolen [%] with / without |"
+  echo "|---|---:|---:|---:|"
+  for i in 1 2 3; do
+    quiet_run "mapping-thread-$i"
+    quiet_run "no-mapping-thread-$i" --set pipeline:async_mapping=false
+    echo "| $i | $(pair_field "$i" fps 1) | $(pair_field "$i" cpu_ms_per_frame 1) | $(pair_field "$i" cpu_stolen_percent 0) |"
+  done
   echo
   echo "## Detection on every frame, synchronous (the slowest setting)"
   echo
