@@ -231,11 +231,28 @@ std::optional<FeatureFrontend::PnpResult> FeatureFrontend::solvePnp(
 	Eigen::Vector3d te;
 	cv::cv2eigen(R, Re);
 	cv::cv2eigen(tvec, te);
-	if (!Re.allFinite() || !te.allFinite()) return std::nullopt;
 	PnpResult out{Eigen::Isometry3d::Identity(), {}};
 	out.T_cw.linear() = Re;
 	out.T_cw.translation() = te;
 	for (int i : inlierIdx) out.inliers.push_back(matches[i]);
+	// OpenCV's final iterative refinement on the consensus set can diverge
+	// (seen on Bonn: 451 RANSAC inliers, none within the threshold at the
+	// returned pose). The consensus set is sound, so the refinement that
+	// follows starts from the guess instead.
+	const auto consistentAt = [&](const Eigen::Isometry3d& T) {
+		int n = 0;
+		for (const auto& m : out.inliers)
+		{
+			const Eigen::Vector3d pc = T * landmarks.at(m.landmark).position;
+			if (pc.z() <= 0) continue;
+			const cv::Point2f& px = frame.keypoints[m.feature].pt;
+			const double du = frame.K.fx * pc.x() / pc.z() + frame.K.cx - px.x;
+			const double dv = frame.K.fy * pc.y() / pc.z() + frame.K.cy - px.y;
+			n += du * du + dv * dv <= m_options.ransac_reprojection * m_options.ransac_reprojection;
+		}
+		return n;
+	};
+	if (consistentAt(out.T_cw) < m_options.min_inliers) out.T_cw = guess;
 	return out;
 }
 }  // namespace avm::odometry::detail

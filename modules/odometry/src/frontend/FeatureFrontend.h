@@ -36,7 +36,8 @@ class FeatureFrontend
 	std::vector<Match> matchByDescriptor(const FrameFeatures& frame, const LandmarkMap& landmarks) const;
 
 	/** PnP RANSAC from `guess`; the pose and the inlier matches, or nothing
-	 *  when there are too few. */
+	 *  when there are too few. The pose is `guess` when OpenCV's pose does
+	 *  not reproject its own inliers (a diverged final refinement). */
 	struct PnpResult
 	{
 		Eigen::Isometry3d T_cw;
