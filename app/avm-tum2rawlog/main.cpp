@@ -55,8 +55,6 @@ int main(int argc, char** argv)
 		opt.groundTruthBodyToCamera = avm::io::groundTruthBodyToCamera(argBody.getValue());
 		opt.useGroundTruth = !argNoGt.getValue();
 		opt.embedImages = argEmbed.getValue();
-		if (argCompression.getValue() < 0 || argCompression.getValue() > 9)
-			throw std::runtime_error("--compression must be 0..9");
 		opt.compressionLevel = argCompression.getValue();
 
 		// Redraw the bar in a terminal; in a log, only the final line.

@@ -137,7 +137,9 @@ TEST(TumToRawlogBadInput, PlainRawlogWithEmbeddedImagesHasTheSameFrames)
 		ASSERT_TRUE(fa.groundTruth && fb.groundTruth);
 		EXPECT_EQ(fa.groundTruth->asString(), fb.groundTruth->asString());
 	}
-	EXPECT_NE(runConverter(ds, plain, "--compression 10").exitCode, 0);
+	const auto bad = runConverter(ds, plain, "--compression 10");
+	EXPECT_NE(bad.exitCode, 0);
+	EXPECT_NE(bad.output.find("compression level 10: must be 0..9"), std::string::npos) << bad.output;
 }
 
 TEST(TumToRawlogBadInput, MissingFolder)

@@ -108,6 +108,9 @@ TumConversionSummary convertTumToRawlog(
 	const fs::path& dir, const fs::path& outRawlog, const TumConversionOptions& opt,
 	const std::function<void(std::size_t, std::size_t)>& progress)
 {
+	if (opt.compressionLevel < 0 || opt.compressionLevel > 9)
+		throw std::invalid_argument(
+			"compression level " + std::to_string(opt.compressionLevel) + ": must be 0..9 (0 = a plain file)");
 	TumConversionSummary summary;
 	const auto pairs = readPairs(dir, opt.maxTimeDifference, summary.skipped);
 	if (pairs.empty()) throw std::runtime_error(dir.string() + ": no RGB-D pairs to convert");

@@ -35,7 +35,8 @@ struct TumConversionSummary
 	std::filesystem::path rawlog, imagesDir, groundTruthFile;
 };
 
-/** Writes `outRawlog` (and `<stem>_Images/`, `<stem>_groundtruth.txt`). Every
+/** Writes `outRawlog` (and `<stem>_Images/`, `<stem>_groundtruth.txt`); an
+ *  options.compressionLevel outside 0..9 throws std::invalid_argument. Every
  *  output appears only when complete; on error (std::runtime_error naming the
  *  file and line) none is left behind and earlier outputs are untouched.
  *  progress(done, total) is called after every frame. */
