@@ -9,6 +9,7 @@
 #include <array>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <vector>
 
 namespace avm::odometry::detail
@@ -16,7 +17,23 @@ namespace avm::odometry::detail
 struct Intrinsics
 {
 	double fx = 0, fy = 0, cx = 0, cy = 0;
+
+	/** The pixel of a point in the camera optical frame (z > 0). */
+	Eigen::Vector2d project(const Eigen::Vector3d& pc) const
+	{
+		return {fx * pc.x() / pc.z() + cx, fy * pc.y() / pc.z() + cy};
+	}
 };
+
+/** Reprojection error [px] of a world point seen at a pixel, from pose T_cw;
+ *  infinite behind the camera. */
+inline double reprojectionError(
+	const Eigen::Isometry3d& T_cw, const Eigen::Vector3d& world, const Eigen::Vector2d& pixel, const Intrinsics& K)
+{
+	const Eigen::Vector3d pc = T_cw * world;
+	if (pc.z() <= 1e-6) return std::numeric_limits<double>::infinity();
+	return (K.project(pc) - pixel).norm();
+}
 
 /** 256 bits, as ORB computes them. */
 using OrbDescriptor = std::array<std::uint8_t, 32>;

@@ -164,7 +164,7 @@ OdometryEstimate VisualOdometry::Impl::process(
 	double sq = 0;
 	for (const auto& m : matches)
 	{
-		const double err = CeresBackend::reprojectionError(
+		const double err = reprojectionError(
 			T, landmarks.at(m.landmark).position,
 			Eigen::Vector2d(f.keypoints[m.feature].pt.x, f.keypoints[m.feature].pt.y), K);
 		if (err > options.ransac_reprojection) continue;

@@ -50,15 +50,6 @@ ceres::Solver::Options solverOptions(int iterations, int threads, ceres::LinearS
 }
 }  // namespace
 
-double CeresBackend::reprojectionError(
-	const Eigen::Isometry3d& T_cw, const Eigen::Vector3d& world, const Eigen::Vector2d& pixel, const Intrinsics& K)
-{
-	const Eigen::Vector3d pc = T_cw * world;
-	if (pc.z() <= 1e-6) return std::numeric_limits<double>::infinity();
-	const Eigen::Vector2d proj(K.fx * pc.x() / pc.z() + K.cx, K.fy * pc.y() / pc.z() + K.cy);
-	return (proj - pixel).norm();
-}
-
 void CeresBackend::refinePose(
 	Eigen::Isometry3d& T_cw, const std::vector<Observation>& observations, const LandmarkMap& landmarks,
 	const Intrinsics& K) const

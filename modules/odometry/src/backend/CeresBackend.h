@@ -33,10 +33,6 @@ class CeresBackend
 	 *  (it anchors the gauge); landmarks seen by at least two keyframes move. */
 	void bundleAdjust(std::deque<Keyframe>& window, LandmarkMap& landmarks, const Intrinsics& K) const;
 
-	/** Reprojection error [px] of an observation at a pose. */
-	static double reprojectionError(
-		const Eigen::Isometry3d& T_cw, const Eigen::Vector3d& world, const Eigen::Vector2d& pixel, const Intrinsics& K);
-
    private:
 	const TOdometryOptions& m_options;
 };

@@ -151,8 +151,8 @@ std::vector<Match> FeatureFrontend::matchByProjection(
 	{
 		const Eigen::Vector3d pc = T_cw * lm.position;
 		if (pc.z() < o.min_depth) continue;
-		const double u = frame.K.fx * pc.x() / pc.z() + frame.K.cx;
-		const double v = frame.K.fy * pc.y() / pc.z() + frame.K.cy;
+		const Eigen::Vector2d px = frame.K.project(pc);
+		const double u = px.x(), v = px.y();
 		if (u < 0 || v < 0 || u >= frame.imageSize.width || v >= frame.imageSize.height) continue;
 		int d1 = INT32_MAX, d2 = INT32_MAX, bestFeature = -1;
 		const int cu = int(u / cellSize), cv_ = int(v / cellSize);
@@ -239,20 +239,12 @@ std::optional<FeatureFrontend::PnpResult> FeatureFrontend::solvePnp(
 	// (seen on Bonn: 451 RANSAC inliers, none within the threshold at the
 	// returned pose). The consensus set is sound, so the refinement that
 	// follows starts from the guess instead.
-	const auto consistentAt = [&](const Eigen::Isometry3d& T) {
-		int n = 0;
-		for (const auto& m : out.inliers)
-		{
-			const Eigen::Vector3d pc = T * landmarks.at(m.landmark).position;
-			if (pc.z() <= 0) continue;
-			const cv::Point2f& px = frame.keypoints[m.feature].pt;
-			const double du = frame.K.fx * pc.x() / pc.z() + frame.K.cx - px.x;
-			const double dv = frame.K.fy * pc.y() / pc.z() + frame.K.cy - px.y;
-			n += du * du + dv * dv <= m_options.ransac_reprojection * m_options.ransac_reprojection;
-		}
-		return n;
-	};
-	if (consistentAt(out.T_cw) < m_options.min_inliers) out.T_cw = guess;
+	const auto consistent = std::count_if(out.inliers.begin(), out.inliers.end(), [&](const Match& m) {
+		const cv::Point2f& px = frame.keypoints[m.feature].pt;
+		return reprojectionError(out.T_cw, landmarks.at(m.landmark).position, Eigen::Vector2d(px.x, px.y), frame.K) <=
+			   m_options.ransac_reprojection;
+	});
+	if (consistent < m_options.min_inliers) out.T_cw = guess;
 	return out;
 }
 }  // namespace avm::odometry::detail
