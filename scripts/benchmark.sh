@@ -16,18 +16,23 @@ avm_prepare "$build" -DCMAKE_BUILD_TYPE=Release avm-map
 
 defaults=(default default-2 default-3 default-4 default-5)
 
-run() {  # run NAME [--rawlog FILE] ARGS... : prints the command and avm-map's summary
+map_command() {  # map_command NAME [--rawlog FILE] ARGS... : sets cmd, the avm-map command of run NAME
   local name=$1 input=datasets/bonn_crowd_sub300.rawlog; shift
   if [ "${1:-}" = --rawlog ]; then input=$2; shift 2; fi
-  local cmd=(build/bin/avm-map -q -c ini/default.ini -r "$input" -o "output/benchmark/$name" "$@")
+  cmd=(build/bin/avm-map -q -c ini/default.ini -r "$input" -o "output/benchmark/$name" "$@")
+}
+
+run() {  # run NAME [--rawlog FILE] ARGS... : prints the command and avm-map's summary
+  map_command "$@"
   echo "\`\`\`"
   echo "${cmd[*]}"
   (cd "$root" && "${cmd[@]}" | grep -vE '^ done\.$|^outputs in')
   echo "\`\`\`"
 }
 
-quiet_run() {  # quiet_run NAME ARGS... : a run of the default rawlog, only its stats.json kept
-  (cd "$root" && build/bin/avm-map -q -c ini/default.ini -r datasets/bonn_crowd_sub300.rawlog -o "output/benchmark/$1" "${@:2}" >/dev/null)
+quiet_run() {  # quiet_run NAME [--rawlog FILE] ARGS... : a run whose stats.json is all that is kept
+  map_command "$@"
+  (cd "$root" && "${cmd[@]}" >/dev/null)
 }
 
 pair_field() {  # pair_field I KEY DECIMALS : "with / without" the mapping thread in pair I

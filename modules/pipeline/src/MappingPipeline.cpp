@@ -338,6 +338,10 @@ RunSummary MappingPipeline::run(
 			detectionsText << line;
 		}
 	};
+	const auto addWaitingRegions = [&] {
+		for (const auto& r : detectionsWithoutRegions) addRegions(r);
+		detectionsWithoutRegions.clear();
+	};
 	const auto collectDetection = [&](bool wait) {
 		if (!pendingDetection.valid()) return;
 		if (!wait && pendingDetection.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
@@ -418,8 +422,7 @@ RunSummary MappingPipeline::run(
 		// frame is in the map: the same order as without a mapping thread.
 		collectDetection(false);
 		finishInsertion();
-		for (const auto& r : detectionsWithoutRegions) addRegions(r);
-		detectionsWithoutRegions.clear();
+		addWaitingRegions();
 
 		// 4. The map: on the worker thread while the next frame's odometry runs.
 		const auto insert = [&maps = *d.maps, obs, pose] {
@@ -437,7 +440,7 @@ RunSummary MappingPipeline::run(
 	}
 	finishInsertion();
 	collectDetection(true);
-	for (const auto& r : detectionsWithoutRegions) addRegions(r);
+	addWaitingRegions();
 	summary.seconds = wallClock.Tac();
 	const double cpuSeconds = processCpuSeconds() - cpuAtStart;
 	summary.stolenCpuShare = stolenDuringRun.stolen();
