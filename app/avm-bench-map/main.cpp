@@ -13,8 +13,9 @@
 
 int main(int argc, char** argv)
 {
-	return avm::io::runProgram("avm-bench-map", [&] {
-		TCLAP::CmdLine cmd("Times map insertion: avm adaptive map vs octomap insertPointCloud.", ' ', "avm");
+	return avm::io::runProgram(
+		"avm-bench-map", "Times map insertion: avm adaptive map vs octomap insertPointCloud.",
+		[&](avm::io::CommandLine& cmd) {
 		TCLAP::UnlabeledValueArg<std::string> argRawlog("RAWLOG", "rawlog with ground truth (avm-tum2rawlog)", true, "", "RAWLOG", cmd);
 		TCLAP::ValueArg<std::size_t> argFrames("", "frames", "use the first N frames (default all)", false, 0, "N", cmd);
 		TCLAP::ValueArg<double> argRange("", "max-range", "max range [m] of every map (default 5)", false, 5.0, "M", cmd);

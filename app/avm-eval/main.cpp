@@ -9,8 +9,9 @@
 
 int main(int argc, char** argv)
 {
-	return avm::io::runProgram("avm-eval", [&] {
-		TCLAP::CmdLine cmd("ATE (SE(3)-aligned) and RPE of a TUM trajectory against TUM ground truth.", ' ', "avm");
+	return avm::io::runProgram(
+		"avm-eval", "ATE (SE(3)-aligned) and RPE of a TUM trajectory against TUM ground truth.",
+		[&](avm::io::CommandLine& cmd) {
 		TCLAP::UnlabeledValueArg<std::string> argEst("ESTIMATE", "estimated trajectory (TUM)", true, "", "EST.txt", cmd);
 		TCLAP::UnlabeledValueArg<std::string> argGt("GROUNDTRUTH", "ground truth (TUM)", true, "", "GT.txt", cmd);
 		TCLAP::ValueArg<double> argMaxDt("", "max-dt", "max timestamp difference of a match [s] (default 0.02)", false, 0.02, "S", cmd);

@@ -14,8 +14,9 @@
 int main(int argc, char** argv)
 {
 	using namespace avm;
-	return avm::io::runProgram("avm-odometry", [&] {
-		TCLAP::CmdLine cmd("RGB-D visual odometry over a rawlog: TUM trajectory, per-frame stats, timing.", ' ', "avm");
+	return avm::io::runProgram(
+		"avm-odometry", "RGB-D visual odometry over a rawlog: TUM trajectory, per-frame stats, timing.",
+		[&](avm::io::CommandLine& cmd) {
 		TCLAP::UnlabeledValueArg<std::string> argRawlog("RAWLOG", "input rawlog", true, "", "IN.rawlog", cmd);
 		TCLAP::UnlabeledValueArg<std::string> argOut("TRAJECTORY", "output TUM trajectory", true, "", "OUT.txt", cmd);
 		TCLAP::ValueArg<std::string> argConfig("c", "config", "ini with an [odometry] section (default: built-in defaults)", false, "", "FILE", cmd);

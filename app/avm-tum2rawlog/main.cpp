@@ -13,11 +13,10 @@
 
 int main(int argc, char** argv)
 {
-	return avm::io::runProgram("avm-tum2rawlog", [&] {
-		TCLAP::CmdLine cmd(
-			"Converts a TUM RGB-D layout folder (rgb.txt + depth.txt, or associations.txt; "
+	return avm::io::runProgram(
+		"avm-tum2rawlog", "Converts a TUM RGB-D layout folder (rgb.txt + depth.txt, or associations.txt; "
 			"groundtruth.txt optional) into an MRPT rawlog.",
-			' ', "avm");
+		[&](avm::io::CommandLine& cmd) {
 		TCLAP::UnlabeledValueArg<std::string> argDir("DATASET_DIR", "TUM layout folder", true, "", "DATASET_DIR", cmd);
 		TCLAP::UnlabeledValueArg<std::string> argOut("OUT", "output .rawlog", true, "", "OUT.rawlog", cmd);
 		TCLAP::ValueArg<std::string> argCamera(
@@ -33,6 +32,11 @@ int main(int argc, char** argv)
 			"pose of the camera in the ground-truth body: bonn, none, or a file with a 4x4 matrix (default none)",
 			false, "none", "bonn|none|FILE", cmd);
 		TCLAP::SwitchArg argNoGt("", "no-gt", "ignore groundtruth.txt", cmd);
+		TCLAP::SwitchArg argTrim(
+			"", "trim-to-ground-truth",
+			"leave out the frames before the first and after the last ground-truth pose (listed as skipped) "
+			"instead of failing on them",
+			cmd);
 		TCLAP::SwitchArg argEmbed("", "embed-images", "store colour images inside the rawlog", cmd);
 		TCLAP::ValueArg<int> argCompression(
 			"", "compression", "gzip level of the rawlog 1..9, 0 = plain file (default 1)", false, 1, "0-9", cmd);
@@ -54,6 +58,7 @@ int main(int argc, char** argv)
 		opt.maxTimeDifference = argTolerance.getValue();
 		opt.groundTruthBodyToCamera = avm::io::groundTruthBodyToCamera(argBody.getValue());
 		opt.useGroundTruth = !argNoGt.getValue();
+		opt.trimToGroundTruth = argTrim.getValue();
 		opt.embedImages = argEmbed.getValue();
 		opt.compressionLevel = argCompression.getValue();
 

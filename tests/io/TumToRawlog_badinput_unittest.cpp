@@ -10,6 +10,7 @@
 #include "TestData.h"
 #include "avm/io/RawlogFrameReader.h"
 #include "avm/io/RgbdFrame.h"
+#include "avm/io/Trajectory.h"
 #include "avm/io/TumDataset.h"
 
 using namespace avm;
@@ -62,13 +63,16 @@ void writeLines(const fs::path& file, const std::vector<std::string>& ls)
 	for (const auto& l : ls) out << l << "\n";
 }
 
-std::string depthFile(const fs::path& dataset, int row)
+/** The depth column (time, file) of a row of associations.txt. */
+std::pair<double, std::string> depthOf(const fs::path& dataset, int row)
 {
 	std::istringstream ss(lines(dataset / "associations.txt")[row]);
 	std::string t1, rgb, t2, depth;
 	ss >> t1 >> rgb >> t2 >> depth;
-	return depth;
+	return {std::stod(t2), depth};
 }
+
+std::string depthFile(const fs::path& dataset, int row) { return depthOf(dataset, row).second; }
 
 /** Runs the converter on a damaged dataset over an earlier good output and
  *  checks the error text, the exit code and that nothing changed on disk. */
@@ -205,6 +209,84 @@ TEST(TumToRawlogBadInput, GroundTruthNotCoveringTheFrames)
 	ls.resize(6);  // two comment lines and four poses, all before the first frame
 	writeLines(ds / "groundtruth.txt", ls);
 	expectRejected(ds, "does not cover frame 0");
+}
+
+/** The ground truth of `dataset` cut to start `lateBy` seconds after the
+ *  first frame (its first pose after the frame moved to that time), as when
+ *  the motion capture starts after the camera. */
+void groundTruthStartingAfterTheFirstFrame(const fs::path& dataset, double lateBy)
+{
+	const double depth0 = depthOf(dataset, 0).first;
+	std::vector<std::string> kept;
+	for (const auto& l : lines(dataset / "groundtruth.txt"))
+	{
+		if (l.empty() || l[0] == '#')
+		{
+			kept.push_back(l);
+			continue;
+		}
+		const double t = std::stod(l.substr(0, l.find(' ')));
+		if (t <= depth0) continue;
+		if (kept.empty() || kept.back()[0] == '#')
+		{
+			std::ostringstream moved;
+			moved.precision(16);
+			moved << depth0 + lateBy << l.substr(l.find(' '));
+			kept.push_back(moved.str());
+		}
+		else
+			kept.push_back(l);
+	}
+	writeLines(dataset / "groundtruth.txt", kept);
+}
+
+TEST(TumToRawlogBadInput, GroundTruthStartingAfterTheFirstFrameNamesTheTrimOption)
+{
+	const auto ds = smallDataset("gt-late");
+	groundTruthStartingAfterTheFirstFrame(ds, 0.006);
+	expectRejected(ds, "does not cover frame 0");
+	const auto r = runConverter(ds, ds.parent_path() / "x.rawlog");
+	EXPECT_NE(r.output.find("the frame is 0.006 s before its first pose; --trim-to-ground-truth leaves out the frames "
+							"outside the ground truth"),
+		std::string::npos)
+		<< r.output;
+}
+
+TEST(TumToRawlogBadInput, TrimToGroundTruthLeavesOutTheFramesBeforeIt)
+{
+	const auto ds = smallDataset("gt-late-trimmed");
+	groundTruthStartingAfterTheFirstFrame(ds, 0.006);
+	const fs::path out = ds.parent_path() / "trimmed.rawlog";
+	const auto r = runConverter(ds, out, "--camera bonn --gt-body bonn --trim-to-ground-truth");
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	EXPECT_NE(r.output.find("frames:       2"), std::string::npos) << r.output;
+	EXPECT_NE(r.output.find("skipped:      1\n  frame 0 (" + depthFile(ds, 0) + ", t="), std::string::npos) << r.output;
+	EXPECT_NE(r.output.find("before the ground truth (--trim-to-ground-truth)"), std::string::npos) << r.output;
+
+	io::RawlogFrameReader reader(out);
+	std::vector<io::RgbdFrame> frames;
+	while (auto f = reader.next()) frames.push_back(*f);
+	ASSERT_EQ(frames.size(), 2u);
+	for (std::size_t i = 0; i < frames.size(); ++i)
+	{
+		EXPECT_TRUE(frames[i].groundTruth) << "frame " << i;
+		EXPECT_NEAR(mrpt::Clock::toDouble(frames[i].observation->timestamp), depthOf(ds, static_cast<int>(i) + 1).first, 1e-4);
+	}
+	EXPECT_EQ(io::readTumTrajectory(ds.parent_path() / "trimmed_groundtruth.txt").size(), 2u);
+}
+
+TEST(TumToRawlogBadInput, TrimToGroundTruthWithNoFrameCoveredFails)
+{
+	const auto ds = smallDataset("gt-none-covered");
+	auto ls = lines(ds / "groundtruth.txt");
+	ls.resize(6);  // two comment lines and four poses, all before the first frame
+	writeLines(ds / "groundtruth.txt", ls);
+	const fs::path outDir = ds.parent_path() / "out";
+	fs::create_directories(outDir);
+	const auto r = runConverter(ds, outDir / "x.rawlog", "--camera bonn --gt-body bonn --trim-to-ground-truth");
+	EXPECT_NE(r.exitCode, 0);
+	EXPECT_NE(r.output.find(") covers none of the 3 frames ("), std::string::npos) << r.output;
+	EXPECT_TRUE(fs::is_empty(outDir));
 }
 
 TEST(TumToRawlogBadInput, UnknownCameraPresetListsTheKnownOnes)

@@ -4,9 +4,118 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <string_view>
+#include <type_traits>
 
 namespace avm::io
 {
+namespace
+{
+std::string lower(std::string s)
+{
+	std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+	return s;
+}
+
+std::string trim(const std::string& s)
+{
+	const auto b = s.find_first_not_of(" \t\r\n");
+	if (b == std::string::npos) return {};
+	return s.substr(b, s.find_last_not_of(" \t\r\n") - b + 1);
+}
+
+/** The whole of `text` as a T, nothing when any of it is not (from_chars:
+ *  no locale, no hexadecimal, no leading '+' of its own). */
+template <class T>
+std::optional<T> whole(std::string_view text, std::errc& error)
+{
+	if (text.size() > 1 && text[0] == '+' && text[1] != '-') text.remove_prefix(1);
+	T v{};
+	const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
+	error = r.ec;
+	if (r.ec != std::errc() || r.ptr != text.data() + text.size()) return {};
+	return v;
+}
+
+[[noreturn]] void reject(const std::string& section, const std::string& key, const std::string& text, const std::string& why)
+{
+	throw iniValueError(section, key, text, why);
+}
+
+template <class T>
+std::string rangeOf()
+{
+	return std::to_string(std::numeric_limits<T>::min()) + ".." + std::to_string(std::numeric_limits<T>::max());
+}
+}  // namespace
+
+template <class T>
+T parseIniValue(const std::string& section, const std::string& key, const std::string& raw)
+{
+	const std::string text = trim(raw);
+	if constexpr (std::is_same_v<T, bool>)
+	{
+		if (text.empty()) reject(section, key, "\"\"", "empty value, true or false needed");
+		// The words MRPT's read_bool knows; anything else it reads as false.
+		const std::string w = lower(text);
+		if (w == "true" || w == "yes" || w == "1") return true;
+		if (w == "false" || w == "no" || w == "0") return false;
+		reject(section, key, text, "not true or false");
+	}
+	else
+	{
+		if (text.empty()) reject(section, key, "\"\"", "empty value, a number needed");
+		std::errc error{};
+		const auto real = whole<double>(text, error);
+		if (error == std::errc::result_out_of_range) reject(section, key, text, "out of range of a number");
+		if (!real || !std::isfinite(*real)) reject(section, key, text, "not a number");
+		if constexpr (std::is_floating_point_v<T>)
+			return static_cast<T>(*real);
+		else
+		{
+			if (*real != std::floor(*real)) reject(section, key, text, "not a whole number");
+			// 1e3 is a whole number too; from_chars<T> gives exact range checks.
+			auto v = whole<T>(text, error);
+			if (!v && error != std::errc::result_out_of_range && *real >= double(std::numeric_limits<T>::min()) &&
+				*real <= double(std::numeric_limits<T>::max()))
+				v = static_cast<T>(*real);
+			if (!v) reject(section, key, text, "out of range (" + rangeOf<T>() + ")");
+			return *v;
+		}
+	}
+}
+
+template bool parseIniValue<bool>(const std::string&, const std::string&, const std::string&);
+template int parseIniValue<int>(const std::string&, const std::string&, const std::string&);
+template unsigned parseIniValue<unsigned>(const std::string&, const std::string&, const std::string&);
+template std::int64_t parseIniValue<std::int64_t>(const std::string&, const std::string&, const std::string&);
+template double parseIniValue<double>(const std::string&, const std::string&, const std::string&);
+
+void checkIniValueTypes(
+	const mrpt::config::CConfigFileBase& ini, const std::string& section, const mrpt::config::CLoadableOptions& options)
+{
+	mrpt::config::CConfigFileMemory defaults;
+	options.saveToConfigFile(defaults, section);
+	std::vector<std::string> keys;
+	defaults.getAllKeys(section, keys);
+	std::errc ignored{};
+	for (const auto& key : keys)
+	{
+		const std::string def = trim(defaults.read_string(section, key, ""));
+		if (def == "true" || def == "false")
+			readIniValue<bool>(ini, section, key, false);
+		else if (whole<std::int64_t>(def, ignored))
+			readIniValue<std::int64_t>(ini, section, key, 0);
+		else if (whole<double>(def, ignored))
+			readIniValue<double>(ini, section, key, 0.0);
+	}
+}
+
 std::vector<std::string> unknownKeys(
 	const mrpt::config::CConfigFileBase& ini, const std::string& section,
 	const mrpt::config::CLoadableOptions& options)
@@ -17,10 +126,6 @@ std::vector<std::string> unknownKeys(
 	known.getAllKeys(section, knownKeys);
 	ini.getAllKeys(section, present);
 	// MRPT reads ini keys without regard to case.
-	const auto lower = [](std::string s) {
-		std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
-		return s;
-	};
 	for (auto& k : knownKeys) k = lower(k);
 	for (const auto& k : present)
 		if (std::find(knownKeys.begin(), knownKeys.end(), lower(k)) == knownKeys.end()) unknown.push_back(k);

@@ -1,25 +1,156 @@
 #include "avm/io/ProgramMain.h"
 
-#include <mrpt/3rdparty/tclap/CmdLine.h>
-
+#include <cctype>
 #include <iostream>
+#include <stdexcept>
 
 namespace avm::io
 {
-int runProgram(const char* name, const std::function<int()>& body)
+namespace
+{
+/** Thrown by CommandLine::parse after --help or --version: the program is
+ *  done, successfully. Not a std::exception, so that no error handler of a
+ *  program's body takes it for one. */
+struct ActionDone
+{
+};
+
+/** The errors nested in `e` (rethrowNamingIniSource nests the original,
+ *  with MRPT's call stack), innermost last: what --verbose adds. */
+void printNested(std::ostream& out, const std::exception& e)
 {
 	try
 	{
-		return body();
+		std::rethrow_if_nested(e);
 	}
-	catch (const TCLAP::ArgException& e)
+	catch (const std::exception& inner)
 	{
-		std::cerr << name << ": " << e.error() << " for " << e.argId() << "\n";
+		out << "caused by: " << inner.what() << "\n";
+		printNested(out, inner);
+	}
+	catch (...)
+	{
+	}
+}
+}  // namespace
+
+/** One line for a bad argument, instead of TCLAP's message and usage dump. */
+class CommandLine::Output : public TCLAP::StdOutput
+{
+   public:
+	explicit Output(std::string programName) : m_programName(std::move(programName)) {}
+
+	void failure(TCLAP::CmdLineInterface& cmd, TCLAP::ArgException& e) override
+	{
+		std::string what = e.error();
+		// TCLAP says only "One or more required arguments missing!": name them.
+		if (what.rfind("One or more required arguments missing", 0) == 0)
+		{
+			what = "missing required argument";
+			std::string sep = " ";
+			for (const TCLAP::Arg* a : cmd.getArgList())
+				if (a->isRequired() && !a->isSet())
+				{
+					what += sep + a->shortID();
+					sep = ", ";
+				}
+		}
+		else
+		{
+			while (!what.empty() && (what.back() == '!' || what.back() == '.')) what.pop_back();
+			// argId() is "Argument: -c (--config)", or " (--name)" without a short flag.
+			if (std::string id = e.argId(); id.rfind("Argument: ", 0) == 0)
+			{
+				id = id.substr(id.find_first_not_of(' ', 10));
+				if (id.front() == '(' && id.back() == ')') id = id.substr(1, id.size() - 2);
+				what = id + ": " + what;
+			}
+		}
+		throw std::invalid_argument(what + " (see " + m_programName + " --help)");
+	}
+
+	const std::string& programName() const { return m_programName; }
+
+   private:
+	std::string m_programName;
+};
+
+CommandLine::CommandLine(const std::string& programName, const std::string& description)
+	: TCLAP::CmdLine(description, ' ', versionString()),
+	  m_output(std::make_unique<Output>(programName)),
+	  m_verbose("", "verbose", "on an error, also print its details (MRPT's call stack)", *this)
+{
+	// MRPT's TCLAP setOutput() forgets the StdOutput its constructor made.
+	delete _output;
+	setOutput(m_output.get());
+}
+
+CommandLine::~CommandLine() = default;
+
+void CommandLine::rejectUnknownOptions(int argc, const char** argv)
+{
+	// TCLAP hands an unknown "--option" to an unlabeled argument as its value
+	// ("avm-eval --typo" reads a trajectory named --typo); a word that looks
+	// like an option must be one. Values of options (e.g. --max-dt -1) and
+	// everything after "--" are left alone.
+	const auto find = [&](const std::string& word) -> const TCLAP::Arg* {
+		for (const TCLAP::Arg* a : getArgList())
+			if ((word.rfind("--", 0) == 0 && word.substr(2) == a->getName()) ||
+				(!a->getFlag().empty() && word == "-" + a->getFlag()))
+				return a;
+		return nullptr;
+	};
+	for (int i = 1; i < argc; ++i)
+	{
+		const std::string word = argv[i];
+		if (word == "--") break;
+		if (word.size() < 2 || word[0] != '-' || std::isdigit(static_cast<unsigned char>(word[1])) || word[1] == '.')
+			continue;
+		if (const TCLAP::Arg* a = find(word.substr(0, word.find('='))))
+		{
+			if (a->isValueRequired() && word.find('=') == std::string::npos) ++i;
+			continue;
+		}
+		// Short switches may be combined ("-qv").
+		bool switches = word[1] != '-';
+		for (std::size_t c = 1; switches && c < word.size(); ++c)
+			switches = find(std::string("-") + word[c]) != nullptr;
+		if (!switches)
+			throw std::invalid_argument(word + ": unknown argument (see " + m_output->programName() + " --help)");
+	}
+}
+
+bool CommandLine::parse(int argc, const char** argv)
+{
+	rejectUnknownOptions(argc, argv);
+	// Output::failure throws on a bad argument, so false means --help or --version.
+	if (!TCLAP::CmdLine::parse(argc, argv)) throw ActionDone{};
+	return true;
+}
+
+int runProgram(
+	const std::string& name, const std::string& description, const std::function<int(CommandLine&)>& body)
+{
+	CommandLine cmd(name, description);
+	try
+	{
+		return body(cmd);
+	}
+	catch (const ActionDone&)
+	{
+		return 0;
 	}
 	catch (const std::exception& e)
 	{
-		std::cerr << name << ": error: " << e.what() << "\n";
+		const std::string line = errorMessage(e);
+		std::cerr << name << ": error: " << line << "\n";
+		if (cmd.verbose())
+		{
+			if (e.what() != line) std::cerr << e.what() << "\n";
+			printNested(std::cerr, e);
+		}
 	}
 	return 1;
 }
+
 }  // namespace avm::io

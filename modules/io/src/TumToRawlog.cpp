@@ -96,6 +96,41 @@ mrpt::obs::CObservation3DRangeScan::Ptr makeObservation(
 	return obs;
 }
 
+/** A timestamp to the digit (precision 16), or a duration to the millisecond. */
+std::string timeText(double t, bool duration = false)
+{
+	std::ostringstream s;
+	if (duration) s << std::fixed;
+	s.precision(duration ? 3 : 16);
+	s << t;
+	return s.str();
+}
+
+/** With trimToGroundTruth: `pairs` without the frames outside the span of
+ *  `groundTruth`, each listed in `skipped`. */
+std::vector<RgbdPair> trimmedToGroundTruth(
+	std::vector<RgbdPair> pairs, const Trajectory& groundTruth, const fs::path& gtFile, std::vector<std::string>& skipped)
+{
+	const double first = groundTruth.front().timestamp, last = groundTruth.back().timestamp;
+	std::vector<RgbdPair> kept;
+	for (std::size_t i = 0; i < pairs.size(); ++i)
+	{
+		const double t = pairs[i].depth.timestamp;
+		if (t >= first && t <= last)
+			kept.push_back(pairs[i]);
+		else
+			skipped.push_back(
+				"frame " + std::to_string(i) + " (" + pairs[i].depth.file + ", t=" + timeText(t) + "): " +
+				(t < first ? "before" : "after") + " the ground truth (--trim-to-ground-truth)");
+	}
+	if (kept.empty())
+		throw std::runtime_error(
+			gtFile.string() + ": ground truth (" + timeText(first) + " .. " + timeText(last) + ") covers none of the " +
+			std::to_string(pairs.size()) + " frames (" + timeText(pairs.front().depth.timestamp) + " .. " +
+			timeText(pairs.back().depth.timestamp) + ")");
+	return kept;
+}
+
 /** Moves `from` onto `to`, replacing a previous folder or file. */
 void replace(const fs::path& from, const fs::path& to)
 {
@@ -112,7 +147,7 @@ TumConversionSummary convertTumToRawlog(
 		throw std::invalid_argument(
 			"compression level " + std::to_string(opt.compressionLevel) + ": must be 0..9 (0 = a plain file)");
 	TumConversionSummary summary;
-	const auto pairs = readPairs(dir, opt.maxTimeDifference, summary.skipped);
+	auto pairs = readPairs(dir, opt.maxTimeDifference, summary.skipped);
 	if (pairs.empty()) throw std::runtime_error(dir.string() + ": no RGB-D pairs to convert");
 
 	std::optional<Trajectory> groundTruth;
@@ -121,6 +156,14 @@ TumConversionSummary convertTumToRawlog(
 	{
 		groundTruth = readTumTrajectory(gtFile);
 		if (groundTruth->empty()) throw std::runtime_error(gtFile.string() + ": no poses");
+	}
+	if (opt.trimToGroundTruth)
+	{
+		if (!groundTruth)
+			throw std::invalid_argument(
+				opt.useGroundTruth ? gtFile.string() + ": not found; trimming to the ground truth needs it"
+								   : std::string("trimming to the ground truth needs it, not --no-gt"));
+		pairs = trimmedToGroundTruth(std::move(pairs), *groundTruth, gtFile, summary.skipped);
 	}
 
 	const fs::path outDir = outRawlog.parent_path().empty() ? fs::path(".") : outRawlog.parent_path();
@@ -161,12 +204,16 @@ TumConversionSummary convertTumToRawlog(
 					const auto body = interpolatePose(*groundTruth, t);
 					if (!body)
 					{
-						std::ostringstream s;
-						s.precision(16);
-						s << gtFile.string() << ": ground truth (" << groundTruth->front().timestamp
-						  << " .. " << groundTruth->back().timestamp << ") does not cover frame " << i
-						  << " (" << dir / pairs[i].depth.file << ", t=" << t << ")";
-						throw std::runtime_error(s.str());
+						const double first = groundTruth->front().timestamp, last = groundTruth->back().timestamp;
+						const bool outside = t < first || t > last;
+						throw std::runtime_error(
+							gtFile.string() + ": ground truth (" + timeText(first) + " .. " + timeText(last) +
+							") does not cover frame " + std::to_string(i) + " (" + (dir / pairs[i].depth.file).string() +
+							", t=" + timeText(t) + "): " +
+							(outside ? std::string("the frame is ") + timeText(t < first ? first - t : t - last, true) +
+										   " s " + (t < first ? "before its first" : "after its last") +
+										   " pose; --trim-to-ground-truth leaves out the frames outside the ground truth"
+									 : std::string("a gap in the ground truth around it")));
 					}
 					const mrpt::poses::CPose3D camera = *body + opt.groundTruthBodyToCamera;
 					auto gt = mrpt::obs::CObservationRobotPose::Create();

@@ -1,6 +1,8 @@
-// Options structs read from a user's ini file, with the keys they do not
-// know reported: a key an options struct does not write back when saved is a
-// key it does not read (a typo, or a key of another version).
+// Options structs read from a user's ini file: values read as what they are
+// (MRPT's read_int/read_double turn "abc" or an empty value into 0 without a
+// word, which a range check then reports as a wrong number), and the keys
+// they do not know reported: a key an options struct does not write back
+// when saved is a key it does not read (a typo, or a key of another version).
 #pragma once
 
 #include <mrpt/config/CConfigFile.h>
@@ -12,8 +14,36 @@
 #include <string>
 #include <vector>
 
+#include "avm/io/ErrorMessage.h"
+
 namespace avm::io
 {
+/** `text`, the value of [section] key, as T (bool, int, unsigned, std::int64_t,
+ *  double). An empty value, a value that is not a number (for bool: not true,
+ *  false, yes, no, 1 or 0), a fraction for an integer and a number T cannot
+ *  hold each throw std::invalid_argument "[section] key = text: <which>". */
+template <class T>
+T parseIniValue(const std::string& section, const std::string& key, const std::string& text);
+
+/** [section] key of `ini` as T (see parseIniValue), or `def` when absent. */
+template <class T>
+T readIniValue(const mrpt::config::CConfigFileBase& ini, const std::string& section, const std::string& key, const T& def)
+{
+	// read_string, not keyExists: the same (case-insensitive) lookup as MRPT's readers.
+	static const std::string absent = "\x01" "absent";
+	const std::string text = ini.read_string(section, key, absent);
+	return text == absent ? def : parseIniValue<T>(section, key, text);
+}
+
+/** Checks that every key of [section] that `options` reads holds a value of
+ *  the type of the default `options` writes for it (true/false: a bool,
+ *  "12": an integer, "0.300000": a number, anything else: text), with the
+ *  messages of parseIniValue. For options structs that read with MRPT's
+ *  read_int/read_double; run before their loadFromConfigFile. */
+void checkIniValueTypes(
+	const mrpt::config::CConfigFileBase& ini, const std::string& section,
+	const mrpt::config::CLoadableOptions& options);
+
 /** Keys present in [section] of ini that `options` does not know (MRPT reads
  *  keys without regard to case, so this compares without it too). */
 std::vector<std::string> unknownKeys(
@@ -22,7 +52,7 @@ std::vector<std::string> unknownKeys(
 
 /** Options of type T from [section] of an ini file; keys T does not know go
  *  to `unknown`. Throws std::runtime_error when the file or section is missing,
- *  std::invalid_argument (prefixed with the file name) on a bad value. */
+ *  std::invalid_argument "<file>: [section] key = value: why" on a bad value. */
 template <class T>
 T loadOptionsFromFile(const std::filesystem::path& ini, const std::string& section, std::vector<std::string>& unknown)
 {
@@ -31,14 +61,10 @@ T loadOptionsFromFile(const std::filesystem::path& ini, const std::string& secti
 	if (!cfg.sectionExists(section)) throw std::runtime_error(ini.string() + ": no section [" + section + "]");
 	T options;
 	unknown = unknownKeys(cfg, section, options);
-	try
-	{
+	namingIniFile(ini.string(), [&] {
+		checkIniValueTypes(cfg, section, options);
 		options.loadFromConfigFile(cfg, section);
-	}
-	catch (const std::invalid_argument& e)
-	{
-		throw std::invalid_argument(ini.string() + ": " + e.what());
-	}
+	});
 	return options;
 }
 }  // namespace avm::io

@@ -1,12 +1,54 @@
-// The shell every avm program shares: whatever escapes the program's body
-// (a TCLAP argument error, any std::exception) becomes one line on stderr,
-// prefixed with the program's name, and exit status 1.
+// The shell every avm program shares. runProgram hands the program's body a
+// TCLAP command line to declare its arguments on and parse; --help and
+// --version end the program there with status 0, and whatever escapes the
+// body (a bad argument, any std::exception, MRPT's call-stack wrappers
+// included) becomes one line on stderr, "<program>: error: <message>", and
+// exit status 1. --verbose adds the error's details (MRPT's call stack).
 #pragma once
 
+#include <mrpt/3rdparty/tclap/CmdLine.h>
+
 #include <functional>
+#include <memory>
+#include <string>
+
+#include "avm/io/ErrorMessage.h"
 
 namespace avm::io
 {
-/** Runs `body` and returns its exit status, or 1 after reporting what it threw. */
-int runProgram(const char* name, const std::function<int()>& body);
+/** The project's version: CMake's project(VERSION), plus "(git <commit>)"
+ *  when built from a checkout ("-dirty" when tracked files had changes). */
+std::string versionString();
+
+/** A TCLAP command line with the conventions of every avm program: the
+ *  version is versionString(), --verbose is declared, and a bad argument
+ *  throws one line (naming the argument) instead of TCLAP's usage dump. */
+class CommandLine : public TCLAP::CmdLine
+{
+   public:
+	CommandLine(const std::string& programName, const std::string& description);
+	~CommandLine() override;
+
+	using TCLAP::CmdLine::parse;
+	/** TCLAP's parse. MRPT's TCLAP returns false after printing --help or
+	 *  --version and lets the program go on; this throws instead, what
+	 *  runProgram turns into exit status 0. */
+	bool parse(int argc, const char** argv) override;
+
+	bool verbose() { return m_verbose.getValue(); }
+
+   private:
+	/** Throws on a word that looks like an option but is none of ours. */
+	void rejectUnknownOptions(int argc, const char** argv);
+
+	class Output;
+	std::unique_ptr<Output> m_output;
+	TCLAP::SwitchArg m_verbose;
+};
+
+/** Runs `body` with the program's command line and returns its exit status:
+ *  0 after --help or --version, 1 after reporting what it threw. */
+int runProgram(
+	const std::string& name, const std::string& description, const std::function<int(CommandLine&)>& body);
+
 }  // namespace avm::io

@@ -25,12 +25,18 @@ struct TumConversionOptions
 	 *  identity when the ground truth is already the camera's. */
 	mrpt::poses::CPose3D groundTruthBodyToCamera;
 	bool useGroundTruth = true;      //!< read groundtruth.txt when present
+	/** Leave out the frames before the ground truth's first pose and after
+	 *  its last (listed in the summary's `skipped`), instead of failing on
+	 *  them: real sequences often start before the motion capture does. A
+	 *  frame inside the span that the ground truth does not cover (a gap)
+	 *  still fails. Needs groundtruth.txt. */
+	bool trimToGroundTruth = false;
 };
 
 struct TumConversionSummary
 {
 	std::size_t frames = 0;
-	std::vector<std::string> skipped;  //!< pairs left out, with the reason
+	std::vector<std::string> skipped;  //!< pairs left out, with the reason (trimToGroundTruth's too)
 	bool withGroundTruth = false;
 	std::filesystem::path rawlog, imagesDir, groundTruthFile;
 };

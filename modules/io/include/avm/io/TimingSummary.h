@@ -1,0 +1,32 @@
+// Durations of one piece of work, one sample at a time (a frame's stage, a
+// detector call), summarised as count, mean, median, 95th percentile, max and
+// total: the one summary every avm program and stats.json print (MRPT's
+// CTimeLogger keeps no percentiles). Percentiles by one rule: the sorted
+// sample at rank q * (n - 1), rounded to the nearest.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+namespace avm::io
+{
+struct TimingSummary
+{
+	std::size_t count = 0;
+	double meanMs = 0, medianMs = 0, p95Ms = 0, maxMs = 0, totalMs = 0;  //!< [ms], all 0 without samples
+};
+
+/** The summary of durations [ms]. */
+TimingSummary summariseTimes(std::vector<double> milliseconds);
+
+/** Durations [ms] collected one at a time. */
+class TimingSamples
+{
+   public:
+	void add(double milliseconds) { m_samples.push_back(milliseconds); }
+	TimingSummary summary() const { return summariseTimes(m_samples); }
+
+   private:
+	std::vector<double> m_samples;
+};
+}  // namespace avm::io
