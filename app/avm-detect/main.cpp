@@ -7,16 +7,19 @@
 
 #include <iostream>
 
-#include "avm/io/ProgramMain.h"
-#include "avm/detection/DetectApp.h"
+#include "DetectApp.h"
 #include "avm/detection/Detector.h"
+#include "avm/io/IniOptions.h"
+#include "avm/io/ProgramMain.h"
 
 using namespace avm::detection;
+using namespace avm::apps::detect;
 
 int main(int argc, char** argv)
 {
-	return avm::io::runProgram("avm-detect", [&] {
-		TCLAP::CmdLine cmd("Detects persons (COCO classes) on an image or every frame of a rawlog.", ' ', "avm");
+	return avm::io::runProgram(
+		"avm-detect", "Detects persons (COCO classes) on an image or every frame of a rawlog.",
+		[&](avm::io::CommandLine& cmd) {
 		TCLAP::ValueArg<std::string> argConfig("c", "config", "ini with a [detection] section (e.g. ini/detect.ini)", false, "", "INI", cmd);
 		TCLAP::ValueArg<std::string> argModel("m", "model", "ONNX model (overrides the ini; \"\" = HOG people detector)", false, "", "FILE", cmd);
 		TCLAP::ValueArg<std::string> argRoot("", "root", "folder that relative ini model paths start from (default: working folder)", false, "", "DIR", cmd);
@@ -34,7 +37,7 @@ int main(int argc, char** argv)
 		if (argConfig.isSet())
 		{
 			std::vector<std::string> unknown;
-			opt = loadDetectorOptions(argConfig.getValue(), "detection", unknown);
+			opt = avm::io::loadOptionsFromFile<TDetectorOptions>(argConfig.getValue(), "detection", unknown);
 			for (const auto& k : unknown) std::cerr << "avm-detect: warning: " << argConfig.getValue() << ": unknown key [detection] " << k << "\n";
 		}
 		if (argModel.isSet()) opt.model = argModel.getValue().empty() ? "" : std::filesystem::absolute(argModel.getValue()).string();
@@ -56,7 +59,11 @@ int main(int argc, char** argv)
 		{
 			const auto images = loadColourImages(argRawlog.getValue(), argBenchFrames.getValue());
 			std::vector<DetectorBenchmark> rows;
-			for (int threads : {1, 2}) rows.push_back(benchmarkDetector(*detector, images, threads));
+			for (int threads : {1, 2})
+			{
+				cv::setNumThreads(threads);
+				rows.push_back(benchmarkDetector(*detector, images, threads));
+			}
 			std::cout << benchmarkTable(rows);
 			return 0;
 		}

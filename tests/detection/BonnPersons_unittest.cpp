@@ -1,12 +1,14 @@
-// The default detector and the 3-D person regions on the real Bonn sequence.
+// The default detector and the persons' world sightings (the estimator the
+// map uses on detector boxes) on the real Bonn sequence.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "DetectionTestSupport.h"
 #include "avm/detection/Detector.h"
-#include "avm/detection/PersonRegion.h"
+#include "avm/detection/PersonLabels.h"
 #include "avm/io/RawlogFrameReader.h"
+#include "avm/persons/PersonSighting.h"
 
 using namespace avm;
 using namespace avm::detection;
@@ -25,6 +27,12 @@ io::RgbdFrame bonnFrame(std::size_t index)
 std::vector<Detection> personsIn(const io::RgbdFrame& f)
 {
 	return personsOnly(createDetector(test::yoloxOptions())->detect(io::colourImage(*f.observation)));
+}
+
+persons::SightingEstimate sightingOf(const Detection& p, const io::RgbdFrame& f, const mrpt::obs::CObservation3DRangeScan& obs)
+{
+	const cv::Size size(static_cast<int>(obs.rangeImage.cols()), static_cast<int>(obs.rangeImage.rows()));
+	return persons::estimateSighting(obs, *f.groundTruth + obs.sensorPose, personPixels(p, size), {});
 }
 
 /** The 8 corners of a world box in the camera optical frame. */
@@ -54,96 +62,54 @@ TEST(BonnPersons, PersonInFrame150)
 
 // "In front" is along the optical axis (camera z), "tall" along the camera's
 // -y axis: the Bonn motion-capture world need not have z up.
-TEST(BonnPersons, RegionOfAPersonInFrame150IsInFrontAndPersonSized)
+TEST(BonnPersons, SightingOfAPersonInFrame150IsInFrontAndPersonSized)
 {
 	const auto frame = bonnFrame(150);
 	ASSERT_TRUE(frame.groundTruth);
 	const auto persons = personsIn(frame);
 	ASSERT_FALSE(persons.empty());
-	auto o = test::yoloxOptions();
-	o.region_margin = 0;  // the person's own extent
-	const cv::Mat depth = io::depthInMetres(*frame.observation);
-	std::size_t regions = 0;
+	std::size_t sightings = 0;
 	for (const auto& p : persons)
 	{
-		const auto est = estimatePersonRegion(p, depth, frame.observation->cameraParams, *frame.groundTruth, o);
-		if (!est.box)
+		const auto est = sightingOf(p, frame, *frame.observation);
+		if (!est.sighting)
 		{
 			std::cout << "person at " << p.box << " skipped: " << est.skipReason << "\n";
 			continue;
 		}
-		++regions;
-		EXPECT_GE(est.depth, 0.5f);
-		EXPECT_LE(est.depth, 5.f);
+		++sightings;
+		const auto& s = *est.sighting;
+		EXPECT_GE(s.depth, 0.5f);
+		EXPECT_LE(s.depth, 5.f);
+		EXPECT_TRUE(s.box.containsPoint(s.position));
 		double minY = 1e9, maxY = -1e9, minZ = 1e9, maxZ = -1e9;
-		for (const auto& c : cornersInCamera(*est.box, *frame.groundTruth))
+		for (const auto& c : cornersInCamera(s.box, *frame.groundTruth))
 		{
 			minY = std::min(minY, c.y), maxY = std::max(maxY, c.y);
 			minZ = std::min(minZ, c.z), maxZ = std::max(maxZ, c.z);
 		}
-		std::cout << "person " << p.box << ": depth " << est.depth << " m, camera z " << minZ << ".." << maxZ
-				  << ", height " << maxY - minY << " m, " << est.points << " points\n";
-		EXPECT_GT(minZ, 0.0) << "part of the region is behind the camera";
+		std::cout << "person " << p.box << ": depth " << s.depth << " m, camera z " << minZ << ".." << maxZ
+				  << ", height " << maxY - minY << " m, " << s.points << " points\n";
+		EXPECT_GT(minZ, 0.0) << "part of the person is behind the camera";
 		EXPECT_GE(0.5 * (minZ + maxZ), 0.5);
 		EXPECT_LE(0.5 * (minZ + maxZ), 5.0);
-		EXPECT_LE(maxY - minY, 2.5);
+		EXPECT_LE(maxY - minY, 2.2);
 		EXPECT_GT(maxY - minY, 0.5);  // a person, not a speck
+		// The box is the person's depth band, not the background behind it.
+		EXPECT_LE(maxZ - minZ, 2 * persons::SightingOptions().depthBand + 1e-6);
 	}
-	EXPECT_GE(regions, 1u);
+	EXPECT_GE(sightings, 1u);
 }
 
-TEST(BonnPersons, RegionMarginGrowsTheBoxOnEverySide)
+TEST(BonnPersons, BoxWithoutDepthGivesNoSightingAndSaysWhy)
 {
 	const auto frame = bonnFrame(150);
 	const auto persons = personsIn(frame);
 	ASSERT_FALSE(persons.empty());
-	auto o = test::yoloxOptions();
-	o.region_margin = 0;
-	const auto tight = personRegion(persons[0], *frame.observation, *frame.groundTruth, o);
-	o.region_margin = 0.25;
-	const auto grown = personRegion(persons[0], *frame.observation, *frame.groundTruth, o);
-	ASSERT_TRUE(tight && grown);
-	EXPECT_NEAR(grown->min.x, tight->min.x - 0.25, 1e-9);
-	EXPECT_NEAR(grown->max.z, tight->max.z + 0.25, 1e-9);
-}
-
-TEST(BonnPersons, MaskIsThePersonsDepthBandNotTheBackground)
-{
-	const auto frame = bonnFrame(150);
-	const auto persons = personsIn(frame);
-	ASSERT_FALSE(persons.empty());
-	const auto o = test::yoloxOptions();
-	const cv::Mat depth = io::depthInMetres(*frame.observation);
-	const auto& p = persons[0];
-	const cv::Rect box = pixelBox(p.box, depth.size());
-	const cv::Mat mask = personMask(p, depth, o);
-	const auto z = robustPersonDepth(depth, box, o.person_depth_band);
-	ASSERT_TRUE(z);
-	const int inMask = cv::countNonZero(mask), inBox = cv::countNonZero(mask(box));
-	EXPECT_EQ(inMask, inBox) << "mask pixels outside the box";
-	EXPECT_GT(inBox, 0.2 * box.area());
-	EXPECT_LT(inBox, 0.95 * box.area());  // the background through the box is left out
-	for (int v = 0; v < depth.rows; ++v)
-		for (int u = 0; u < depth.cols; ++u)
-			if (mask.at<uint8_t>(v, u))
-			{
-				ASSERT_LE(std::abs(depth.at<float>(v, u) - *z), o.person_depth_band + 1e-6);
-			}
-}
-
-TEST(BonnPersons, BoxWithoutDepthIsSkippedAndMaskedWhole)
-{
-	const auto frame = bonnFrame(150);
-	const auto persons = personsIn(frame);
-	ASSERT_FALSE(persons.empty());
-	const auto o = test::yoloxOptions();
-	cv::Mat depth = io::depthInMetres(*frame.observation);
-	const cv::Rect box = pixelBox(persons[0].box, depth.size());
-	depth(box).setTo(0);
-	const auto est = estimatePersonRegion(persons[0], depth, frame.observation->cameraParams, *frame.groundTruth, o);
-	EXPECT_FALSE(est.box);
+	auto obs = *frame.observation;
+	const cv::Size size(static_cast<int>(obs.rangeImage.cols()), static_cast<int>(obs.rangeImage.rows()));
+	for (const auto i : personPixels(persons[0], size)) obs.rangeImage(i / size.width, i % size.width) = 0;
+	const auto est = sightingOf(persons[0], frame, obs);
+	EXPECT_FALSE(est.sighting);
 	EXPECT_NE(est.skipReason.find("depth"), std::string::npos) << est.skipReason;
-	const cv::Mat mask = personMask(persons[0], depth, o);
-	EXPECT_EQ(cv::countNonZero(mask), box.area());
-	EXPECT_EQ(cv::countNonZero(mask(box)), box.area());
 }

@@ -44,6 +44,32 @@ TEST(PersonLabels, KeepsOtherLabelsAndReplacesEarlierPersons)
 		<< "only the person is labelled, not the chair detection";
 }
 
+TEST(PersonLabels, EachPersonHasALabelOfItsOwnWhileBitsLast)
+{
+	auto obs = mrptTestFrame();
+	obs->pixelLabels.reset();
+	std::vector<Detection> crowd;
+	for (int i = 0; i < 9; i++) crowd.push_back(personAt(cv::Rect2f(10.f + 60 * i, 50, 40, 80)));
+	writePersonLabels(*obs, crowd);
+	const auto& names = obs->pixelLabels->pixelLabelNames;
+	ASSERT_EQ(names.size(), 8u) << "8-bit labels: the plain label and 7 persons of their own";
+	EXPECT_EQ(obs->pixelLabels->checkLabelNameExistence("person"), 0);
+	for (int k = 1; k <= 7; k++)
+	{
+		const int bit = obs->pixelLabels->checkLabelNameExistence("person/" + std::to_string(k));
+		ASSERT_GE(bit, 0) << "person/" << k;
+		// Person k's whole box, and nobody else's, carries its label.
+		const int u = 10 + 60 * (k - 1);
+		EXPECT_TRUE(obs->pixelLabels->checkLabel(50, u, static_cast<uint8_t>(bit)));
+		EXPECT_TRUE(obs->pixelLabels->checkLabel(129, u + 39, static_cast<uint8_t>(bit)));
+		EXPECT_FALSE(obs->pixelLabels->checkLabel(50, u + 60, static_cast<uint8_t>(bit)));
+	}
+	// The eighth and ninth share the plain label.
+	EXPECT_TRUE(obs->pixelLabels->checkLabel(60, 10 + 60 * 7, 0));
+	EXPECT_TRUE(obs->pixelLabels->checkLabel(60, 10 + 60 * 8, 0));
+	EXPECT_EQ(cv::countNonZero(personLabelMask(*obs)), 9 * 40 * 80);
+}
+
 TEST(PersonLabels, NoPersonsStillMarksTheFrameAsLabelled)
 {
 	auto obs = mrptTestFrame();

@@ -50,7 +50,7 @@ TEST(RawlogLabels, PersonLabelsSurviveARawlogRoundTripWithTheSameImages)
 			const auto persons = personsOnly(det->detect(io::colourImage(*g->observation)));
 			mrpt::obs::CObservation3DRangeScan fresh = *g->observation;
 			fresh.pixelLabels.reset();
-			writePersonLabels(fresh, persons, o);
+			writePersonLabels(fresh, persons);
 			EXPECT_EQ(cv::countNonZero(mask != personLabelMask(fresh)), 0) << "frame " << f->index;
 			if (f->index == 0) { EXPECT_EQ(cv::countNonZero(mask), 0); }
 			if (f->index == 150) { EXPECT_GT(cv::countNonZero(mask), 5000); }

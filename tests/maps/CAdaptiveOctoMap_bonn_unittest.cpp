@@ -144,7 +144,7 @@ TEST(CAdaptiveOctoMapBonn, RegionPolicyMatchesSingleResolutionOctoMapsInsideAndO
 	const double maxRange = 5.0;
 	CAdaptiveOctoMap map(resolutions(0.2, 0.05), {}, {});
 	map.addHighResolutionRegion(boxAheadOfFirstFrame(0.6));
-	const auto region = map.highResolutionRegions().at(0);
+	const auto region = map.highResolutionRegions().at(0).boxes.at(0);
 
 	octomap::OcTree refHigh(0.05), refLow(0.2);
 	for (const auto& f : frames())
@@ -218,13 +218,35 @@ TEST(CAdaptiveOctoMapBonn, PersonPixelLabelsCreateARegionAroundThosePoints)
 		CAdaptiveOctoMap map2;
 		ASSERT_TRUE(map2.insertObservation(*twoPeople, f.pose));
 		EXPECT_EQ(map2.highResolutionRegions().size(), 2u);
+		EXPECT_EQ(map2.personTracks().size(), 2u);
+		// The space between the two people stays low resolution.
+		const auto a = map2.highResolutionRegions()[0].boxes.at(0), b = map2.highResolutionRegions()[1].boxes.at(0);
+		EXPECT_EQ(map2.query((a.min + a.max + b.min + b.max) * 0.25).tree, Resolution::Low);
+	}
+	// A label of its own per person ("person/<k>", as avm-detect writes): one
+	// person even where its pixels form several blobs.
+	{
+		auto split = mrpt::obs::CObservation3DRangeScan::Create(*labelled);
+		auto own = std::make_shared<mrpt::obs::TPixelLabelInfo<1>>();
+		own->setSize(rows, cols);
+		own->setLabelName(0, "person");
+		own->setLabelName(2, "person/1");
+		for (int r = rows / 2 - 60; r < rows / 2 + 60; r++)
+			for (int c = cols / 2 - 30; c < cols / 2 + 30; c++)
+				if (c != cols / 2) own->setLabel(r, c, 2);  // a gap splits it in two blobs
+		split->pixelLabels = own;
+		CAdaptiveOctoMap map3;
+		ASSERT_TRUE(map3.insertObservation(*split, f.pose));
+		EXPECT_EQ(map3.personTracks().size(), 1u);
 	}
 
 	CAdaptiveOctoMap map;
 	ASSERT_TRUE(map.insertObservation(*labelled, f.pose));
 	ASSERT_EQ(map.highResolutionRegions().size(), 1u);
 	EXPECT_EQ(map.switchInsertionIndex(), std::optional<std::size_t>(0));
-	const auto region = map.highResolutionRegions()[0];
+	ASSERT_EQ(map.personTracks().size(), 1u);
+	EXPECT_EQ(map.highResolutionRegions()[0].personId, map.personTracks()[0].id);
+	const auto region = map.highResolutionRegions()[0].boxes.at(0);
 	const double d = labelled->rangeImage(rows / 2, cols / 2) * labelled->rangeUnits;
 	const auto centre = (f.pose + labelled->sensorPose).composePoint(mrpt::math::TPoint3D(d, 0, 0));
 	EXPECT_TRUE(region.containsPoint(centre)) << region.asString() << " vs " << centre.asString();
@@ -241,21 +263,162 @@ TEST(CAdaptiveOctoMapBonn, PersonPixelLabelsCreateARegionAroundThosePoints)
 	EXPECT_FALSE(other.isHighResolutionActive());
 }
 
-TEST(CAdaptiveOctoMapBonn, RegionsExpireAndGiveTheirSpaceBackToTheLowTree)
+namespace
 {
-	CAdaptiveOctoMap::TInsertionOptions ins;
-	ins.regionExpiryFrames = 3;
+/** A 60 x 120 pixel "person" at the image centre. */
+std::vector<avm::persons::PixelSet> personAtCentre(const MapFrame& f)
+{
+	const int rows = f.obs->rangeImage.rows(), cols = f.obs->rangeImage.cols();
+	return {avm::persons::pixelsOfBox(cols / 2 - 30, rows / 2 - 60, cols / 2 + 30, rows / 2 + 60, cols, rows)};
+}
+
+}  // namespace
+
+/** A map whose person regions have seen the first 6 frames, the person
+ *  sighted in each. */
+CAdaptiveOctoMap mapWithPersonRegions(const CAdaptiveOctoMap::TInsertionOptions& ins)
+{
 	CAdaptiveOctoMap map(resolutions(0.2, 0.05), ins, {});
-	map.addHighResolutionRegion(boxAheadOfFirstFrame(0.5));
-	const std::vector<MapFrame> some(frames().begin(), frames().begin() + 8);
-	for (std::size_t i = 0; i < some.size(); i++)
+	for (std::size_t i = 0; i < 6; i++)
 	{
-		ASSERT_TRUE(map.insertObservation(*some[i].obs, some[i].pose));
-		if (i == 2) { EXPECT_TRUE(map.isHighResolutionActive()); }
+		const auto& f = frames().at(i);
+		const auto observed = map.observePersons(*f.obs, f.pose, personAtCentre(f), f.index);
+		EXPECT_TRUE(observed.at(0).sighting) << observed.at(0).skipReason;
+		EXPECT_TRUE(map.insertObservation(*f.obs, f.pose));
 	}
+	return map;
+}
+
+// A region that ends is folded into the low tree (each low voxel takes the
+// largest log-odds of its known high voxels, as octomap merges children), so
+// no occupied surface seen at high resolution vanishes, and the high tree
+// gives the space up.
+TEST(CAdaptiveOctoMapBonn, AnEndingRegionIsCoarsenedNeverDropped)
+{
+	auto map = mapWithPersonRegions({});
+	ASSERT_FALSE(map.highResolutionRegions().empty());
+	std::vector<std::pair<mrpt::math::TPoint3D, double>> fine;
+	map.forEachLeaf(Resolution::High, [&](const avm::TLeafVoxel& v) { fine.push_back({v.center, v.probability}); });
+	std::size_t occupiedFine = 0;
+	for (const auto& [c, p] : fine) occupiedFine += p >= 0.5;
+	ASSERT_GT(occupiedFine, 50u);
+
+	const auto regions = map.highResolutionRegions();
+	for (const auto& r : regions) EXPECT_TRUE(map.endPersonRegion(r.personId));
+	EXPECT_FALSE(map.endPersonRegion(regions.front().personId)) << "ended already";
 	EXPECT_FALSE(map.isHighResolutionActive());
 	EXPECT_EQ(map.highResolutionStats().occupiedLeaves + map.highResolutionStats().freeLeaves, 0u);
-	EXPECT_GT(map.lowResolutionStats().occupiedLeaves, 0u);
+	std::size_t lost = 0, notHigher = 0;
+	for (const auto& [c, p] : fine)
+	{
+		const auto q = map.query(c);
+		EXPECT_EQ(q.tree, Resolution::Low);
+		if (p >= 0.5 && q.state != avm::OccupancyState::Occupied) ++lost;
+		// The low voxel holds the largest of its high voxels' values.
+		if (q.probability + 1e-6 < p) ++notHigher;
+	}
+	EXPECT_EQ(lost, 0u) << "of " << occupiedFine << " occupied high voxels";
+	EXPECT_EQ(notHigher, 0u);
+	EXPECT_FALSE(map.personTracks().empty()) << "the person's track outlives the region";
+
+	// The coarse voxels remember where their surface was: a region over the
+	// same space gets the occupied high voxels back, not solid coarse blocks.
+	for (const auto& r : regions) map.addHighResolutionRegion(r.boxes.at(0));
+	std::size_t back = 0, occupiedNow = 0;
+	map.forEachLeaf(Resolution::High, [&](const avm::TLeafVoxel& v) { occupiedNow += v.occupied; });
+	for (const auto& [c, p] : fine)
+		if (p >= 0.5 && map.query(c).state == avm::OccupancyState::Occupied) ++back;
+	EXPECT_EQ(back, occupiedFine);
+	EXPECT_LE(occupiedNow, occupiedFine + occupiedFine / 10) << "only where the surface was";
+}
+
+// Follow lifetime: a region whose space the camera looks at for
+// region_end_after_s with no sighting of its person ends; a region out of
+// view (the camera turned away) stays.
+TEST(CAdaptiveOctoMapBonn, AFollowRegionEndsOnlyWhileInViewAndUnseen)
+{
+	CAdaptiveOctoMap::TInsertionOptions ins;
+	ins.regionEndAfterSeconds = 0.3;  // frames() are 5 source frames (0.17 s) apart
+	{
+		auto map = mapWithPersonRegions(ins);
+		ASSERT_FALSE(map.highResolutionRegions().empty());
+		// Turned away: the same frames, the camera looking backwards.
+		for (std::size_t i = 6; i < 12; i++)
+		{
+			const auto& f = frames().at(i);
+			ASSERT_TRUE(map.insertObservation(*f.obs, f.pose + mrpt::poses::CPose3D(0, 0, 0, 0, M_PI, 0)));
+		}
+		EXPECT_FALSE(map.highResolutionRegions().empty()) << "a person out of view keeps the region";
+	}
+	auto map = mapWithPersonRegions(ins);
+	const auto& f6 = frames().at(6);
+	ASSERT_TRUE(map.insertObservation(*f6.obs, f6.pose));
+	EXPECT_FALSE(map.highResolutionRegions().empty()) << "0.17 s unseen is not enough";
+	const auto& f7 = frames().at(7);
+	ASSERT_TRUE(map.insertObservation(*f7.obs, f7.pose));
+	EXPECT_TRUE(map.highResolutionRegions().empty()) << "0.33 s in view and unseen";
+	// Persist: the same run keeps every region.
+	ins.regionLifetime = avm::RegionLifetime::Persist;
+	auto kept = mapWithPersonRegions(ins);
+	const auto before = kept.highResolutionRegions().size();
+	for (std::size_t i = 6; i < 10; i++) ASSERT_TRUE(kept.insertObservation(*frames().at(i).obs, frames().at(i).pose));
+	EXPECT_EQ(kept.highResolutionRegions().size(), before);
+}
+
+// Space that enters a region takes what the low tree knew there: a free low
+// voxel gives free high voxels, an occupied one occupied high voxels where its
+// sketch saw the surface (and none elsewhere), an unknown one nothing; the
+// low tree no longer holds that space.
+TEST(CAdaptiveOctoMapBonn, SpaceEnteringARegionKeepsWhatTheLowTreeKnew)
+{
+	CAdaptiveOctoMap map(resolutions(0.2, 0.05), {}, {});
+	insertAll(map, std::vector<MapFrame>(frames().begin(), frames().begin() + 3));
+	const auto box = boxAheadOfFirstFrame(0.4);
+	// The low voxels around the box and what the map said of each.
+	std::vector<std::pair<mrpt::math::TPoint3D, avm::OccupancyState>> before;
+	for (double x = box.min.x - 0.2; x < box.max.x + 0.2; x += 0.2)
+		for (double y = box.min.y - 0.2; y < box.max.y + 0.2; y += 0.2)
+			for (double z = box.min.z - 0.2; z < box.max.z + 0.2; z += 0.2)
+			{
+				const mrpt::math::TPoint3D c((std::floor(x / 0.2) + 0.5) * 0.2, (std::floor(y / 0.2) + 0.5) * 0.2,
+					(std::floor(z / 0.2) + 0.5) * 0.2);
+				before.push_back({c, map.query(c).state});
+			}
+
+	map.addHighResolutionRegion(box);
+	std::size_t inRegion = 0, occupiedLow = 0, wrong = 0;
+	for (const auto& [c, state] : before)
+	{
+		if (map.query(c).tree != Resolution::High) continue;
+		++inRegion;
+		std::size_t occupied = 0, free = 0;
+		for (double dx = -0.075; dx < 0.1; dx += 0.05)
+			for (double dy = -0.075; dy < 0.1; dy += 0.05)
+				for (double dz = -0.075; dz < 0.1; dz += 0.05)
+				{
+					const auto q = map.query(c + mrpt::math::TPoint3D(dx, dy, dz)).state;
+					occupied += q == avm::OccupancyState::Occupied;
+					free += q == avm::OccupancyState::Free;
+				}
+		if (state == avm::OccupancyState::Occupied) ++occupiedLow;
+		const bool kept = state == avm::OccupancyState::Free       ? free == 64
+						  : state == avm::OccupancyState::Occupied ? occupied >= 1 && free == 0
+																   : occupied + free == 0;
+		if (!kept) ++wrong;
+	}
+	EXPECT_GT(inRegion, 30u);
+	EXPECT_GT(occupiedLow, 0u);
+	EXPECT_EQ(wrong, 0u);
+	// No space held twice: the low tree has nothing inside the region.
+	const auto region = map.highResolutionRegions().at(0).boxes.at(0);
+	const auto* low = map.tree(Resolution::Low);
+	for (auto it = low->begin_leafs(); it != low->end_leafs(); ++it)
+	{
+		const auto c = it.getCoordinate();
+		const double h = 0.5 * it.getSize();
+		ASSERT_FALSE(overlaps({{c.x() - h, c.y() - h, c.z() - h}, {c.x() + h, c.y() + h, c.z() + h}}, region));
+	}
+	EXPECT_GT(map.highResolutionStats().occupiedLeaves, 0u);
 }
 
 TEST(CAdaptiveOctoMapBonn, SerializationCopyAndCloneAreExact)

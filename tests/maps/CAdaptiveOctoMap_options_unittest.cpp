@@ -132,7 +132,7 @@ TEST(CAdaptiveOctoMapOptions, SaveThenLoadGivesTheSameOptionsAndKeySet)
 	saved.getAllKeys("c", keys);
 	EXPECT_EQ(keys.size(), 14u);
 	saved.getAllKeys("i", keys);
-	EXPECT_EQ(keys.size(), 11u);
+	EXPECT_EQ(keys.size(), 16u);
 }
 
 TEST(CAdaptiveOctoMapOptions, RejectsBadValuesNamingTheKey)
@@ -157,7 +157,14 @@ TEST(CAdaptiveOctoMapOptions, RejectsBadValuesNamingTheKey)
 	expectKeyInError(iniWith("", "switch_policy=fast"), "switch_policy");
 	expectKeyInError(iniWith("", "region_margin=-1"), "region_margin");
 	expectKeyInError(iniWith("", "insertion_threads=0"), "insertion_threads");
-	expectKeyInError(iniWith("", "region_expiry_frames=-3"), "region_expiry_frames");
+	expectKeyInError(iniWith("", "region_lifetime=forever"), "region_lifetime");
+	expectKeyInError(iniWith("", "region_end_after_s=0"), "region_end_after_s");
+	expectKeyInError(iniWith("", "person_depth_band=-0.5"), "person_depth_band");
+	expectKeyInError(iniWith("", "person_percentile=0.5"), "person_percentile");
+	expectKeyInError(iniWith("", "min_person_pixels=0"), "min_person_pixels");
+	expectKeyInError(iniWith("", "min_person_depth_fraction=1.5"), "min_person_depth_fraction");
+	expectKeyInError(iniWith("", "track_gate=0"), "track_gate");
+	expectKeyInError(iniWith("", "track_gate=1\ntrack_max_gate=0.5"), "track_max_gate");
 	expectKeyInError(iniWith("", "switch_policy=paper\nswitch_at_fraction=1.5"), "switch_at_fraction");
 	expectKeyInError(iniWith("", "switch_policy=region\nswitch_at_frame=10"), "switch_at_frame");
 	expectKeyInError(iniWith("", "switch_policy=paper\nswitch_at_frame=2.5"), "switch_at_frame");
@@ -205,21 +212,22 @@ TEST(CAdaptiveOctoMapOptions, RegionPolicyRefusesAGlobalSwitchAndBadBoxes)
 	EXPECT_FALSE(map.isHighResolutionActive());
 }
 
-TEST(CAdaptiveOctoMapOptions, OverlappingRegionsMergeAndAlignToTheLowGrid)
+TEST(CAdaptiveOctoMapOptions, RegionsNeverMergeAndAlignToTheLowGrid)
 {
 	CAdaptiveOctoMap map;  // low 0.20 m
 	map.addHighResolutionRegion(mrpt::math::TBoundingBox({0.05, 0.05, 0.05}, {1.0, 1.0, 1.0}));
 	map.addHighResolutionRegion(mrpt::math::TBoundingBox({3.0, 3.0, 3.0}, {3.5, 3.5, 3.5}));
 	ASSERT_EQ(map.highResolutionRegions().size(), 2u);
-	const auto r0 = map.highResolutionRegions()[0];
+	const auto r0 = map.highResolutionRegions()[0].boxes.at(0);
 	EXPECT_NEAR(r0.min.x, 0.0, 1e-9);
 	EXPECT_NEAR(r0.max.x, 1.0, 1e-9);
-	// A third box overlapping both merges all three into one.
-	map.addHighResolutionRegion(mrpt::math::TBoundingBox({0.9, 0.9, 0.9}, {3.1, 3.1, 3.1}));
-	ASSERT_EQ(map.highResolutionRegions().size(), 1u);
-	const auto r = map.highResolutionRegions()[0];
-	EXPECT_NEAR(r.min.y, 0.0, 1e-9);
-	EXPECT_NEAR(r.max.z, 3.6, 1e-9);
+	// A third box overlapping both stays a region of its own: the space
+	// between the first two is not pulled in.
+	map.addHighResolutionRegion(mrpt::math::TBoundingBox({0.9, 0.9, 0.9}, {1.1, 1.1, 1.1}));
+	ASSERT_EQ(map.highResolutionRegions().size(), 3u);
+	EXPECT_EQ(map.query({2.0, 2.0, 2.0}).tree, avm::Resolution::Low);
+	EXPECT_EQ(map.query({1.05, 1.05, 1.05}).tree, avm::Resolution::High);
+	EXPECT_EQ(map.query({3.55, 3.55, 3.55}).tree, avm::Resolution::High) << "grown to the low grid";
 	EXPECT_TRUE(map.isHighResolutionActive());
 	EXPECT_EQ(map.switchInsertionIndex(), std::optional<std::size_t>(0));
 }

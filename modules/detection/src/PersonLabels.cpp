@@ -2,9 +2,9 @@
 
 #include <mrpt/obs/TPixelLabelInfo.h>
 
+#include <cmath>
 #include <stdexcept>
 
-#include "avm/detection/PersonRegion.h"
 #include "avm/io/RgbdFrame.h"
 
 namespace avm::detection
@@ -13,19 +13,10 @@ namespace
 {
 using mrpt::obs::TPixelLabelInfoBase;
 
-/** The bit index of "person", adding the label if needed. */
-uint8_t personLabelIndex(TPixelLabelInfoBase& labels)
+bool isPersonLabel(const std::string& name)
 {
-	if (const int existing = labels.checkLabelNameExistence(kPersonLabel); existing >= 0)
-		return static_cast<uint8_t>(existing);
-	const unsigned bits = 8u * labels.BITFIELD_BYTES;
-	for (unsigned i = 0; i < bits; ++i)
-		if (!labels.pixelLabelNames.count(i))
-		{
-			labels.setLabelName(i, kPersonLabel);
-			return static_cast<uint8_t>(i);
-		}
-	throw std::runtime_error("pixelLabels: all " + std::to_string(bits) + " label bits are in use, no room for \"person\"");
+	const std::string plain = kPersonLabel;
+	return name == plain || name.rfind(plain + "/", 0) == 0;
 }
 
 template <unsigned BYTES>
@@ -45,48 +36,85 @@ cv::Size labelMatrixSize(const TPixelLabelInfoBase& labels)
 		return size;
 	throw std::runtime_error("pixelLabels: unknown label type of " + std::to_string(labels.BITFIELD_BYTES) + " bytes");
 }
+
+/** Removes every person label (names and bits); returns the free bits. */
+std::vector<uint8_t> clearPersonLabels(TPixelLabelInfoBase& labels, cv::Size size)
+{
+	std::vector<uint8_t> free;
+	const unsigned bits = 8u * labels.BITFIELD_BYTES;
+	for (unsigned i = 0; i < bits; ++i)
+	{
+		const auto it = labels.pixelLabelNames.find(i);
+		if (it != labels.pixelLabelNames.end() && !isPersonLabel(it->second)) continue;
+		if (it != labels.pixelLabelNames.end())
+		{
+			for (int r = 0; r < size.height; ++r)
+				for (int c = 0; c < size.width; ++c) labels.unsetLabel(r, c, static_cast<uint8_t>(i));
+			labels.pixelLabelNames.erase(it);
+		}
+		free.push_back(static_cast<uint8_t>(i));
+	}
+	return free;
+}
 }  // namespace
 
-void writePersonLabels(
-	mrpt::obs::CObservation3DRangeScan& obs, const std::vector<Detection>& persons, const TDetectorOptions& options)
+persons::PixelSet personPixels(const Detection& person, cv::Size image)
 {
-	const cv::Mat depth = io::depthInMetres(obs);
+	const auto& b = person.box;
+	return persons::pixelsOfBox(static_cast<int>(std::floor(b.x)), static_cast<int>(std::floor(b.y)),
+		static_cast<int>(std::ceil(b.x + b.width)), static_cast<int>(std::ceil(b.y + b.height)), image.width,
+		image.height);
+}
+
+void writePersonLabels(mrpt::obs::CObservation3DRangeScan& obs, const std::vector<Detection>& detections)
+{
+	if (!obs.hasRangeImage) throw std::runtime_error("pixelLabels: the observation has no depth image");
+	const cv::Size depthSize(static_cast<int>(obs.rangeImage.cols()), static_cast<int>(obs.rangeImage.rows()));
 	if (!obs.pixelLabels)
 	{
 		obs.pixelLabels = std::make_shared<mrpt::obs::TPixelLabelInfo<1>>();
-		obs.pixelLabels->setSize(depth.rows, depth.cols);
+		obs.pixelLabels->setSize(depthSize.height, depthSize.width);
 	}
 	auto& labels = *obs.pixelLabels;
-	if (const cv::Size size = labelMatrixSize(labels); size != depth.size())
+	if (const cv::Size size = labelMatrixSize(labels); size != depthSize)
 		throw std::runtime_error(
 			"pixelLabels are " + std::to_string(size.width) + "x" + std::to_string(size.height) + ", the depth image " +
-			std::to_string(depth.cols) + "x" + std::to_string(depth.rows));
-	const uint8_t bit = personLabelIndex(labels);
-	for (int r = 0; r < depth.rows; ++r)
-		for (int c = 0; c < depth.cols; ++c) labels.unsetLabel(r, c, bit);
-	for (const auto& person : personsOnly(persons))
+			std::to_string(depthSize.width) + "x" + std::to_string(depthSize.height));
+	const auto free = clearPersonLabels(labels, depthSize);
+	if (free.empty())
+		throw std::runtime_error("pixelLabels: all " + std::to_string(8u * labels.BITFIELD_BYTES) +
+								 " label bits are in use, no room for \"person\"");
+	// The plain label first; each person then takes a bit of its own while
+	// there are bits, and the plain label holds the rest.
+	labels.setLabelName(free.front(), kPersonLabel);
+	std::size_t next = 1;
+	for (const auto& person : personsOnly(detections))
 	{
-		const cv::Mat mask = personMask(person, depth, options);
-		for (int r = 0; r < mask.rows; ++r)
+		uint8_t bit = free.front();
+		if (next < free.size())
 		{
-			const uint8_t* row = mask.ptr<uint8_t>(r);
-			for (int c = 0; c < mask.cols; ++c)
-				if (row[c]) labels.setLabel(r, c, bit);
+			bit = free[next];
+			labels.setLabelName(bit, std::string(kPersonLabel) + "/" + std::to_string(next));
+			++next;
 		}
+		for (const auto i : personPixels(person, depthSize))
+			labels.setLabel(static_cast<int>(i / depthSize.width), static_cast<int>(i % depthSize.width), bit);
 	}
 }
 
 cv::Mat personLabelMask(const mrpt::obs::CObservation3DRangeScan& obs)
 {
 	if (!obs.pixelLabels) return {};
-	const int bit = obs.pixelLabels->checkLabelNameExistence(kPersonLabel);
-	if (bit < 0) return {};
+	std::vector<uint8_t> bits;
+	for (const auto& [index, name] : obs.pixelLabels->pixelLabelNames)
+		if (isPersonLabel(name)) bits.push_back(static_cast<uint8_t>(index));
+	if (bits.empty()) return {};
 	const cv::Size size = labelMatrixSize(*obs.pixelLabels);
-	const int rows = size.height, cols = size.width;
 	cv::Mat mask(size, CV_8U, cv::Scalar(0));
-	for (int r = 0; r < rows; ++r)
-		for (int c = 0; c < cols; ++c)
-			if (obs.pixelLabels->checkLabel(r, c, static_cast<uint8_t>(bit))) mask.at<uint8_t>(r, c) = 255;
+	for (int r = 0; r < size.height; ++r)
+		for (int c = 0; c < size.width; ++c)
+			for (const auto bit : bits)
+				if (obs.pixelLabels->checkLabel(r, c, bit)) mask.at<uint8_t>(r, c) = 255;
 	return mask;
 }
 }  // namespace avm::detection

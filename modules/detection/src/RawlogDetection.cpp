@@ -7,17 +7,13 @@
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/serialization/CArchive.h>
 
-#include <opencv2/core/utility.hpp>
-
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
 #include <stdexcept>
 
 #include "avm/detection/PersonLabels.h"
-#include "avm/detection/PersonRegion.h"
 #include "avm/io/AtomicFile.h"
 #include "avm/io/RawlogFrameReader.h"
 #include "avm/io/RgbdFrame.h"
@@ -107,18 +103,19 @@ class LabellingPass
 			if (bgr.cols != obs.rangeImage.cols() || bgr.rows != obs.rangeImage.rows())
 				throw std::runtime_error("colour and depth images differ in size (not registered)");
 			const auto detections = m_detector.detect(bgr);
-			writePersonLabels(obs, detections, m_options);
-			const cv::Mat depth = io::depthInMetres(obs);
+			writePersonLabels(obs, detections);
+			const cv::Size size(bgr.cols, bgr.rows);
 			const auto persons = personsOnly(detections);
 			++m_summary.detectedFrames;
 			m_summary.persons += persons.size();
 			if (!persons.empty()) ++m_summary.framesWithPerson;
 			for (const auto& d : detections)
 			{
-				const auto z = robustPersonDepth(depth, pixelBox(d.box, depth.size()), m_options.person_depth_band);
+				// The depth the map's sighting estimator (default options) finds.
+				const auto z = persons::estimateSighting(obs, {}, personPixels(d, size), {}).sighting;
 				char line[64];
 				std::snprintf(line, sizeof(line), "%zu %.6f ", index, mrpt::Clock::toDouble(obs.timestamp));
-				m_lines << line << formatDetection(d) << " " << (z ? std::to_string(*z) : std::string("nan")) << "\n";
+				m_lines << line << formatDetection(d) << " " << (z ? std::to_string(z->depth) : std::string("nan")) << "\n";
 			}
 		}
 		catch (const std::exception& e)
@@ -209,54 +206,4 @@ LabelRawlogSummary labelRawlog(
 	return summary;
 }
 
-std::vector<cv::Mat> loadColourImages(const fs::path& rawlog, std::size_t maxFrames)
-{
-	io::RawlogFrameReader reader(rawlog);
-	std::vector<cv::Mat> images;
-	while (auto f = reader.next())
-	{
-		images.push_back(io::colourImage(*f->observation).clone());
-		f->observation->unload();
-		if (maxFrames && images.size() >= maxFrames) break;
-	}
-	if (images.empty()) throw std::runtime_error(rawlog.string() + ": no RGB-D frame with a colour image");
-	return images;
-}
-
-DetectorBenchmark benchmarkDetector(DetectorBase& detector, const std::vector<cv::Mat>& images, int threads)
-{
-	if (images.empty()) throw std::invalid_argument("benchmark needs at least one image");
-	const int previous = cv::getNumThreads();
-	cv::setNumThreads(threads);
-	DetectorBenchmark b;
-	b.threads = threads;
-	std::vector<double> ms;
-	try
-	{
-		detector.detect(images.front());  // first call allocates the network's buffers
-		for (const auto& img : images)
-		{
-			const auto t0 = std::chrono::steady_clock::now();
-			const auto persons = personsOnly(detector.detect(img));
-			ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-			b.persons += persons.size();
-			if (!persons.empty()) ++b.framesWithPerson;
-		}
-	}
-	catch (...)
-	{
-		cv::setNumThreads(previous);
-		throw;
-	}
-	cv::setNumThreads(previous);
-	b.frames = images.size();
-	std::sort(ms.begin(), ms.end());
-	double sum = 0;
-	for (double v : ms) sum += v;
-	b.meanMs = sum / ms.size();
-	b.medianMs = ms[ms.size() / 2];
-	b.p95Ms = ms[std::min(ms.size() - 1, static_cast<std::size_t>(std::ceil(0.95 * ms.size())) - 1)];
-	b.maxMs = ms.back();
-	return b;
-}
 }  // namespace avm::detection

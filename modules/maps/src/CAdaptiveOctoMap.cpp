@@ -9,12 +9,18 @@
 #include <mrpt/rtti/CObject.h>
 #include <octomap/OcTree.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 #include "RayIntegrator.h"
+#include "RegionSpace.h"
 #include "ResolutionPolicy.h"
+#include "SurfaceSketch.h"
+#include "OcTreeKeys.h"
 #include "TreeOps.h"
+#include "avm/io/DepthCamera.h"
+#include "avm/io/RgbdFrame.h"
 
 using namespace avm;
 
@@ -90,6 +96,9 @@ CAdaptiveOctoMap::CAdaptiveOctoMap(const CAdaptiveOctoMap& o)
 	  m_low(std::make_unique<octomap::OcTree>(*o.m_low)),
 	  m_high(o.m_high ? std::make_unique<octomap::OcTree>(*o.m_high) : nullptr),
 	  m_policy(std::make_unique<detail::ResolutionPolicy>(*o.m_policy)),
+	  m_sketch(std::make_unique<detail::SurfaceSketch>(*o.m_sketch)),
+	  m_tracker(o.m_tracker),
+	  m_lastScanTime(o.m_lastScanTime),
 	  m_integrator(std::make_unique<detail::RayIntegrator>()),
 	  m_insertions(o.m_insertions)
 {
@@ -107,6 +116,9 @@ CAdaptiveOctoMap& CAdaptiveOctoMap::operator=(const CAdaptiveOctoMap& o)
 	m_low = std::move(copy.m_low);
 	m_high = std::move(copy.m_high);
 	m_policy = std::move(copy.m_policy);
+	m_sketch = std::move(copy.m_sketch);
+	m_tracker = copy.m_tracker;
+	m_lastScanTime = copy.m_lastScanTime;
 	m_insertions = copy.m_insertions;
 	m_pointsCacheValid = false;
 	return *this;
@@ -117,6 +129,10 @@ void CAdaptiveOctoMap::internal_clear()
 	m_low = detail::makeTree(m_creation.low);
 	m_high.reset();
 	m_policy = std::make_unique<detail::ResolutionPolicy>(insertionOptions.switchPolicy, m_creation.low.resolution);
+	m_sketch = std::make_unique<detail::SurfaceSketch>(
+		static_cast<unsigned>(std::lround(m_creation.low.resolution / m_creation.high.resolution)));
+	m_tracker = persons::PersonTracker(insertionOptions.tracking);
+	m_lastScanTime.reset();
 	if (!m_integrator) m_integrator = std::make_unique<detail::RayIntegrator>();
 	m_insertions = 0;
 	m_pointsCacheValid = false;
@@ -131,16 +147,83 @@ octomap::OcTree& CAdaptiveOctoMap::ensureHighTree()
 void CAdaptiveOctoMap::applyRegionChanges()
 {
 	if (m_policy->highActive()) ensureHighTree();
-	for (const auto& box : m_policy->takeGrownRegions()) detail::deleteSpace(*m_low, box);
-	for (const auto& box : m_policy->takeExpiredRegions())
-		if (m_high) detail::deleteSpace(*m_high, box);
+	const auto change = m_policy->takeSpaceChange();
+	for (const auto key : change.entered) detail::refineIntoHighTree(*m_low, ensureHighTree(), key, m_sketch.get());
+	if (m_high)
+		for (const auto key : change.left) detail::coarsenIntoLowTree(*m_high, *m_low, key, *m_sketch);
 	m_pointsCacheValid = false;
 }
 
 void CAdaptiveOctoMap::addHighResolutionRegion(const mrpt::math::TBoundingBox& worldBox)
 {
-	m_policy->addRegion(worldBox, m_insertions);
+	m_policy->addFixedRegion(worldBox, m_insertions);
 	applyRegionChanges();
+}
+
+std::vector<TPersonObservation> CAdaptiveOctoMap::observePersons(
+	const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& robotPose,
+	const std::vector<persons::PixelSet>& persons, std::size_t frameIndex)
+{
+	std::vector<TPersonObservation> out(persons.size());
+	if (persons.empty()) return out;
+	if (!io::isFinite(robotPose))
+		throw std::invalid_argument("CAdaptiveOctoMap::observePersons: non-finite robot pose " + robotPose.asString());
+	if (obs.hasRangeImage && obs.rangeImage_isExternallyStored()) obs.load();
+	const auto sensorPose = robotPose + obs.sensorPose;
+	std::vector<persons::PersonSighting> sightings;
+	std::vector<std::size_t> ofSighting;
+	for (std::size_t i = 0; i < persons.size(); i++)
+	{
+		auto est = persons::estimateSighting(obs, sensorPose, persons[i], insertionOptions.sighting);
+		out[i].skipReason = est.skipReason;
+		if (!est.sighting) continue;
+		out[i].sighting = est.sighting;
+		sightings.push_back(*est.sighting);
+		ofSighting.push_back(i);
+	}
+	const double time = mrpt::Clock::toDouble(obs.timestamp);
+	const auto ids = m_tracker.update(sightings, frameIndex, time);
+	const double m = insertionOptions.regionMargin;
+	for (std::size_t s = 0; s < sightings.size(); s++)
+	{
+		auto& o = out[ofSighting[s]];
+		o.personId = ids[s];
+		mrpt::math::TBoundingBox box = sightings[s].box;
+		box.min -= mrpt::math::TPoint3D(m, m, m);
+		box.max += mrpt::math::TPoint3D(m, m, m);
+		o.regionBox = box;
+		m_policy->personSeen(ids[s], box, time, insertionOptions.regionLifetime, m_insertions);
+	}
+	applyRegionChanges();
+	return out;
+}
+
+bool CAdaptiveOctoMap::endPersonRegion(std::uint32_t personId)
+{
+	if (!m_policy->endRegion(personId)) return false;
+	applyRegionChanges();
+	return true;
+}
+
+const std::vector<persons::PersonTrack>& CAdaptiveOctoMap::personTracks() const { return m_tracker.tracks(); }
+
+void CAdaptiveOctoMap::ageRegions(const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& sensorPose)
+{
+	const double now = mrpt::Clock::toDouble(obs.timestamp);
+	// A gap in the stream (a paused recording) is not time spent looking.
+	constexpr double kMaxStep = 1.0;  // [s]
+	const double from = m_lastScanTime ? std::max(*m_lastScanTime, now - kMaxStep) : now;
+	m_lastScanTime = now;
+	if (insertionOptions.regionLifetime != RegionLifetime::Follow || now <= from) return;
+	const auto camera = io::DepthCamera::of(obs);
+	const double range = m_creation.low.maxRange;
+	// In view: the centre of the person's latest box is in the image and
+	// within the sensor's range (occlusion is not considered).
+	const auto inView = [&](const mrpt::math::TBoundingBox& box) {
+		const auto p = sensorPose.inverseComposePoint((box.min + box.max) * 0.5);
+		return p.x <= range && camera.project(p).has_value();
+	};
+	if (!m_policy->age(from, now, insertionOptions.regionEndAfterSeconds, inView).empty()) applyRegionChanges();
 }
 
 void CAdaptiveOctoMap::switchToHighResolution()
@@ -151,11 +234,9 @@ void CAdaptiveOctoMap::switchToHighResolution()
 
 bool CAdaptiveOctoMap::isHighResolutionActive() const { return m_policy->highActive(); }
 
-std::vector<mrpt::math::TBoundingBox> CAdaptiveOctoMap::highResolutionRegions() const
+const std::vector<THighResolutionRegion>& CAdaptiveOctoMap::highResolutionRegions() const
 {
-	std::vector<mrpt::math::TBoundingBox> out;
-	for (const auto& r : m_policy->regions()) out.push_back(r.box);
-	return out;
+	return m_policy->regions();
 }
 
 std::optional<std::size_t> CAdaptiveOctoMap::switchInsertionIndex() const { return m_policy->switchIndex(); }
@@ -184,17 +265,30 @@ detail::ScanTargets CAdaptiveOctoMap::prepareInsertion()
 	}
 	t.outside = m_low.get();
 	t.outsideMaxRange = m_creation.low.maxRange;
+	if (m_policy->policy() == SwitchPolicy::Region && m_sketch->usable())
+	{
+		t.sketch = m_sketch.get();
+		t.sketchResolution = m_creation.high.resolution;
+	}
 	if (m_policy->policy() == SwitchPolicy::Region && m_policy->highActive())
 	{
 		t.inside = &ensureHighTree();
 		t.insideMaxRange = m_creation.high.maxRange;
-		t.regions = &m_policy->regions();
+		t.regions = &m_policy->boxes();
 	}
 	return t;
 }
 
 void CAdaptiveOctoMap::finishInsertion()
 {
+	// The sketch only matters for occupied low voxels (a free one has no
+	// surface to give back): forget the others now and then.
+	constexpr std::size_t kSketchPruneEvery = 30;  // insertions
+	if (m_insertions % kSketchPruneEvery == kSketchPruneEvery - 1)
+		m_sketch->prune([&](std::uint64_t lowKey) {
+			const auto* node = m_low->search(detail::unpackKey(lowKey));
+			return node && m_low->isNodeOccupied(node);
+		});
 	++m_insertions;
 	m_pointsCacheValid = false;
 }
@@ -212,8 +306,10 @@ bool CAdaptiveOctoMap::internal_insertObservation(
 		if (scan->hasRangeImage && scan->rangeImage_isExternallyStored()) scan->load();
 		if (!scan->hasRangeImage || scan->rangeImage.rows() == 0 || scan->cameraParams.fx() <= 0) return false;
 		const mrpt::poses::CPose3D sensorPose = robot + scan->sensorPose;
-		for (const auto& box : detail::regionsFromPixelLabels(*scan, sensorPose, insertionOptions))
-			m_policy->addRegion(box, m_insertions);
+		observePersons(*scan, robot,
+			persons::personPixelsFromLabels(*scan, insertionOptions.personLabel, insertionOptions.sighting.minPixels),
+			m_insertions);
+		ageRegions(*scan, sensorPose);
 		m_integrator->setThreads(insertionOptions.insertionThreads);
 		m_integrator->integrateDepthImage(*scan, sensorPose, prepareInsertion());
 		finishInsertion();

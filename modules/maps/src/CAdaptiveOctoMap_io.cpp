@@ -12,6 +12,7 @@
 
 #include "RayIntegrator.h"
 #include "ResolutionPolicy.h"
+#include "SurfaceSketch.h"
 #include "TreeOps.h"
 #include "avm/io/AtomicFile.h"
 #include "avm/maps/CAdaptiveOctoMap.h"
@@ -63,7 +64,8 @@ void writeAtomically(const std::string& file, const std::function<bool(const std
 }
 }  // namespace
 
-uint8_t CAdaptiveOctoMap::serializeGetVersion() const { return 0; }
+// Version 1: per-person regions and person tracks.
+uint8_t CAdaptiveOctoMap::serializeGetVersion() const { return 1; }
 
 void CAdaptiveOctoMap::serializeTo(mrpt::serialization::CArchive& out) const
 {
@@ -72,11 +74,19 @@ void CAdaptiveOctoMap::serializeTo(mrpt::serialization::CArchive& out) const
 	writeTreeOptions(out, m_creation.high);
 	const auto& i = insertionOptions;
 	out.WriteAs<uint8_t>(static_cast<uint8_t>(i.switchPolicy));
-	out << i.regionMargin << i.regionExpiryFrames << i.personLabel << i.minLabelPixels << i.labelDepthBand
-		<< i.labelPercentile << i.switchAtFrame << i.switchAtFraction << i.expectedFrameCount << i.insertionThreads;
+	out << i.regionMargin;
+	out.WriteAs<uint8_t>(static_cast<uint8_t>(i.regionLifetime));
+	out << i.regionEndAfterSeconds << i.personLabel << i.sighting.depthBand << i.sighting.percentile
+		<< static_cast<uint64_t>(i.sighting.minPixels) << i.sighting.minDepthFraction << i.tracking.gate
+		<< i.tracking.gateGrowth << i.tracking.maxGate << i.switchAtFrame << i.switchAtFraction << i.expectedFrameCount
+		<< i.insertionThreads;
 	out << likelihoodOptions.decimation << renderingOptions.showFreeSpace << renderingOptions.showRegions;
 	out.WriteAs<uint64_t>(m_insertions);
 	m_policy->serializeTo(out);
+	m_tracker.serializeTo(out);
+	m_sketch->serializeTo(out);
+	out.WriteAs<uint8_t>(m_lastScanTime.has_value());
+	out << m_lastScanTime.value_or(0.0);
 	writeTree(out, m_low.get());
 	out.WriteAs<uint8_t>(m_high != nullptr);
 	if (m_high) writeTree(out, m_high.get());
@@ -84,20 +94,36 @@ void CAdaptiveOctoMap::serializeTo(mrpt::serialization::CArchive& out) const
 
 void CAdaptiveOctoMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t version)
 {
-	if (version != 0) MRPT_THROW_UNKNOWN_SERIALIZATION_VERSION(version);
+	if (version != 1) MRPT_THROW_UNKNOWN_SERIALIZATION_VERSION(version);
 	in >> genericMapParams;
 	readTreeOptions(in, m_creation.low);
 	readTreeOptions(in, m_creation.high);
 	auto& i = insertionOptions;
 	i.switchPolicy = static_cast<SwitchPolicy>(in.ReadAs<uint8_t>());
-	in >> i.regionMargin >> i.regionExpiryFrames >> i.personLabel >> i.minLabelPixels >> i.labelDepthBand >>
-		i.labelPercentile >> i.switchAtFrame >> i.switchAtFraction >> i.expectedFrameCount >> i.insertionThreads;
+	in >> i.regionMargin;
+	const auto lifetime = in.ReadAs<uint8_t>();
+	if (lifetime > static_cast<uint8_t>(RegionLifetime::Persist))
+		throw std::runtime_error("CAdaptiveOctoMap: corrupt region lifetime in the serialized map");
+	i.regionLifetime = static_cast<RegionLifetime>(lifetime);
+	uint64_t minPixels = 0;
+	in >> i.regionEndAfterSeconds >> i.personLabel >> i.sighting.depthBand >> i.sighting.percentile >> minPixels >>
+		i.sighting.minDepthFraction >> i.tracking.gate >> i.tracking.gateGrowth >> i.tracking.maxGate >>
+		i.switchAtFrame >> i.switchAtFraction >> i.expectedFrameCount >> i.insertionThreads;
+	i.sighting.minPixels = minPixels;
 	in >> likelihoodOptions.decimation >> renderingOptions.showFreeSpace >> renderingOptions.showRegions;
 	m_creation.validate("serialized creationOpts");
 	insertionOptions.validate("serialized insertOpts");
 	m_insertions = in.ReadAs<uint64_t>();
 	m_policy = std::make_unique<detail::ResolutionPolicy>(i.switchPolicy, m_creation.low.resolution);
 	m_policy->serializeFrom(in);
+	m_tracker = persons::PersonTracker(i.tracking);
+	m_tracker.serializeFrom(in);
+	m_sketch = std::make_unique<detail::SurfaceSketch>();
+	m_sketch->serializeFrom(in);
+	const bool hasScanTime = in.ReadAs<uint8_t>() != 0;
+	double scanTime = 0;
+	in >> scanTime;
+	m_lastScanTime = hasScanTime ? std::optional<double>(scanTime) : std::nullopt;
 	m_low = readTree(in, m_creation.low);
 	m_high = in.ReadAs<uint8_t>() ? readTree(in, m_creation.high) : nullptr;
 	if (!m_integrator) m_integrator = std::make_unique<detail::RayIntegrator>();

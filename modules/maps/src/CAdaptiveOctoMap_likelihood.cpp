@@ -8,6 +8,7 @@
 
 #include <cmath>
 
+#include "avm/io/DepthCamera.h"
 #include "avm/maps/CAdaptiveOctoMap.h"
 
 using namespace avm;
@@ -35,15 +36,13 @@ double CAdaptiveOctoMap::internal_computeObservationLikelihood(
 		if (!scan->hasRangeImage) return 0;
 		if (scan->rangeImage_isExternallyStored()) scan->load();
 		const mrpt::poses::CPose3D sensorPose = takenFrom + scan->sensorPose;
-		const auto& K = scan->cameraParams;
+		const auto camera = io::DepthCamera::of(*scan);
 		const auto& img = scan->rangeImage;
 		for (int v = 0; v < img.rows(); v += static_cast<int>(step))
 			for (int u = 0; u < img.cols(); u += static_cast<int>(step))
 			{
 				if (img(v, u) == 0) continue;
-				const double d = img(v, u) * scan->rangeUnits;
-				mrpt::math::TPoint3D p(d, (K.cx() - u) * d / K.fx(), (K.cy() - v) * d / K.fy());
-				if (!scan->range_is_depth) p *= d / p.norm();
+				const auto p = camera.unproject(u, v, img(v, u) * scan->rangeUnits);
 				logLik += logOccupancy(query(sensorPose.composePoint(p)));
 			}
 		return logLik;

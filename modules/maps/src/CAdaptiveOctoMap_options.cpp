@@ -6,6 +6,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "avm/io/ErrorMessage.h"
+#include "avm/io/IniOptions.h"
 #include "avm/maps/CAdaptiveOctoMap.h"
 
 namespace avm
@@ -25,7 +27,7 @@ std::string str(const T& v)
 [[noreturn]] void reject(const std::string& section, const std::string& key, const std::string& value,
 	const std::string& problem)
 {
-	throw std::invalid_argument("[" + section + "] " + key + " = " + value + ": " + problem);
+	throw io::iniValueError(section, key, value, problem);
 }
 
 void requireInOpenRange(const std::string& section, const std::string& key, double v, double lo, double hi)
@@ -34,42 +36,35 @@ void requireInOpenRange(const std::string& section, const std::string& key, doub
 		reject(section, key, str(v), "must be in (" + str(lo) + ", " + str(hi) + ")");
 }
 
-/** An integer key that must not be negative (MRPT reads it as a signed int,
- *  so a negative value is caught here rather than wrapping around). */
+/** An integer key that must not be negative. */
 std::int64_t readNonNegative(
 	const mrpt::config::CConfigFileBase& c, const std::string& section, const std::string& key, std::int64_t def)
 {
-	const std::string text = c.read_string(section, key, str(def));
-	std::size_t used = 0;
-	long long v = 0;
-	try
-	{
-		v = std::stoll(text, &used);
-	}
-	catch (const std::exception&)
-	{
-		reject(section, key, text, "not an integer");
-	}
-	if (used != text.size()) reject(section, key, text, "not an integer");
-	if (v < 0) reject(section, key, text, "must be >= 0");
+	const auto v = io::readIniValue<std::int64_t>(c, section, key, def);
+	if (v < 0) reject(section, key, str(v), "must be >= 0");
 	return v;
 }
 
 double readNumber(const mrpt::config::CConfigFileBase& c, const std::string& section, const std::string& key, double def)
 {
-	const std::string text = c.read_string(section, key, str(def));
-	std::size_t used = 0;
-	double v = 0;
+	return io::readIniValue<double>(c, section, key, def);
+}
+
+/** A key naming one of an enum's values, parsed by `parse` (which throws
+ *  std::invalid_argument on anything else). */
+template <typename Enum, typename Parse>
+Enum readChoice(const mrpt::config::CConfigFileBase& c, const std::string& section, const std::string& key, Enum def,
+	Parse parse, const std::string& expected)
+{
+	const std::string text = c.read_string(section, key, toString(def));
 	try
 	{
-		v = std::stod(text, &used);
+		return parse(text);
 	}
-	catch (const std::exception&)
+	catch (const std::invalid_argument&)
 	{
-		reject(section, key, text, "not a number");
+		reject(section, key, text, expected);
 	}
-	if (used != text.size()) reject(section, key, text, "not a number");
-	return v;
 }
 
 // A tree of depth 16 spans +-resolution * 2^15 around the origin; below this
@@ -85,6 +80,15 @@ SwitchPolicy switchPolicyFromString(const std::string& s)
 	if (s == "paper") return SwitchPolicy::Paper;
 	if (s == "region") return SwitchPolicy::Region;
 	throw std::invalid_argument("unknown switch policy '" + s + "' (expected paper or region)");
+}
+
+std::string toString(RegionLifetime l) { return l == RegionLifetime::Persist ? "persist" : "follow"; }
+
+RegionLifetime regionLifetimeFromString(const std::string& s)
+{
+	if (s == "follow") return RegionLifetime::Follow;
+	if (s == "persist") return RegionLifetime::Persist;
+	throw std::invalid_argument("unknown region lifetime '" + s + "' (expected follow or persist)");
 }
 
 // ---------------------------------------------------------------- TTreeOptions
@@ -176,21 +180,20 @@ void CAdaptiveOctoMap::TCreationOptions::validate(const std::string& section) co
 void CAdaptiveOctoMap::TInsertionOptions::loadFromConfigFile(
 	const mrpt::config::CConfigFileBase& c, const std::string& section)
 {
-	const std::string policy = c.read_string(section, "switch_policy", toString(switchPolicy));
-	try
-	{
-		switchPolicy = switchPolicyFromString(policy);
-	}
-	catch (const std::invalid_argument&)
-	{
-		reject(section, "switch_policy", policy, "expected paper or region");
-	}
+	switchPolicy = readChoice(c, section, "switch_policy", switchPolicy, switchPolicyFromString, "expected paper or region");
 	regionMargin = readNumber(c, section, "region_margin", regionMargin);
-	regionExpiryFrames = static_cast<std::uint32_t>(readNonNegative(c, section, "region_expiry_frames", regionExpiryFrames));
+	regionLifetime = readChoice(
+		c, section, "region_lifetime", regionLifetime, regionLifetimeFromString, "expected follow or persist");
+	regionEndAfterSeconds = readNumber(c, section, "region_end_after_s", regionEndAfterSeconds);
 	personLabel = c.read_string(section, "person_label", personLabel);
-	minLabelPixels = static_cast<std::uint32_t>(readNonNegative(c, section, "min_label_pixels", minLabelPixels));
-	labelDepthBand = readNumber(c, section, "label_depth_band", labelDepthBand);
-	labelPercentile = readNumber(c, section, "label_percentile", labelPercentile);
+	sighting.depthBand = readNumber(c, section, "person_depth_band", sighting.depthBand);
+	sighting.percentile = readNumber(c, section, "person_percentile", sighting.percentile);
+	sighting.minPixels = static_cast<std::size_t>(
+		readNonNegative(c, section, "min_person_pixels", static_cast<std::int64_t>(sighting.minPixels)));
+	sighting.minDepthFraction = readNumber(c, section, "min_person_depth_fraction", sighting.minDepthFraction);
+	tracking.gate = readNumber(c, section, "track_gate", tracking.gate);
+	tracking.gateGrowth = readNumber(c, section, "track_gate_growth", tracking.gateGrowth);
+	tracking.maxGate = readNumber(c, section, "track_max_gate", tracking.maxGate);
 	const double frame = readNumber(c, section, "switch_at_frame", static_cast<double>(switchAtFrame));
 	if (frame != std::floor(frame)) reject(section, "switch_at_frame", str(frame), "must be a whole insertion index");
 	switchAtFrame = static_cast<std::int64_t>(frame);
@@ -206,11 +209,16 @@ void CAdaptiveOctoMap::TInsertionOptions::saveToConfigFile(
 {
 	c.write(section, "switch_policy", toString(switchPolicy));
 	c.write(section, "region_margin", str(regionMargin));
-	c.write(section, "region_expiry_frames", str(regionExpiryFrames));
+	c.write(section, "region_lifetime", toString(regionLifetime));
+	c.write(section, "region_end_after_s", str(regionEndAfterSeconds));
 	c.write(section, "person_label", personLabel);
-	c.write(section, "min_label_pixels", str(minLabelPixels));
-	c.write(section, "label_depth_band", str(labelDepthBand));
-	c.write(section, "label_percentile", str(labelPercentile));
+	c.write(section, "person_depth_band", str(sighting.depthBand));
+	c.write(section, "person_percentile", str(sighting.percentile));
+	c.write(section, "min_person_pixels", str(sighting.minPixels));
+	c.write(section, "min_person_depth_fraction", str(sighting.minDepthFraction));
+	c.write(section, "track_gate", str(tracking.gate));
+	c.write(section, "track_gate_growth", str(tracking.gateGrowth));
+	c.write(section, "track_max_gate", str(tracking.maxGate));
 	c.write(section, "switch_at_frame", str(switchAtFrame));
 	c.write(section, "switch_at_fraction", str(switchAtFraction));
 	c.write(section, "expected_frame_count", str(expectedFrameCount));
@@ -224,10 +232,21 @@ void CAdaptiveOctoMap::TInsertionOptions::validate(const std::string& section) c
 	if (personLabel.empty()) reject(section, "person_label", "", "must not be empty");
 	if (insertionThreads < 1 || insertionThreads > 16)
 		reject(section, "insertion_threads", str(insertionThreads), "must be in [1, 16]");
-	if (!(std::isfinite(labelDepthBand) && labelDepthBand > 0))
-		reject(section, "label_depth_band", str(labelDepthBand), "must be > 0 metres");
-	if (!(labelPercentile >= 0 && labelPercentile < 0.5))
-		reject(section, "label_percentile", str(labelPercentile), "must be in [0, 0.5)");
+	if (!(std::isfinite(regionEndAfterSeconds) && regionEndAfterSeconds > 0))
+		reject(section, "region_end_after_s", str(regionEndAfterSeconds), "must be > 0 seconds");
+	if (!(std::isfinite(sighting.depthBand) && sighting.depthBand > 0))
+		reject(section, "person_depth_band", str(sighting.depthBand), "must be > 0 metres");
+	if (!(sighting.percentile >= 0 && sighting.percentile < 0.5))
+		reject(section, "person_percentile", str(sighting.percentile), "must be in [0, 0.5)");
+	if (sighting.minPixels < 1) reject(section, "min_person_pixels", str(sighting.minPixels), "must be >= 1");
+	if (!(sighting.minDepthFraction >= 0 && sighting.minDepthFraction <= 1))
+		reject(section, "min_person_depth_fraction", str(sighting.minDepthFraction), "must be in [0, 1]");
+	if (!(std::isfinite(tracking.gate) && tracking.gate > 0))
+		reject(section, "track_gate", str(tracking.gate), "must be > 0 metres");
+	if (!(std::isfinite(tracking.gateGrowth) && tracking.gateGrowth >= 0))
+		reject(section, "track_gate_growth", str(tracking.gateGrowth), "must be >= 0 m/s");
+	if (!(std::isfinite(tracking.maxGate) && tracking.maxGate >= tracking.gate))
+		reject(section, "track_max_gate", str(tracking.maxGate), "must be >= track_gate");
 	if (switchAtFrame < -1) reject(section, "switch_at_frame", str(switchAtFrame), "must be -1 (off) or >= 0");
 	if (!(switchAtFraction == -1 || (switchAtFraction >= 0 && switchAtFraction <= 1)))
 		reject(section, "switch_at_fraction", str(switchAtFraction), "must be -1 (off) or in [0, 1]");

@@ -4,7 +4,9 @@
 
 #include <sstream>
 
+#include "OverlapFilter.h"
 #include "ResolutionPolicy.h"
+#include "SurfaceSketch.h"
 #include "TreeOps.h"
 #include "avm/maps/CAdaptiveOctoMap.h"
 
@@ -28,19 +30,18 @@ TOccupancyQuery CAdaptiveOctoMap::query(const mrpt::math::TPoint3D& p) const
 {
 	if (m_policy->policy() == SwitchPolicy::Region)
 	{
-		if (m_high && m_policy->regionContaining(p)) return answer(*m_high, m_high->search(p.x, p.y, p.z), Resolution::High);
+		if (m_high && m_policy->inHighResolutionSpace(p)) return answer(*m_high, m_high->search(p.x, p.y, p.z), Resolution::High);
 		return answer(*m_low, m_low->search(p.x, p.y, p.z), Resolution::Low);
 	}
 	// Paper: the low tree wins wherever it has a node (Algorithm 2).
-	const auto* lowNode = m_low->search(p.x, p.y, p.z);
-	if (lowNode || !m_high) return answer(*m_low, lowNode, Resolution::Low);
+	if (!m_high || !detail::overlapFilterAdmits(*m_low, p)) return answer(*m_low, m_low->search(p.x, p.y, p.z), Resolution::Low);
 	return answer(*m_high, m_high->search(p.x, p.y, p.z), Resolution::High);
 }
 
 bool CAdaptiveOctoMap::isLeafVisible(Resolution which, const mrpt::math::TPoint3D& c) const
 {
 	if (which == Resolution::Low || m_policy->policy() == SwitchPolicy::Region) return true;
-	return m_low->search(c.x, c.y, c.z) == nullptr;
+	return detail::overlapFilterAdmits(*m_low, c);
 }
 
 void CAdaptiveOctoMap::forEachLeaf(Resolution which, const std::function<void(const TLeafVoxel&)>& visit) const
@@ -98,6 +99,8 @@ CAdaptiveOctoMap::TTreeStats CAdaptiveOctoMap::statsOf(Resolution which) const
 	if (!t) return s;
 	forEachLeaf(which, [&](const TLeafVoxel& v) { (v.occupied ? s.occupiedLeaves : s.freeLeaves)++; });
 	s.memoryBytes = t->memoryUsage();
+	// The sketch is the low tree's: where in its voxels the surface was.
+	if (which == Resolution::Low) s.memoryBytes += m_sketch->memoryBytes();
 	std::ostringstream bt;
 	t->writeBinaryConst(bt);
 	s.binaryBytes = bt.str().size();

@@ -2,6 +2,7 @@
 // stock MRPT OpenGL classes, so a .3Dscene opens without the plugin), and
 // the occupied voxel centres as a points map.
 #include <mrpt/opengl/CBox.h>
+#include <mrpt/opengl/CText3D.h>
 #include <mrpt/opengl/COctoMapVoxels.h>
 #include <mrpt/opengl/CSetOfObjects.h>
 
@@ -52,9 +53,18 @@ void CAdaptiveOctoMap::getVisualizationInto(mrpt::opengl::CSetOfObjects& outObj)
 	if (!renderingOptions.showRegions) return;
 	for (const auto& r : m_policy->regions())
 	{
-		auto box = mrpt::opengl::CBox::Create(r.box.min, r.box.max, true /*wireframe*/);
-		box->setColor_u8(kRegionColour);
-		outObj.insert(box);
+		for (const auto& b : r.boxes)
+		{
+			auto box = mrpt::opengl::CBox::Create(b.min, b.max, true /*wireframe*/);
+			box->setColor_u8(kRegionColour);
+			outObj.insert(box);
+		}
+		if (r.personId == 0 || r.boxes.empty()) continue;
+		const auto& latest = r.boxes.back();
+		auto label = mrpt::opengl::CText3D::Create("person " + std::to_string(r.personId), "sans", 0.15);
+		label->setLocation((latest.min.x + latest.max.x) / 2, (latest.min.y + latest.max.y) / 2, latest.max.z);
+		label->setColor_u8(kRegionColour);
+		outObj.insert(label);
 	}
 }
 

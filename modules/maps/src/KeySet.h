@@ -3,7 +3,7 @@
 // shrinking, so a steady stream of scans allocates nothing.
 #pragma once
 
-#include <octomap/OcTreeKey.h>
+#include "OcTreeKeys.h"
 
 #include <algorithm>
 #include <cstdint>
@@ -11,19 +11,6 @@
 
 namespace avm::detail
 {
-/** 3 x 16-bit key in one word, +1 so that 0 can mark an empty slot. */
-inline std::uint64_t packKey(const octomap::OcTreeKey& k)
-{
-	return ((std::uint64_t(k[0]) << 32) | (std::uint64_t(k[1]) << 16) | std::uint64_t(k[2])) + 1;
-}
-inline octomap::OcTreeKey unpackKey(std::uint64_t packed)
-{
-	const std::uint64_t v = packed - 1;
-	return octomap::OcTreeKey(
-		static_cast<octomap::key_type>(v >> 32), static_cast<octomap::key_type>((v >> 16) & 0xFFFF),
-		static_cast<octomap::key_type>(v & 0xFFFF));
-}
-
 class KeySet
 {
    public:
@@ -141,8 +128,8 @@ class BoxKeySet
 	static constexpr std::size_t kOutside = ~std::size_t(0);
 	std::size_t indexOf(std::uint64_t packed) const
 	{
-		const std::uint64_t v = packed - 1;
-		const std::size_t x = (v >> 32) - m_lo[0], y = ((v >> 16) & 0xFFFF) - m_lo[1], z = (v & 0xFFFF) - m_lo[2];
+		const auto k = unpackKey(packed);
+		const std::size_t x = std::size_t(k[0]) - m_lo[0], y = std::size_t(k[1]) - m_lo[1], z = std::size_t(k[2]) - m_lo[2];
 		// Below the box the subtraction wraps to a huge value.
 		if (x >= m_dim[0] || y >= m_dim[1] || z >= m_dim[2]) return kOutside;
 		return (x * m_dim[1] + y) * m_dim[2] + z;

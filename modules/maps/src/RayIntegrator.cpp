@@ -1,5 +1,9 @@
 #include "RayIntegrator.h"
 
+#include "OverlapFilter.h"
+#include "avm/io/DepthCamera.h"
+#include "RowKernels.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -10,28 +14,6 @@ namespace avm::detail
 {
 namespace
 {
-constexpr int kKeyOffset = 32768;  // octomap's tree_max_val for depth 16
-
-/** octomap's coordToKey (floor(coord / res) + 32768), packed; false when the
- *  point is outside the tree. Shifted by the offset first, the value is
- *  non-negative inside the tree, so truncation is the floor. */
-inline bool packedKeyOf(double x, double y, double z, double inverseRes, std::uint64_t& out)
-{
-	const double fx = x * inverseRes + kKeyOffset, fy = y * inverseRes + kKeyOffset, fz = z * inverseRes + kKeyOffset;
-	constexpr double kEnd = 2.0 * kKeyOffset;
-	if (!(fx >= 0 && fx < kEnd && fy >= 0 && fy < kEnd && fz >= 0 && fz < kEnd)) return false;
-	out = packKey(octomap::OcTreeKey(
-		static_cast<octomap::key_type>(fx), static_cast<octomap::key_type>(fy), static_cast<octomap::key_type>(fz)));
-	return true;
-}
-
-inline mrpt::math::TPoint3D centreOf(std::uint64_t packed, double res)
-{
-	const std::uint64_t v = packed - 1;
-	auto c = [res](std::uint64_t k) { return (static_cast<double>(static_cast<int>(k) - kKeyOffset) + 0.5) * res; };
-	return {c(v >> 32), c((v >> 16) & 0xFFFF), c(v & 0xFFFF)};
-}
-
 /** octomap's computeRayKeys (same voxels, same order), calling `visit` for
  *  each packed key instead of filling a KeyRay. The key moves by adding to
  *  the packed word, and the axis of each step is chosen without branches:
@@ -121,7 +103,9 @@ void RayIntegrator::begin(const mrpt::math::TPoint3D& origin, const ScanTargets&
 	m_outsideGrid.set(targets.outside->getResolution());
 	m_hasRegions = targets.regions && !targets.regions->empty() && targets.inside;
 	if (m_hasRegions) m_insideGrid.set(targets.inside->getResolution());
-	for (auto* s : {&m_outsideEnds, &m_insideEnds, &m_crossingEnds, &m_outsideFree, &m_outsideOccupied}) s->clear();
+	if (targets.sketch) m_sketchGrid.set(targets.sketchResolution);
+	for (auto* s : {&m_outsideEnds, &m_insideEnds, &m_crossingEnds, &m_outsideFree, &m_outsideOccupied, &m_sketchEnds})
+		s->clear();
 	if (m_hasRegions)
 	{
 		// Fine keys only matter inside the regions: a dense box of them.
@@ -163,6 +147,7 @@ inline void RayIntegrator::addPoint(double x, double y, double z, bool nearRegio
 			break;
 		}
 	}
+	if (m_targets.sketch && packedKeyOf(x, y, z, m_sketchGrid.inverse, key)) m_sketchEnds.insert(key);
 	if (!packedKeyOf(x, y, z, m_outsideGrid.inverse, key)) return;
 	// Neighbouring pixels mostly fall in the same coarse voxel.
 	if (key == m_lastOutsideKey) return;
@@ -199,9 +184,9 @@ void RayIntegrator::castSegment(bool inside, double a, double b, bool extendStar
 		forEachRayKey(tree, at(a), at(b), [this](std::uint64_t k) { m_outsideFree.insert(k); });
 }
 
-void RayIntegrator::castRay(
-	const mrpt::math::TPoint3D& end, std::uint64_t endKey, Endpoint endpoint, bool castOutside, bool castInside)
+void RayIntegrator::castRay(const mrpt::math::TPoint3D& end, std::uint64_t endKey, Endpoint endpoint, RayPart part)
 {
+	const bool castOutside = part == RayPart::OutsideRegions, castInside = part == RayPart::InsideRegions;
 	m_rayDir = end - m_origin;
 	const double length = m_rayDir.norm();
 	if (length <= 0) return;
@@ -214,6 +199,16 @@ void RayIntegrator::castRay(
 			if (clipToBox(m_origin, m_rayDir, r.box, t0, t1)) m_intervals.emplace_back(t0, t1);
 		}
 		std::sort(m_intervals.begin(), m_intervals.end());
+		// Regions may overlap: walk their union.
+		std::size_t kept = 0;
+		for (std::size_t i = 1; i < m_intervals.size(); i++)
+		{
+			if (m_intervals[i].first <= m_intervals[kept].second)
+				m_intervals[kept].second = std::max(m_intervals[kept].second, m_intervals[i].second);
+			else
+				m_intervals[++kept] = m_intervals[i];
+		}
+		if (!m_intervals.empty()) m_intervals.resize(kept + 1);
 	}
 	double cursor = 0;
 	for (const auto& [t0, t1] : m_intervals)
@@ -243,16 +238,15 @@ void RayIntegrator::applyUpdates(
 			KeyBox b;
 			for (int i = 0; i < 3; i++)
 			{
-				b.lo[i] = static_cast<std::int64_t>(std::llround(r.box.min[i] * grid.inverse)) + kKeyOffset;
-				b.hi[i] = static_cast<std::int64_t>(std::llround(r.box.max[i] * grid.inverse)) + kKeyOffset;
+				b.lo[i] = gridKeyOf(r.box.min[i], grid.resolution);
+				b.hi[i] = gridKeyOf(r.box.max[i], grid.resolution);
 			}
 			m_keyBoxes.push_back(b);
 		}
 	auto belongs = [&](std::uint64_t packed) {
 		if (!m_hasRegions) return true;
-		const std::uint64_t v = packed - 1;
-		const std::int64_t k[3] = {static_cast<std::int64_t>(v >> 32), static_cast<std::int64_t>((v >> 16) & 0xFFFF),
-			static_cast<std::int64_t>(v & 0xFFFF)};
+		const auto key = unpackKey(packed);
+		const std::int64_t k[3] = {key[0], key[1], key[2]};
 		bool inside = false;
 		for (const auto& b : m_keyBoxes)
 			inside |= k[0] >= b.lo[0] && k[0] < b.hi[0] && k[1] >= b.lo[1] && k[1] < b.hi[1] && k[2] >= b.lo[2] &&
@@ -272,10 +266,8 @@ void RayIntegrator::finish()
 	for (const auto k : m_outsideEnds.keys())
 	{
 		const auto c = centreOf(k, m_outsideGrid.resolution);
-		if (m_targets.overlapFilter &&
-			m_targets.overlapFilter->search(static_cast<double>(c.x), static_cast<double>(c.y), static_cast<double>(c.z)))
-			continue;
-		castRay(c, k, Endpoint::Outside, true, false);
+		if (m_targets.overlapFilter && !overlapFilterAdmits(*m_targets.overlapFilter, c)) continue;
+		castRay(c, k, Endpoint::Outside, RayPart::OutsideRegions);
 	}
 	if (m_hasRegions)
 	{
@@ -286,21 +278,25 @@ void RayIntegrator::finish()
 		for (const auto k : m_insideEnds.keys())
 		{
 			const auto c = centreOf(k, m_insideGrid.resolution);
-			castRay(c, k, Endpoint::Inside, false, true);
+			castRay(c, k, Endpoint::Inside, RayPart::InsideRegions);
 			std::uint64_t coarse;
 			if (packedKeyOf(c.x, c.y, c.z, m_outsideGrid.inverse, coarse)) m_insideCoarseEnds.insert(coarse);
 		}
 		for (const auto k : m_insideCoarseEnds.keys())
-			castRay(centreOf(k, m_outsideGrid.resolution), k, Endpoint::None, true, false);
+			castRay(centreOf(k, m_outsideGrid.resolution), k, Endpoint::None, RayPart::OutsideRegions);
 		for (const auto k : m_crossingEnds.keys())
 		{
 			// Through the exit voxel: one fine voxel beyond its centre.
 			const auto c = centreOf(k, m_insideGrid.resolution);
 			const auto dir = c - m_origin;
 			const double n = dir.norm();
-			if (n > 0) castRay(c + dir * (m_insideGrid.resolution / n), k, Endpoint::None, false, true);
+			if (n > 0) castRay(c + dir * (m_insideGrid.resolution / n), k, Endpoint::None, RayPart::InsideRegions);
 		}
 	}
+	if (m_targets.sketch)
+		for (const auto k : m_sketchEnds.keys())
+			if ((centreOf(k, m_sketchGrid.resolution) - m_origin).norm() <= m_targets.outsideMaxRange)
+				m_targets.sketch->markHighVoxel(k);
 	applyUpdates(*m_targets.outside, m_outsideGrid, m_outsideFree, m_outsideOccupied, false);
 	if (m_hasRegions) applyUpdates(*m_targets.inside, m_insideGrid, m_insideFree, m_insideOccupied, true);
 }
@@ -312,8 +308,8 @@ void RayIntegrator::integrateDepthImage(
 	begin(sensorPose.translation(), targets);
 	const auto& img = obs.rangeImage;
 	const int rows = static_cast<int>(img.rows()), cols = static_cast<int>(img.cols());
-	const auto& K = obs.cameraParams;
-	const double fx = K.fx(), fy = K.fy(), cx = K.cx(), cy = K.cy(), units = obs.rangeUnits;
+	const auto camera = io::DepthCamera::of(obs);
+	const double fx = camera.fx, fy = camera.fy, cx = camera.cx, cy = camera.cy, units = obs.rangeUnits;
 	const auto R = sensorPose.getRotationMatrix();
 
 	// Pixels whose ray can reach a region: the box's projection (all pixels
@@ -336,7 +332,7 @@ void RayIntegrator::integrateDepthImage(
 					whole = true;
 					break;
 				}
-				const double u = cx - fx * s.y / s.x, v = cy - fy * s.z / s.x;
+				const auto [u, v] = camera.pixelOf(s);
 				rect.u0 = std::min(rect.u0, static_cast<int>(std::floor(u)) - 1);
 				rect.u1 = std::max(rect.u1, static_cast<int>(std::ceil(u)) + 1);
 				rect.v0 = std::min(rect.v0, static_cast<int>(std::floor(v)) - 1);
@@ -347,8 +343,9 @@ void RayIntegrator::integrateDepthImage(
 		}
 	}
 
-	// Sensor frame: X forward, Y left, Z up; pixel (u, v) with depth d is
-	// d * (1, (cx - u)/fx, (cy - v)/fy), so world = t + d * (R0 + a_u R1 + b_v R2).
+	// DepthCamera::unproject, factored for the row passes: pixel (u, v) with
+	// depth d is d * (1, (cx - u)/fx, (cy - v)/fy) in the sensor frame, so
+	// world = t + d * (R0 + a_u R1 + b_v R2).
 	m_columnFactor.resize(cols);
 	for (int u = 0; u < cols; u++) m_columnFactor[u] = static_cast<float>((cx - u) / fx);
 	// Range (not depth) images: the per-pixel factor from range to depth.
@@ -380,7 +377,8 @@ void RayIntegrator::integrateDepthImage(
 		band.outside = i == 0 ? &m_outsideEnds : &band.ownOutside;
 		band.inside = i == 0 ? &m_insideEnds : &band.ownInside;
 		band.crossing = i == 0 ? &m_crossingEnds : &band.ownCrossing;
-		for (auto* set : {band.outside, band.inside, band.crossing}) set->clear();
+		band.sketch = i == 0 ? &m_sketchEnds : &band.ownSketch;
+		for (auto* set : {band.outside, band.inside, band.crossing, band.sketch}) set->clear();
 	}
 	if (m_bands.size() == 1)
 		scanRows(rs, 0, rows, m_bands[0]);
@@ -399,190 +397,29 @@ void RayIntegrator::integrateDepthImage(
 			for (const auto k : m_bands[i].ownOutside.keys()) m_outsideEnds.insert(k);
 			for (const auto k : m_bands[i].ownInside.keys()) m_insideEnds.insert(k);
 			for (const auto k : m_bands[i].ownCrossing.keys()) m_crossingEnds.insert(k);
+			for (const auto k : m_bands[i].ownSketch.keys()) m_sketchEnds.insert(k);
 		}
 	}
 	finish();
 }
 
-namespace
-{
-// The row passes below are plain loops the compiler vectorizes; they are
-// built twice, for AVX2 and for any x86-64, and the loader picks one. AVX2
-// without FMA gives the same floats, so the same map, on every machine.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define AVM_ROW_PASS [[gnu::target_clones("avx2", "default")]]
-#else
-#define AVM_ROW_PASS
-#endif
-
-/** The rays of one image row: pixel u at depth d is the point
- *  origin + d * (base + colFactor[u] * slope). */
-struct RowRays
-{
-	float ox, oy, oz;
-	float bx, by, bz;
-	float sx, sy, sz;
-	const float* colFactor;
-};
-
-/** Voxel keys of one image row, an array per axis; -1 marks "no voxel". */
-struct RowKeys
-{
-	int *x, *y, *z;
-};
-
-/** The depth of each pixel of a row (range images: scaled to depth). */
-AVM_ROW_PASS void rowDepth(const std::uint16_t* row, const float* rangeScale, float units, int cols, float* depth)
-{
-	if (rangeScale)
-		for (int u = 0; u < cols; u++) depth[u] = row[u] * units * rangeScale[u];
-	else
-		for (int u = 0; u < cols; u++) depth[u] = row[u] * units;
-}
-
-/** Keys (octomap's floor(coord / res) + 32768, on floats as octomap) of
- *  the points of a row; -1 where there is no depth or below the tree. */
-AVM_ROW_PASS void coarseRowKeys(const RowRays& r, const float* depth, float inverse, int cols, RowKeys out)
-{
-	const float offset = kKeyOffset;
-	int* const __restrict kx = out.x;
-	int* const __restrict ky = out.y;
-	int* const __restrict kz = out.z;
-	for (int u = 0; u < cols; u++)
-	{
-		const float a = r.colFactor[u], d = depth[u];
-		const float x = (r.ox + d * (r.bx + r.sx * a)) * inverse + offset;
-		const float y = (r.oy + d * (r.by + r.sy * a)) * inverse + offset;
-		const float z = (r.oz + d * (r.bz + r.sz * a)) * inverse + offset;
-		kx[u] = (x < 0) | (d <= 0) ? -1 : static_cast<int>(x);
-		ky[u] = y < 0 ? -1 : static_cast<int>(y);
-		kz[u] = z < 0 ? -1 : static_cast<int>(z);
-	}
-}
-
-/** Slab method against one box, in depth units: inside[u] becomes 1 where
- *  the point lies in the box; crossTo[u] the depth where the ray leaves the
- *  box if the point lies beyond it (the farthest such box wins). */
-AVM_ROW_PASS void classifyAgainstBox(
-	const RowRays& r, const float* depth, const mrpt::math::TBoundingBox& box, int from, int to, float* inside,
-	float* crossTo)
-{
-	auto relative = [](double bound, float origin) { return static_cast<float>(bound) - origin; };
-	const float minx = relative(box.min.x, r.ox), miny = relative(box.min.y, r.oy), minz = relative(box.min.z, r.oz);
-	const float maxx = relative(box.max.x, r.ox), maxy = relative(box.max.y, r.oy), maxz = relative(box.max.z, r.oz);
-	for (int u = from; u < to; u++)
-	{
-		const float a = r.colFactor[u];
-		// A tiny offset keeps axis-parallel rays finite.
-		const float ix = 1.0f / (r.bx + r.sx * a + 1e-12f), iy = 1.0f / (r.by + r.sy * a + 1e-12f),
-					iz = 1.0f / (r.bz + r.sz * a + 1e-12f);
-		const float x0 = minx * ix, x1 = maxx * ix;
-		const float y0 = miny * iy, y1 = maxy * iy;
-		const float z0 = minz * iz, z1 = maxz * iz;
-		const float e = std::max(std::max(std::min(x0, x1), std::min(y0, y1)), std::max(std::min(z0, z1), 0.0f));
-		const float x = std::min(std::min(std::max(x0, x1), std::max(y0, y1)), std::max(z0, z1));
-		const float d = depth[u];
-		const float in = static_cast<float>((e < x) & (d >= e) & (d < x) & (d > 0));
-		const float through = static_cast<float>((e < x) & (d >= x));
-		inside[u] = std::max(inside[u], in);
-		crossTo[u] = std::max(crossTo[u], through * (x + 1) - 1);
-	}
-}
-
-constexpr int kInsideTag = 1 << 16;
-
-/** Fine keys of the classified pixels: of the point where it lies in a
- *  region, else of the voxel where its ray leaves the farthest region it
- *  crosses; -1 in x for neither. The category rides on the x key (above
- *  the tree's keys) so that a change of it is a change of voxel too. A
- *  point inside a region is no coarse endpoint: its coarse x becomes -1. */
-AVM_ROW_PASS void fineRowKeys(
-	const RowRays& r, const float* depth, const float* inside, const float* crossTo, float inverse, int from, int to,
-	RowKeys out, int* coarseX)
-{
-	const float offset = kKeyOffset;
-	int* const __restrict kx = out.x;
-	int* const __restrict ky = out.y;
-	int* const __restrict kz = out.z;
-	for (int u = from; u < to; u++)
-	{
-		const float a = r.colFactor[u];
-		const float ts = inside[u] * depth[u] + (1 - inside[u]) * crossTo[u] * (1 - 1e-5f);
-		const float x = (r.ox + ts * (r.bx + r.sx * a)) * inverse + offset;
-		const float y = (r.oy + ts * (r.by + r.sy * a)) * inverse + offset;
-		const float z = (r.oz + ts * (r.bz + r.sz * a)) * inverse + offset;
-		const bool none = std::max(inside[u], crossTo[u]) <= 0;
-		const int tag = static_cast<int>(inside[u]) * kInsideTag;
-		kx[u] = (x < 0) | (x >= 65536.0f) | none ? -1 : static_cast<int>(x) + tag;
-		ky[u] = y < 0 ? -1 : static_cast<int>(y);
-		kz[u] = z < 0 ? -1 : static_cast<int>(z);
-	}
-	for (int u = from; u < to; u++) coarseX[u] = inside[u] > 0 ? -1 : coarseX[u];
-}
-
-/** flags[u] = 1 where the voxel at u may be new to the scan: it differs
- *  from the voxels at u - 1, u - 2 and at u in the row above. Every key
- *  these arrays held before is already in the scan's set (or is -1), so
- *  the others need no lookup: on the Bonn frames one pixel in 80 (coarse)
- *  or 30 (fine) is looked up, a quarter of the pixels where the voxel
- *  changes along the row. */
-AVM_ROW_PASS void flagNewVoxels(const RowKeys& row, const RowKeys& above, int from, int to, std::uint8_t* flags)
-{
-	const int *const __restrict x = row.x, *const __restrict y = row.y, *const __restrict z = row.z;
-	const int *const __restrict ax = above.x, *const __restrict ay = above.y, *const __restrict az = above.z;
-	auto differs = [&](int u, const int* ox, const int* oy, const int* oz, int w) {
-		return (x[u] != ox[w]) | (y[u] != oy[w]) | (z[u] != oz[w]);
-	};
-	if (from < to) flags[from] = differs(from, ax, ay, az, from);
-	if (from + 1 < to) flags[from + 1] = differs(from + 1, ax, ay, az, from + 1) & differs(from + 1, x, y, z, from);
-	for (int u = from + 2; u < to; u++)
-		flags[u] = static_cast<std::uint8_t>(
-			differs(u, ax, ay, az, u) & differs(u, x, y, z, u - 1) & differs(u, x, y, z, u - 2));
-}
-
-/** Calls `visit(u)` for every u in [from, to) whose byte in `flags` is 1.
- *  Most bytes are 0, so whole words are skipped at once; `flags` must be
- *  readable for 7 bytes past `to`. */
-template <typename Visit>
-inline void forEachFlagged(const std::uint8_t* flags, int from, int to, Visit&& visit)
-{
-	for (int base = from; base < to; base += 8)
-	{
-		std::uint64_t word;
-		std::memcpy(&word, flags + base, sizeof word);
-		while (word != 0)
-		{
-			const int u = base + __builtin_ctzll(word) / 8;
-			word &= word - 1;  // each flag is the lowest bit of its byte
-			if (u < to) visit(u);
-		}
-	}
-}
-
-/** packKey() of the row passes' key components, or 0 (no key, as in the
- *  KeySets) where one is -1 ("no voxel") or beyond the tree. */
-inline std::uint64_t packedOrNone(int x, int y, int z)
-{
-	if ((static_cast<unsigned>(x) | static_cast<unsigned>(y) | static_cast<unsigned>(z)) > 0xFFFFu) return 0;
-	return packKey(octomap::OcTreeKey(
-		static_cast<octomap::key_type>(x), static_cast<octomap::key_type>(y), static_cast<octomap::key_type>(z)));
-}
-}  // namespace
 
 void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band) const
 {
+	using namespace rows;
 	const int cols = rs.cols;
 	const auto& R = rs.R;
 	const float coarseInverse = static_cast<float>(m_outsideGrid.inverse);
 	const float fineInverse = static_cast<float>(m_insideGrid.inverse);
+	const float sketchInverse = static_cast<float>(m_sketchGrid.inverse);
 	const std::size_t n = static_cast<std::size_t>(cols);
-	// Two rows of coarse and fine keys: this one and the one above, which
-	// starts as "no voxel".
-	band.keys.assign(12 * n, -1);
+	// Two rows of coarse, fine and sketch keys: this one and the one above,
+	// which starts as "no voxel".
+	band.keys.assign(18 * n, -1);
 	band.near.resize(3 * n);
 	band.flags.assign(n + 8, 0);  // forEachFlagged reads whole words
 	auto rowKeys = [&](int row, int set) {
-		int* const base = band.keys.data() + (static_cast<std::size_t>(row & 1) * 6 + set * 3) * n;
+		int* const base = band.keys.data() + (static_cast<std::size_t>(row & 1) * 9 + set * 3) * n;
 		return RowKeys{base, base + n, base + 2 * n};
 	};
 	float* const depth = band.near.data();
@@ -618,8 +455,14 @@ void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band
 		{
 			std::fill(insideF + nearFrom, insideF + nearEnd, 0.0f);
 			std::fill(crossTo + nearFrom, crossTo + nearEnd, -1.0f);
-			for (const auto& region : *rs.regions)
-				classifyAgainstBox(rays, depth, region.box, nearFrom, nearEnd, insideF, crossTo);
+			// Each region only over the columns its box projects to.
+			for (std::size_t r = 0; r < rs.regions->size(); r++)
+			{
+				const auto& rect = m_regionRects[r];
+				if (v < rect.v0 || v > rect.v1) continue;
+				const int from = std::max(nearFrom, rect.u0), to = std::min(nearEnd, rect.u1 + 1);
+				if (from < to) classifyAgainstBox(rays, depth, (*rs.regions)[r].box, from, to, insideF, crossTo);
+			}
 			fineRowKeys(rays, depth, insideF, crossTo, fineInverse, nearFrom, nearEnd, fine, coarse.x);
 			flagNewVoxels(fine, fineAbove, nearFrom, nearEnd, flags);
 			forEachFlagged(flags, nearFrom, nearEnd, [&](int u) {
@@ -634,6 +477,18 @@ void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band
 		forEachFlagged(flags, 0, cols, [&](int u) {
 			if (const auto key = packedOrNone(coarse.x[u], coarse.y[u], coarse.z[u])) band.outside->insert(key);
 		});
+		if (m_targets.sketch)
+		{
+			// The high voxels of the points in low-tree space (no coarse key:
+			// no depth, or inside a region).
+			const RowKeys sketch = rowKeys(v, 2), sketchAbove = rowKeys(v + 1, 2);
+			coarseRowKeys(rays, depth, sketchInverse, cols, sketch);
+			maskWhereNone(coarse.x, cols, sketch.x);
+			flagNewVoxels(sketch, sketchAbove, 0, cols, flags);
+			forEachFlagged(flags, 0, cols, [&](int u) {
+				if (const auto key = packedOrNone(sketch.x[u], sketch.y[u], sketch.z[u])) band.sketch->insert(key);
+			});
+		}
 	}
 }
 

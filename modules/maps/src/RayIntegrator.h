@@ -16,6 +16,7 @@
 #include "BatchUpdate.h"
 #include "KeySet.h"
 #include "ResolutionPolicy.h"
+#include "SurfaceSketch.h"
 
 namespace avm::detail
 {
@@ -33,6 +34,10 @@ struct ScanTargets
 	octomap::OcTree* inside = nullptr;
 	double insideMaxRange = 0;
 	const std::vector<Region>* regions = nullptr;
+	/** Region policy: takes the high voxels of the endpoints that land in
+	 *  low-tree space (within its range), at `sketchResolution`. */
+	SurfaceSketch* sketch = nullptr;
+	double sketchResolution = 0;
 };
 
 class RayIntegrator
@@ -87,8 +92,8 @@ class RayIntegrator
 	/** One band of rows' endpoint sets and scratch rows. */
 	struct PixelBand
 	{
-		KeySet *outside = nullptr, *inside = nullptr, *crossing = nullptr;
-		KeySet ownOutside, ownInside, ownCrossing;
+		KeySet *outside = nullptr, *inside = nullptr, *crossing = nullptr, *sketch = nullptr;
+		KeySet ownOutside, ownInside, ownCrossing, ownSketch;
 		std::vector<int> keys;
 		std::vector<float> near;
 		std::vector<std::uint8_t> flags;
@@ -100,9 +105,14 @@ class RayIntegrator
 	 *  depth-image path skip the region tests for most pixels). */
 	void addPoint(double x, double y, double z, bool nearRegion);
 	void finish();
-	void castRay(
-		const mrpt::math::TPoint3D& end, std::uint64_t endKey, Endpoint endpoint, bool castOutside,
-		bool castInside);
+	/** Which part of a ray a cast maps: the part outside the regions (in
+	 *  the `outside` tree) or the parts inside them (in the high tree). */
+	enum class RayPart
+	{
+		OutsideRegions,
+		InsideRegions
+	};
+	void castRay(const mrpt::math::TPoint3D& end, std::uint64_t endKey, Endpoint endpoint, RayPart part);
 	void castSegment(bool inside, double a, double b, bool extendStart, bool extendEnd, double length);
 	bool insideAnyRegion(double x, double y, double z) const;
 	template <typename Set>
@@ -113,12 +123,14 @@ class RayIntegrator
 	mrpt::math::TPoint3D m_origin;
 	/** end - origin of the ray being cast. */
 	mrpt::math::TPoint3D m_rayDir;
-	Grid m_outsideGrid, m_insideGrid;
+	Grid m_outsideGrid, m_insideGrid, m_sketchGrid;
 	bool m_hasRegions = false;
 	/** Endpoint voxels: outside regions, inside regions, and, for rays that
 	 *  cross a region without ending in one, the fine voxel where they leave
 	 *  it (point clouds: the fine voxel of the endpoint). */
 	KeySet m_outsideEnds, m_insideEnds, m_crossingEnds;
+	/** High voxels of the endpoints in low-tree space, for the sketch. */
+	KeySet m_sketchEnds;
 	/** Coarse voxels of m_insideEnds. */
 	KeySet m_insideCoarseEnds;
 	KeySet m_outsideFree, m_outsideOccupied;

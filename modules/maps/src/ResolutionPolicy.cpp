@@ -1,29 +1,58 @@
 // Algorithm 1 of Choi & Shin (2025), resolution switching, and the region
 // policy that extends it. The paper switches the whole map once; the region
-// policy switches only the space around people, so the rest of the scene
+// policy switches only the space around each person, so the rest of the scene
 // keeps the cheap resolution.
 #include "ResolutionPolicy.h"
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <stdexcept>
+
+#include "OcTreeKeys.h"
 
 namespace avm::detail
 {
 namespace
 {
-bool overlaps(const mrpt::math::TBoundingBox& a, const mrpt::math::TBoundingBox& b)
+// 2^24 low voxels: a 50 x 50 x 10 m building at 0.2 m is 3.1 million.
+constexpr double kMaxRegionVoxels = 16777216.0;
+
+bool contains(const mrpt::math::TBoundingBox& outer, const mrpt::math::TBoundingBox& inner)
 {
-	// Strict: regions aligned to the grid that only share a face stay apart.
-	return a.min.x < b.max.x && b.min.x < a.max.x && a.min.y < b.max.y && b.min.y < a.max.y &&
-		   a.min.z < b.max.z && b.min.z < a.max.z;
+	for (int i = 0; i < 3; i++)
+		if (inner.min[i] < outer.min[i] || inner.max[i] > outer.max[i]) return false;
+	return true;
+}
+
+/** The bounding box of a and b, when it covers nothing else: equal extents on
+ *  two axes, touching or overlapping on the third. */
+std::optional<mrpt::math::TBoundingBox> exactUnion(const mrpt::math::TBoundingBox& a, const mrpt::math::TBoundingBox& b)
+{
+	int differing = -1;
+	for (int i = 0; i < 3; i++)
+	{
+		if (a.min[i] == b.min[i] && a.max[i] == b.max[i]) continue;
+		if (differing >= 0) return std::nullopt;
+		differing = i;
+	}
+	if (differing >= 0 && (a.max[differing] < b.min[differing] || b.max[differing] < a.min[differing]))
+		return std::nullopt;
+	return a.unionWith(b);
+}
+}  // namespace
+
+ResolutionPolicy::ResolutionPolicy(SwitchPolicy policy, double lowResolution)
+	: m_policy(policy), m_lowResolution(lowResolution)
+{
 }
 
 /** Grown outwards to whole low voxels, so that a region is a union of low
  *  voxels: each low voxel is then entirely in or out, and the high voxels
  *  (whose edge divides the low one) tile the region exactly. */
-mrpt::math::TBoundingBox alignedToGrid(const mrpt::math::TBoundingBox& b, double res)
+mrpt::math::TBoundingBox ResolutionPolicy::alignedToGrid(const mrpt::math::TBoundingBox& b) const
 {
+	const double res = m_lowResolution;
 	auto lo = [res](double v) { return std::floor(v / res + 1e-9) * res; };
 	auto hi = [res](double v) { return std::ceil(v / res - 1e-9) * res; };
 	mrpt::math::TBoundingBox out = b;
@@ -33,11 +62,18 @@ mrpt::math::TBoundingBox alignedToGrid(const mrpt::math::TBoundingBox& b, double
 		if (out.max[i] <= out.min[i]) out.max[i] = out.min[i] + res;
 	return out;
 }
-}  // namespace
 
-ResolutionPolicy::ResolutionPolicy(SwitchPolicy policy, double lowResolution)
-	: m_policy(policy), m_lowResolution(lowResolution)
+void ResolutionPolicy::requireValid(const mrpt::math::TBoundingBox& box) const
 {
+	for (int i = 0; i < 3; i++)
+		if (!std::isfinite(box.min[i]) || !std::isfinite(box.max[i]) || box.max[i] <= box.min[i])
+			throw std::invalid_argument("CAdaptiveOctoMap: empty or non-finite region box " + box.asString());
+	// Region space is kept as a set of low voxels: bound it.
+	double voxels = 1;
+	for (int i = 0; i < 3; i++) voxels *= std::ceil((box.max[i] - box.min[i]) / m_lowResolution) + 1;
+	if (voxels > kMaxRegionVoxels)
+		throw std::invalid_argument("CAdaptiveOctoMap: region box " + box.asString() + " spans more than " +
+			std::to_string(static_cast<long>(kMaxRegionVoxels)) + " low voxels");
 }
 
 void ResolutionPolicy::markSwitched(std::size_t insertionIndex)
@@ -54,59 +90,104 @@ void ResolutionPolicy::trigger(std::size_t insertionIndex)
 	markSwitched(insertionIndex);
 }
 
-void ResolutionPolicy::addRegion(const mrpt::math::TBoundingBox& box, std::size_t insertionIndex)
+void ResolutionPolicy::addFixedRegion(const mrpt::math::TBoundingBox& box, std::size_t insertionIndex)
 {
-	for (int i = 0; i < 3; i++)
-		if (!std::isfinite(box.min[i]) || !std::isfinite(box.max[i]) || box.max[i] <= box.min[i])
-			throw std::invalid_argument(
-				"CAdaptiveOctoMap::addHighResolutionRegion: empty or non-finite box " + box.asString());
-	if (m_policy == SwitchPolicy::Paper)
-	{
-		markSwitched(insertionIndex);
-		return;
-	}
-	Region merged{alignedToGrid(box, m_lowResolution), insertionIndex};
-	// Merge until no region overlaps: a merged box can reach further ones.
-	for (bool again = true; again;)
-	{
-		again = false;
-		for (auto it = m_regions.begin(); it != m_regions.end(); ++it)
-		{
-			if (!overlaps(it->box, merged.box)) continue;
-			merged.box = merged.box.unionWith(it->box);
-			m_regions.erase(it);
-			again = true;
-			break;
-		}
-	}
-	m_regions.push_back(merged);
-	m_grown.push_back(merged.box);
+	requireValid(box);
 	markSwitched(insertionIndex);
+	if (m_policy == SwitchPolicy::Paper) return;
+	THighResolutionRegion r;
+	r.boxes.push_back(alignedToGrid(box));
+	m_regions.push_back(r);
+	regionsChanged();
+}
+
+void ResolutionPolicy::personSeen(
+	std::uint32_t personId, const mrpt::math::TBoundingBox& box, double time, RegionLifetime lifetime,
+	std::size_t insertionIndex)
+{
+	requireValid(box);
+	markSwitched(insertionIndex);
+	if (m_policy == SwitchPolicy::Paper) return;
+	const auto aligned = alignedToGrid(box);
+	auto it = std::find_if(
+		m_regions.begin(), m_regions.end(), [&](const THighResolutionRegion& r) { return r.personId == personId; });
+	if (it == m_regions.end())
+	{
+		m_regions.push_back(THighResolutionRegion{personId, {}, 0, time});
+		it = std::prev(m_regions.end());
+	}
+	auto& region = *it;
+	region.unseenInViewSeconds = 0;
+	region.lastSeenTime = std::max(region.lastSeenTime, time);
+	if (lifetime == RegionLifetime::Follow)
+	{
+		if (region.boxes.size() == 1 && contains(region.boxes.front(), aligned) &&
+			contains(aligned, region.boxes.front()))
+			return;
+		region.boxes.assign(1, aligned);
+	}
+	else
+	{
+		// Every place the person has been: boxes already covered add nothing,
+		// and boxes that extend one another exactly become one, which keeps
+		// the integrator's per-box tests few for a person standing still.
+		for (const auto& b : region.boxes)
+			if (contains(b, aligned)) return;
+		auto joined = aligned;
+		for (bool merged = true; merged;)
+		{
+			merged = false;
+			for (auto b = region.boxes.begin(); b != region.boxes.end(); ++b)
+				if (contains(joined, *b) || exactUnion(joined, *b))
+				{
+					joined = joined.unionWith(*b);
+					region.boxes.erase(b);
+					merged = true;
+					break;
+				}
+		}
+		region.boxes.push_back(joined);
+	}
+	regionsChanged();
+}
+
+std::vector<std::uint32_t> ResolutionPolicy::age(
+	double from, double to, double endAfter, const std::function<bool(const mrpt::math::TBoundingBox&)>& inView)
+{
+	std::vector<std::uint32_t> ended;
+	for (auto& r : m_regions)
+	{
+		if (r.personId == 0 || r.boxes.empty() || !inView(r.boxes.back())) continue;
+		r.unseenInViewSeconds += std::max(0.0, to - std::max(from, r.lastSeenTime));
+		if (r.unseenInViewSeconds >= endAfter) ended.push_back(r.personId);
+	}
+	for (const auto id : ended) endRegion(id);
+	return ended;
+}
+
+bool ResolutionPolicy::endRegion(std::uint32_t personId)
+{
+	const auto it = std::find_if(
+		m_regions.begin(), m_regions.end(), [&](const THighResolutionRegion& r) { return r.personId == personId; });
+	if (personId == 0 || it == m_regions.end()) return false;
+	m_regions.erase(it);
+	regionsChanged();
+	return true;
 }
 
 void ResolutionPolicy::beforeIntegration(
 	std::size_t index, const CAdaptiveOctoMap::TInsertionOptions& opts, std::size_t expectedFrames)
 {
-	if (m_policy == SwitchPolicy::Paper && !m_switchIndex)
+	if (m_policy != SwitchPolicy::Paper || m_switchIndex) return;
+	if (opts.switchAtFrame >= 0 && index >= static_cast<std::size_t>(opts.switchAtFrame)) markSwitched(index);
+	if (opts.switchAtFraction >= 0)
 	{
-		if (opts.switchAtFrame >= 0 && index >= static_cast<std::size_t>(opts.switchAtFrame))
+		if (expectedFrames == 0)
+			throw std::runtime_error(
+				"CAdaptiveOctoMap: insertOpts switch_at_fraction is set but the run's frame count is "
+				"unknown: set insertOpts expected_frame_count or call setExpectedFrameCount()");
+		if (static_cast<double>(index) >= opts.switchAtFraction * static_cast<double>(expectedFrames))
 			markSwitched(index);
-		if (opts.switchAtFraction >= 0)
-		{
-			if (expectedFrames == 0)
-				throw std::runtime_error(
-					"CAdaptiveOctoMap: insertOpts switch_at_fraction is set but the run's frame count is "
-					"unknown: set insertOpts expected_frame_count or call setExpectedFrameCount()");
-			if (static_cast<double>(index) >= opts.switchAtFraction * static_cast<double>(expectedFrames))
-				markSwitched(index);
-		}
-	}
-	if (m_policy == SwitchPolicy::Region && opts.regionExpiryFrames > 0)
-	{
-		auto expired = [&](const Region& r) { return index - r.refreshedAt > opts.regionExpiryFrames; };
-		for (const auto& r : m_regions)
-			if (expired(r)) m_expired.push_back(r.box);
-		m_regions.erase(std::remove_if(m_regions.begin(), m_regions.end(), expired), m_regions.end());
 	}
 }
 
@@ -115,20 +196,49 @@ bool ResolutionPolicy::highActive() const
 	return m_policy == SwitchPolicy::Paper ? m_switchIndex.has_value() : !m_regions.empty();
 }
 
-const Region* ResolutionPolicy::regionContaining(const mrpt::math::TPoint3D& p) const
+bool ResolutionPolicy::inHighResolutionSpace(const mrpt::math::TPoint3D& p) const
 {
-	for (const auto& r : m_regions)
-		if (r.contains(p.x, p.y, p.z)) return &r;
-	return nullptr;
+	for (const auto& b : m_boxes)
+		if (b.contains(p.x, p.y, p.z)) return true;
+	return false;
 }
 
-std::vector<mrpt::math::TBoundingBox> ResolutionPolicy::takeGrownRegions()
+void ResolutionPolicy::regionsChanged()
 {
-	return std::exchange(m_grown, {});
+	m_boxes.clear();
+	m_covered.clear();
+	for (const auto& r : m_regions)
+		for (const auto& box : r.boxes)
+		{
+			m_boxes.push_back({box});
+			std::int64_t lo[3], hi[3];
+			for (int i = 0; i < 3; i++)
+			{
+				lo[i] = gridKeyOf(box.min[i], m_lowResolution);
+				hi[i] = gridKeyOf(box.max[i], m_lowResolution);
+				// Beyond the tree nothing can be mapped: nothing to cover.
+				lo[i] = std::clamp<std::int64_t>(lo[i], 0, 2 * kKeyOffset);
+				hi[i] = std::clamp<std::int64_t>(hi[i], 0, 2 * kKeyOffset);
+			}
+			for (auto x = lo[0]; x < hi[0]; x++)
+				for (auto y = lo[1]; y < hi[1]; y++)
+					for (auto z = lo[2]; z < hi[2]; z++)
+						m_covered.push_back(packKey(octomap::OcTreeKey(static_cast<octomap::key_type>(x),
+							static_cast<octomap::key_type>(y), static_cast<octomap::key_type>(z))));
+		}
+	std::sort(m_covered.begin(), m_covered.end());
+	m_covered.erase(std::unique(m_covered.begin(), m_covered.end()), m_covered.end());
 }
-std::vector<mrpt::math::TBoundingBox> ResolutionPolicy::takeExpiredRegions()
+
+SpaceChange ResolutionPolicy::takeSpaceChange()
 {
-	return std::exchange(m_expired, {});
+	SpaceChange c;
+	std::set_difference(m_covered.begin(), m_covered.end(), m_coveredApplied.begin(), m_coveredApplied.end(),
+		std::back_inserter(c.entered));
+	std::set_difference(m_coveredApplied.begin(), m_coveredApplied.end(), m_covered.begin(), m_covered.end(),
+		std::back_inserter(c.left));
+	m_coveredApplied = m_covered;
+	return c;
 }
 
 void ResolutionPolicy::serializeTo(mrpt::serialization::CArchive& out) const
@@ -137,8 +247,11 @@ void ResolutionPolicy::serializeTo(mrpt::serialization::CArchive& out) const
 	out.WriteAs<uint64_t>(m_switchIndex.value_or(0));
 	out.WriteAs<uint32_t>(m_regions.size());
 	for (const auto& r : m_regions)
-		out << r.box.min.x << r.box.min.y << r.box.min.z << r.box.max.x << r.box.max.y << r.box.max.z
-			<< static_cast<uint64_t>(r.refreshedAt);
+	{
+		out << r.personId << r.unseenInViewSeconds << r.lastSeenTime;
+		out.WriteAs<uint32_t>(r.boxes.size());
+		for (const auto& b : r.boxes) out << b.min.x << b.min.y << b.min.z << b.max.x << b.max.y << b.max.z;
+	}
 }
 
 void ResolutionPolicy::serializeFrom(mrpt::serialization::CArchive& in)
@@ -149,12 +262,16 @@ void ResolutionPolicy::serializeFrom(mrpt::serialization::CArchive& in)
 	m_regions.resize(in.ReadAs<uint32_t>());
 	for (auto& r : m_regions)
 	{
-		uint64_t refreshed = 0;
-		in >> r.box.min.x >> r.box.min.y >> r.box.min.z >> r.box.max.x >> r.box.max.y >> r.box.max.z >>
-			refreshed;
-		r.refreshedAt = refreshed;
+		in >> r.personId >> r.unseenInViewSeconds >> r.lastSeenTime;
+		r.boxes.resize(in.ReadAs<uint32_t>());
+		for (auto& b : r.boxes)
+		{
+			in >> b.min.x >> b.min.y >> b.min.z >> b.max.x >> b.max.y >> b.max.z;
+			requireValid(b);
+		}
 	}
-	m_grown.clear();
-	m_expired.clear();
+	regionsChanged();
+	// The serialized trees already hold the space as it is.
+	m_coveredApplied = m_covered;
 }
 }  // namespace avm::detail

@@ -1,15 +1,22 @@
-// Algorithm 1 (resolution switching) and its region variant: which space the
-// high-resolution tree maps, and when that changed. Knows nothing of octrees;
-// CAdaptiveOctoMap applies the changes it reports to the trees.
+// Algorithm 1 (resolution switching) and its per-person variant: which space
+// the high-resolution tree maps, and how that changed. Knows nothing of
+// octrees; CAdaptiveOctoMap applies the changes it reports to the trees.
+//
+// Region policy: the high-resolution space is the exact union of the low
+// voxels covered by the regions' boxes (each box grown to whole low voxels),
+// one region per person, never a box around several. Boxes may overlap; what
+// they cover is tracked as a set of low voxel keys, so the trees learn
+// exactly which low voxels entered the high-resolution space (to be refined)
+// and which left it (to be coarsened).
 #pragma once
 
 #include <mrpt/math/TBoundingBox.h>
 #include <mrpt/math/TPoint3D.h>
-#include <mrpt/obs/CObservation3DRangeScan.h>
-#include <mrpt/poses/CPose3D.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <cstddef>
+#include <cstdint>
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -17,12 +24,11 @@
 
 namespace avm::detail
 {
+/** One box of high-resolution space, aligned to the low voxel grid: the unit
+ *  the ray integrator tests against. */
 struct Region
 {
-	/** World frame, aligned to the low tree's voxel grid. */
 	mrpt::math::TBoundingBox box;
-	/** Insertion index of the last trigger that created or refreshed it. */
-	std::size_t refreshedAt = 0;
 
 	/** Half-open on the max side, as octree voxels are. */
 	bool contains(double x, double y, double z) const
@@ -30,6 +36,13 @@ struct Region
 		return x >= box.min.x && x < box.max.x && y >= box.min.y && y < box.max.y && z >= box.min.z &&
 			   z < box.max.z;
 	}
+};
+
+/** Low voxels that entered and left the high-resolution space (packed keys
+ *  of the low tree, see KeySet.h), in increasing key order. */
+struct SpaceChange
+{
+	std::vector<std::uint64_t> entered, left;
 };
 
 class ResolutionPolicy
@@ -42,41 +55,56 @@ class ResolutionPolicy
 	/** Paper policy: switch to the high tree (later triggers change nothing).
 	 *  Region policy: std::logic_error. */
 	void trigger(std::size_t insertionIndex);
-	/** Region policy: the box, grown to the low grid, becomes (or merges into)
-	 *  an active region. Paper policy: a trigger. */
-	void addRegion(const mrpt::math::TBoundingBox& box, std::size_t insertionIndex);
+	/** Region policy: a region that no person owns and that never ends (the
+	 *  API's addHighResolutionRegion). Paper policy: a trigger. */
+	void addFixedRegion(const mrpt::math::TBoundingBox& box, std::size_t insertionIndex);
+	/** Region policy: the person was seen with this box (world frame, margin
+	 *  included). Follow: the person's region moves to the box. Persist: the
+	 *  box joins the person's region. Either way its in-view clock restarts.
+	 *  Paper policy: a trigger. */
+	void personSeen(
+		std::uint32_t personId, const mrpt::math::TBoundingBox& box, double time, RegionLifetime lifetime,
+		std::size_t insertionIndex);
+	/** Follow lifetime: the camera looked from `from` to `to` [s] at each
+	 *  person region for which `inView(latest box)` holds; what of that came
+	 *  after the person's last sighting counts, and a region whose count
+	 *  reaches `endAfter` ends (its person is returned). */
+	std::vector<std::uint32_t> age(
+		double from, double to, double endAfter, const std::function<bool(const mrpt::math::TBoundingBox&)>& inView);
+	/** Removes the person's region; false if it has none. */
+	bool endRegion(std::uint32_t personId);
 	/** Called before integrating insertion `index`: the forced switch of the
-	 *  paper's ratio experiment and the expiry of regions. */
+	 *  paper's ratio experiment. */
 	void beforeIntegration(
 		std::size_t index, const CAdaptiveOctoMap::TInsertionOptions& opts, std::size_t expectedFrames);
 
 	/** Paper: switched. Region: a region exists. */
 	bool highActive() const;
 	std::optional<std::size_t> switchIndex() const { return m_switchIndex; }
-	const std::vector<Region>& regions() const { return m_regions; }
-	const Region* regionContaining(const mrpt::math::TPoint3D& p) const;
+	const std::vector<THighResolutionRegion>& regions() const { return m_regions; }
+	/** Every box of every region, for the integrator. */
+	const std::vector<Region>& boxes() const { return m_boxes; }
+	bool inHighResolutionSpace(const mrpt::math::TPoint3D& p) const;
 
-	/** Regions created or grown since the last call (their low space must be
-	 *  emptied), and regions expired (their high space must be emptied). */
-	std::vector<mrpt::math::TBoundingBox> takeGrownRegions();
-	std::vector<mrpt::math::TBoundingBox> takeExpiredRegions();
+	/** What the high-resolution space gained and lost since the last call. */
+	SpaceChange takeSpaceChange();
 
 	void serializeTo(mrpt::serialization::CArchive& out) const;
 	void serializeFrom(mrpt::serialization::CArchive& in);
 
    private:
 	void markSwitched(std::size_t insertionIndex);
+	/** Rebuilds boxes and the covered key set after the regions changed. */
+	void regionsChanged();
+	mrpt::math::TBoundingBox alignedToGrid(const mrpt::math::TBoundingBox& b) const;
+	void requireValid(const mrpt::math::TBoundingBox& box) const;
 
 	SwitchPolicy m_policy;
 	double m_lowResolution;
 	std::optional<std::size_t> m_switchIndex;
-	std::vector<Region> m_regions;
-	std::vector<mrpt::math::TBoundingBox> m_grown, m_expired;
+	std::vector<THighResolutionRegion> m_regions;
+	std::vector<Region> m_boxes;
+	/** Low keys covered now, and when the trees last caught up. */
+	std::vector<std::uint64_t> m_covered, m_coveredApplied;
 };
-
-/** Boxes (world frame, margin included) around the pixels of `obs` labelled
- *  `opts.personLabel`, one per 4-connected blob of labelled pixels. */
-std::vector<mrpt::math::TBoundingBox> regionsFromPixelLabels(
-	const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& sensorPoseInWorld,
-	const CAdaptiveOctoMap::TInsertionOptions& opts);
 }  // namespace avm::detail

@@ -17,13 +17,17 @@ std::unique_ptr<octomap::OcTree> makeTree(const CAdaptiveOctoMap::TTreeOptions& 
 
 namespace
 {
-/** Removes the finest voxel `key` below `node` (at `depth`); true when
- *  `node` is left without children and must go too. octomap 1.9.7's own
- *  deleteNode() deletes such an emptied inner node with its (empty) child
- *  array still allocated, which its node destructor asserts against. */
-bool eraseRecurs(octomap::OcTree& t, octomap::OcTreeNode* node, unsigned depth, const octomap::OcTreeKey& key)
+/** Removes the node at `target` depth containing `key` below `node` (at
+ *  `depth`); true when `node` is left without children and must go too.
+ *  The removed node must be a leaf (or a pruned leaf above `target`, which is
+ *  split on the way down). octomap 1.9.7's own deleteNode() deletes such an
+ *  emptied inner node with its (empty) child array still allocated, which its
+ *  node destructor asserts against, and its deleteNodeChild() counts a whole
+ *  subtree as one node: hence leaf by leaf. */
+bool eraseRecurs(
+	octomap::OcTree& t, octomap::OcTreeNode* node, unsigned depth, const octomap::OcTreeKey& key, unsigned target)
 {
-	if (depth == t.getTreeDepth()) return true;
+	if (depth == target) return true;
 	const unsigned pos = octomap::computeChildIdx(key, static_cast<int>(t.getTreeDepth() - 1 - depth));
 	if (!t.nodeChildExists(node, pos))
 	{
@@ -31,7 +35,7 @@ bool eraseRecurs(octomap::OcTree& t, octomap::OcTreeNode* node, unsigned depth, 
 		t.expandNode(node);	 // a pruned leaf: split it to remove a part
 	}
 	auto* child = t.getNodeChild(node, pos);
-	if (!eraseRecurs(t, child, depth + 1, key)) return false;
+	if (!eraseRecurs(t, child, depth + 1, key, target)) return false;
 	// Free the child's child array (allocated even when emptied): give it 8
 	// equal children and prune them, which releases the array through
 	// octomap's public API; then the child can be deleted safely.
@@ -43,40 +47,45 @@ bool eraseRecurs(octomap::OcTree& t, octomap::OcTreeNode* node, unsigned depth, 
 	return false;
 }
 
-void eraseVoxel(octomap::OcTree& t, const octomap::OcTreeKey& key)
+void eraseNode(octomap::OcTree& t, const octomap::OcTreeKey& key, unsigned depth)
 {
 	if (!t.getRoot()) return;
-	eraseRecurs(t, t.getRoot(), 0, key);
+	eraseRecurs(t, t.getRoot(), 0, key, depth);
 	if (!t.nodeHasChildren(t.getRoot())) t.clear();
 }
 }  // namespace
 
-void deleteSpace(octomap::OcTree& tree, const mrpt::math::TBoundingBox& box)
+void eraseKeyRange(octomap::OcTree& tree, const KeyRange& range)
 {
 	if (tree.size() == 0) return;
-	const double res = tree.getResolution();
-	auto inBox = [&](double x, double y, double z) {
-		return x >= box.min.x && x < box.max.x && y >= box.min.y && y < box.max.y && z >= box.min.z && z < box.max.z;
+	const unsigned maxDepth = tree.getTreeDepth();
+	struct Doomed
+	{
+		octomap::OcTreeKey key;
+		unsigned depth;
 	};
 	// Collect first: deleting while iterating would invalidate the iterator.
-	std::vector<octomap::OcTreeKey> doomed;
-	const octomap::point3d lo(box.min.x, box.min.y, box.min.z), hi(box.max.x, box.max.y, box.max.z);
-	for (auto it = tree.begin_leafs_bbx(lo, hi), end = tree.end_leafs_bbx(); it != end; ++it)
+	std::vector<Doomed> doomed;
+	for (auto it = tree.begin_leafs_bbx(range.first(), range.last()), end = tree.end_leafs_bbx(); it != end; ++it)
 	{
-		const double size = it.getSize();
-		const auto c = it.getCoordinate();
-		if (it.getDepth() == tree.getTreeDepth())
+		const unsigned depth = it.getDepth();
+		const unsigned span = 1u << (maxDepth - depth);
+		// The leaf's first key: its key with the bits below its depth cleared.
+		const auto key = it.getIndexKey();
+		if (range.containsCube(key, span))
 		{
-			if (inBox(c.x(), c.y(), c.z())) doomed.push_back(it.getKey());
+			doomed.push_back({key, depth});
 			continue;
 		}
-		// A pruned leaf: its finest voxels inside the box (deleteNode expands it).
-		const double h = 0.5 * size;
-		for (double x = c.x() - h + 0.5 * res; x < c.x() + h; x += res)
-			for (double y = c.y() - h + 0.5 * res; y < c.y() + h; y += res)
-				for (double z = c.z() - h + 0.5 * res; z < c.z() + h; z += res)
-					if (inBox(x, y, z)) doomed.push_back(tree.coordToKey(x, y, z));
+		// A pruned leaf reaching out of the range: its finest voxels inside.
+		for (unsigned x = 0; x < span; x++)
+			for (unsigned y = 0; y < span; y++)
+				for (unsigned z = 0; z < span; z++)
+				{
+					const octomap::OcTreeKey k(key[0] + x, key[1] + y, key[2] + z);
+					if (range.contains(k)) doomed.push_back({k, maxDepth});
+				}
 	}
-	for (const auto& k : doomed) eraseVoxel(tree, k);
+	for (const auto& d : doomed) eraseNode(tree, d.key, d.depth);
 }
 }  // namespace avm::detail

@@ -6,6 +6,7 @@
 
 #include <memory>
 
+#include "OcTreeKeys.h"
 #include "avm/maps/CAdaptiveOctoMap.h"
 
 namespace avm::detail
@@ -13,9 +14,9 @@ namespace avm::detail
 /** An empty tree with the options' resolution and sensor model. */
 std::unique_ptr<octomap::OcTree> makeTree(const CAdaptiveOctoMap::TTreeOptions& o);
 
-/** Deletes every finest-level voxel of `tree` whose centre is in `box`
- *  (pruned leaves that straddle the box are split first). */
-void deleteSpace(octomap::OcTree& tree, const mrpt::math::TBoundingBox& box);
+/** Deletes everything `tree` holds inside `range` (pruned leaves that reach
+ *  out of it are split first). */
+void eraseKeyRange(octomap::OcTree& tree, const KeyRange& range);
 
 inline mrpt::math::TPoint3D toTPoint(const octomap::point3d& p) { return {p.x(), p.y(), p.z()}; }
 }  // namespace avm::detail

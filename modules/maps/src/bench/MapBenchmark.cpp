@@ -12,6 +12,8 @@
 #include <sstream>
 
 #include "avm/io/RawlogFrameReader.h"
+#include "avm/io/ThreadCpuTime.h"
+#include "avm/io/TimingSummary.h"
 #include "avm/maps/CAdaptiveOctoMap.h"
 
 namespace avm::maps
@@ -32,15 +34,6 @@ struct Contender
 	std::function<void(MapBenchmarkRow&)> sizes;
 	std::vector<double> ms, cpuMs;
 };
-
-/** CPU time of the calling thread: unlike wall time, it does not count the
- *  time other processes on a shared machine take. */
-double threadCpuMs()
-{
-	timespec ts{};
-	::clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-	return static_cast<double>(ts.tv_sec) * 1e3 + static_cast<double>(ts.tv_nsec) * 1e-6;
-}
 
 void octreeSizes(const octomap::OcTree& t, MapBenchmarkRow& row)
 {
@@ -105,11 +98,10 @@ MapBenchmarkRow summarize(Contender& c)
 	row.frames = c.ms.size();
 	if (!c.ms.empty())
 	{
-		row.meanMs = std::accumulate(c.ms.begin(), c.ms.end(), 0.0) / static_cast<double>(c.ms.size());
-		auto sorted = c.ms;
-		std::sort(sorted.begin(), sorted.end());
-		row.medianMs = sorted[sorted.size() / 2];
-		row.p95Ms = sorted[std::min(sorted.size() - 1, static_cast<std::size_t>(0.95 * static_cast<double>(sorted.size())))];
+		const auto times = io::summariseTimes(c.ms);
+		row.meanMs = times.meanMs;
+		row.medianMs = times.medianMs;
+		row.p95Ms = times.p95Ms;
 		row.meanCpuMs = std::accumulate(c.cpuMs.begin(), c.cpuMs.end(), 0.0) / static_cast<double>(c.cpuMs.size());
 	}
 	c.sizes(row);
@@ -212,9 +204,9 @@ MapBenchmarkResult runMapBenchmark(
 			for (std::size_t i = begin; i < end; i++)
 			{
 				const auto t0 = std::chrono::steady_clock::now();
-				const double cpu0 = threadCpuMs();
+				const double cpu0 = io::threadCpuMs();
 				c.insert(frames[i], clouds[i - begin], origins[i - begin]);
-				c.cpuMs.push_back(threadCpuMs() - cpu0);
+				c.cpuMs.push_back(io::threadCpuMs() - cpu0);
 				c.ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
 			}
 		if (progress) progress(end, frames.size());

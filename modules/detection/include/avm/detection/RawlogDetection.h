@@ -1,8 +1,6 @@
 // Running a detector over a rawlog: a labelled copy of the rawlog plus a text
-// list of the detections, and the latency benchmark.
+// list of the detections.
 #pragma once
-
-#include <opencv2/core/mat.hpp>
 
 #include <cstddef>
 #include <filesystem>
@@ -45,17 +43,4 @@ LabelRawlogSummary labelRawlog(
 /** One detection as text: `class score x y w h` (box in pixels, 1 decimal). */
 std::string formatDetection(const Detection& d);
 
-/** The colour images of the first `maxFrames` RGB-D frames of a rawlog (0 = all). */
-std::vector<cv::Mat> loadColourImages(const std::filesystem::path& rawlog, std::size_t maxFrames = 0);
-
-struct DetectorBenchmark
-{
-	int threads = 0;                   //!< cv::setNumThreads value used
-	std::size_t frames = 0, framesWithPerson = 0, persons = 0;
-	double meanMs = 0, medianMs = 0, p95Ms = 0, maxMs = 0;  //!< detect() wall time per frame [ms]
-};
-
-/** Times detector.detect() on each image (after one warm-up call) with
- *  cv::setNumThreads(threads), restoring the previous setting after. */
-DetectorBenchmark benchmarkDetector(DetectorBase& detector, const std::vector<cv::Mat>& images, int threads);
 }  // namespace avm::detection

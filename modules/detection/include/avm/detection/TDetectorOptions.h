@@ -40,11 +40,6 @@ struct TDetectorOptions : public mrpt::config::CLoadableOptions
 	int threads = 0;
 	double hog_hit_threshold = 0.0;  //!< HOG only: SVM margin a window needs to count
 
-	double region_margin = 0.3;              //!< [m] added on every side of a person's 3-D box
-	double person_depth_band = 0.5;          //!< [m] half-width of the depth band around a person's robust depth
-	double min_valid_depth_fraction = 0.2;   //!< share of box pixels with depth needed for a 3-D region
-	int min_region_points = 200;             //!< depth pixels in the band needed for a 3-D region
-
 	void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
 	void saveToConfigFile(mrpt::config::CConfigFileBase& target, const std::string& section) const override;
 	/** Throws std::invalid_argument naming "[section] key" and the bad value. */

@@ -4,7 +4,9 @@
 // filtering), usable from any MRPT app as the plugin map "adaptiveOctoMap".
 //
 // Where things live: src/ResolutionPolicy.cpp decides which space goes to
-// which tree (Algorithm 1, regions, triggers), src/RayIntegrator.cpp turns a
+// which tree (Algorithm 1, per-person regions and their lifetime),
+// src/RegionSpace.cpp refines space that enters a region and coarsens space
+// that leaves one, src/RayIntegrator.cpp turns a
 // scan into per-tree free/occupied key sets (the hot path, and Algorithm 2),
 // src/BatchUpdate.cpp applies them to a tree in one sweep,
 // src/CAdaptiveOctoMap_{options,query,likelihood,io,render}.cpp the rest
@@ -25,6 +27,9 @@
 #include <string>
 #include <vector>
 
+#include "avm/persons/PersonSighting.h"
+#include "avm/persons/PersonTracker.h"
+
 namespace octomap
 {
 class OcTree;
@@ -36,6 +41,7 @@ namespace detail
 {
 class ResolutionPolicy;
 class RayIntegrator;
+class SurfaceSketch;
 struct ScanTargets;
 }  // namespace detail
 
@@ -58,6 +64,42 @@ enum class OccupancyState : std::uint8_t
 	Unknown,
 	Free,
 	Occupied
+};
+
+/** How long a person's high-resolution region lives (region policy). */
+enum class RegionLifetime
+{
+	/** The region moves with the person; it ends once its space has been in
+	 *  view for `region_end_after_s` with no sighting of that person. A person
+	 *  out of view keeps the region. */
+	Follow,
+	/** Every place a person has been stays high resolution. */
+	Persist
+};
+std::string toString(RegionLifetime l);
+/** Parses "follow" / "persist"; throws std::invalid_argument otherwise. */
+RegionLifetime regionLifetimeFromString(const std::string& s);
+
+/** The high-resolution space of one person (or one box given through the
+ *  API): boxes in the world frame, aligned to the low voxel grid. */
+struct THighResolutionRegion
+{
+	std::uint32_t personId = 0;  //!< 0: given with addHighResolutionRegion(), never ends
+	std::vector<mrpt::math::TBoundingBox> boxes;  //!< follow: one; persist: all it has covered
+	/** [s] time in view since the person was last seen in it. */
+	double unseenInViewSeconds = 0;
+	double lastSeenTime = 0;  //!< [s] UNIX time of the person's last sighting
+};
+
+/** What observePersons() made of one person's pixels. */
+struct TPersonObservation
+{
+	std::optional<persons::PersonSighting> sighting;
+	std::uint32_t personId = 0;  //!< the track (0 when there is no sighting)
+	/** The region box the person gave (world, margin included, before grid
+	 *  alignment); nothing when there is no sighting. */
+	std::optional<mrpt::math::TBoundingBox> regionBox;
+	std::string skipReason;  //!< why there is no sighting
 };
 
 /** Which of the two trees. */
@@ -138,20 +180,16 @@ class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
 	struct TInsertionOptions : public mrpt::config::CLoadableOptions
 	{
 		SwitchPolicy switchPolicy = SwitchPolicy::Region;
-		/** [m] grown on each side of a box derived from pixel labels. */
-		double regionMargin = 0.30;
-		/** Insertions after which a region that no label refreshed is dropped
-		 *  (its high voxels deleted, its space back to the low tree); 0 = never. */
-		std::uint32_t regionExpiryFrames = 0;
-		/** Label name of the pixels that trigger a region/switch. */
+		/** [m] grown on each side of a person's box to make its region. */
+		double regionMargin = 0.20;
+		RegionLifetime regionLifetime = RegionLifetime::Follow;
+		/** [s] follow: a region ends after its space was in view this long with
+		 *  no sighting of its person. */
+		double regionEndAfterSeconds = 1.5;
+		/** Label name of the pixels that are persons (labelled rawlogs). */
 		std::string personLabel = "person";
-		/** A blob of labelled pixels with depth smaller than this is ignored. */
-		std::uint32_t minLabelPixels = 200;
-		/** [m] labelled points farther than this from the label's median depth
-		 *  are taken as background seen through the mask and dropped. */
-		double labelDepthBand = 0.75;
-		/** The box spans the [p, 1-p] percentiles of the labelled points. */
-		double labelPercentile = 0.02;
+		persons::SightingOptions sighting;
+		persons::TrackerOptions tracking;
 		/** paper policy: switch at this insertion index (-1 = off). */
 		std::int64_t switchAtFrame = -1;
 		/** paper policy: switch at this fraction of the run (-1 = off); needs
@@ -203,7 +241,7 @@ class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
 	{
 		double resolution = 0;
 		std::size_t occupiedLeaves = 0, freeLeaves = 0;
-		std::size_t memoryBytes = 0;  //!< octomap's memoryUsage()
+		std::size_t memoryBytes = 0;  //!< octomap's memoryUsage() (low tree: plus its surface sketch)
 		std::size_t binaryBytes = 0;  //!< size of the .bt file
 	};
 
@@ -232,17 +270,33 @@ class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
 	/** @name Triggers (Algorithm 1)
 	 * @{ */
 	/** Region policy: from now on, the box (world frame, used as given, then
-	 *  grown to the low tree's voxel grid) is mapped in the high tree; low
-	 *  voxels inside it are deleted. Overlapping regions merge. Paper policy:
-	 *  the call is a trigger like switchToHighResolution(). Throws
-	 *  std::invalid_argument on an empty or non-finite box. */
+	 *  grown to the low tree's voxel grid) is mapped in the high tree, for the
+	 *  map's life; what the low tree knew there moves into the high tree.
+	 *  Paper policy: the call is a trigger like switchToHighResolution().
+	 *  Throws std::invalid_argument on an empty or non-finite box. */
 	void addHighResolutionRegion(const mrpt::math::TBoundingBox& worldBox);
+	/** The persons whose pixels are `persons` in `obs` (taken at `robotPose`,
+	 *  composed with obs.sensorPose as for insertion), seen at frame
+	 *  `frameIndex`: each becomes a sighting, joins a person track, and its
+	 *  box grown by region_margin becomes (or moves) that person's region.
+	 *  Inserting an observation with person pixel labels calls this itself.
+	 *  Paper policy: a sighting is a trigger. */
+	std::vector<TPersonObservation> observePersons(
+		const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& robotPose,
+		const std::vector<persons::PixelSet>& persons, std::size_t frameIndex);
+	/** Ends the person's region now, as its lifetime would (its detail folded
+	 *  into the low tree): e.g. the person has been attended to. False if the
+	 *  person has no region. */
+	bool endPersonRegion(std::uint32_t personId);
+	/** Every person seen so far. */
+	const std::vector<persons::PersonTrack>& personTracks() const;
 	/** Paper policy: every later insertion goes to the high tree (filtered by
 	 *  Algorithm 2). Region policy: std::logic_error (a region is needed). */
 	void switchToHighResolution();
 	/** Paper: switched. Region: at least one region is active. */
 	bool isHighResolutionActive() const;
-	std::vector<mrpt::math::TBoundingBox> highResolutionRegions() const;
+	/** The active regions (region policy), in order of creation. */
+	const std::vector<THighResolutionRegion>& highResolutionRegions() const;
 	/** Index (0-based, among successful insertions) of the first insertion
 	 *  that used the high tree. */
 	std::optional<std::size_t> switchInsertionIndex() const;
@@ -324,12 +378,20 @@ class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
 	void finishInsertion();
 	/** Applies the region changes the policy reports to the trees. */
 	void applyRegionChanges();
+	/** Follow lifetime: the time since the last insertion counts for the
+	 *  regions the camera now looks at; those past region_end_after_s end. */
+	void ageRegions(const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& sensorPose);
 	bool isLeafVisible(Resolution tree, const mrpt::math::TPoint3D& center) const;
 	TTreeStats statsOf(Resolution which) const;
 
 	TCreationOptions m_creation;
 	std::unique_ptr<octomap::OcTree> m_low, m_high;
 	std::unique_ptr<detail::ResolutionPolicy> m_policy;
+	/** Where in each low voxel the surface was (region policy). */
+	std::unique_ptr<detail::SurfaceSketch> m_sketch;
+	persons::PersonTracker m_tracker;
+	/** [s] timestamp of the last depth image inserted (for region ageing). */
+	std::optional<double> m_lastScanTime;
 	/** Scratch buffers of the insertion hot path; not part of the map state. */
 	std::unique_ptr<detail::RayIntegrator> m_integrator;
 	std::size_t m_insertions = 0;

@@ -1,4 +1,4 @@
-#include "avm/detection/DetectApp.h"
+#include "DetectApp.h"
 
 #include <mrpt/system/progress.h>
 
@@ -8,20 +8,19 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <stdexcept>
 
 #include "avm/io/AtomicFile.h"
-#include "avm/io/IniOptions.h"
+#include "avm/io/RawlogFrameReader.h"
+#include "avm/io/RgbdFrame.h"
+#include "avm/io/TimingSummary.h"
 
-namespace avm::detection
+namespace avm::apps::detect
 {
 namespace fs = std::filesystem;
-
-TDetectorOptions loadDetectorOptions(const fs::path& ini, const std::string& section, std::vector<std::string>& unknownKeys)
-{
-	return io::loadOptionsFromFile<TDetectorOptions>(ini, section, unknownKeys);
-}
+using detection::Detection;
 
 cv::Mat drawDetections(const cv::Mat& bgr, const std::vector<Detection>& detections)
 {
@@ -66,7 +65,7 @@ std::function<void(double)> progressBar(bool enabled)
 	};
 }
 
-std::string summaryText(const LabelRawlogSummary& s)
+std::string summaryText(const detection::LabelRawlogSummary& s)
 {
 	std::string text = "frames:             " + std::to_string(s.frames) +
 					   "\ndetected frames:    " + std::to_string(s.detectedFrames) +
@@ -78,6 +77,44 @@ std::string summaryText(const LabelRawlogSummary& s)
 					   "\nnot labelled:       " + std::to_string(s.skipped.size()) + "\n";
 	for (const auto& m : s.skipped) text += "  " + m + "\n";
 	return text;
+}
+
+std::vector<cv::Mat> loadColourImages(const fs::path& rawlog, std::size_t maxFrames)
+{
+	io::RawlogFrameReader reader(rawlog);
+	std::vector<cv::Mat> images;
+	while (auto f = reader.next())
+	{
+		images.push_back(io::colourImage(*f->observation).clone());
+		f->observation->unload();
+		if (maxFrames && images.size() >= maxFrames) break;
+	}
+	if (images.empty()) throw std::runtime_error(rawlog.string() + ": no RGB-D frame with a colour image");
+	return images;
+}
+
+DetectorBenchmark benchmarkDetector(detection::DetectorBase& detector, const std::vector<cv::Mat>& images, int threads)
+{
+	if (images.empty()) throw std::invalid_argument("benchmark needs at least one image");
+	DetectorBenchmark b;
+	b.threads = threads;
+	io::TimingSamples ms;
+	detector.detect(images.front());  // first call allocates the network's buffers
+	for (const auto& img : images)
+	{
+		const auto t0 = std::chrono::steady_clock::now();
+		const auto persons = detection::personsOnly(detector.detect(img));
+		ms.add(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+		b.persons += persons.size();
+		if (!persons.empty()) ++b.framesWithPerson;
+	}
+	const auto s = ms.summary();
+	b.frames = s.count;
+	b.meanMs = s.meanMs;
+	b.medianMs = s.medianMs;
+	b.p95Ms = s.p95Ms;
+	b.maxMs = s.maxMs;
+	return b;
 }
 
 std::string benchmarkTable(const std::vector<DetectorBenchmark>& rows)
@@ -95,4 +132,4 @@ std::string benchmarkTable(const std::vector<DetectorBenchmark>& rows)
 	}
 	return s;
 }
-}  // namespace avm::detection
+}  // namespace avm::apps::detect

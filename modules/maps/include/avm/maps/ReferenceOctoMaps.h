@@ -1,0 +1,66 @@
+// The yardstick of the adaptive map: two plain single-resolution OctoMaps (one
+// at the high, one at the low resolution) built by octomap itself,
+// insertPointCloud(discretize = true), from the same frames and poses in the
+// same run. Against them the adaptive map's size, detail and speed are
+// measured: memory and .bt bytes against the single high-resolution map,
+// occupied voxels inside the person regions against it (IoU), outside them
+// against the single low-resolution map.
+#pragma once
+
+#include <mrpt/obs/CObservation3DRangeScan.h>
+#include <mrpt/poses/CPose3D.h>
+
+#include <cstddef>
+#include <memory>
+
+namespace octomap
+{
+class OcTree;
+}
+
+namespace avm
+{
+class CAdaptiveOctoMap;
+
+struct TReferenceComparison
+{
+	struct Tree
+	{
+		double resolution = 0;
+		std::size_t occupiedLeaves = 0, memoryBytes = 0, binaryBytes = 0;
+		double meanInsertMs = 0;  //!< octomap's insertion CPU time per frame (its thread)
+	};
+	Tree high, low;  //!< the single-resolution maps
+	std::size_t adaptiveMemoryBytes = 0, adaptiveBinaryBytes = 0;  //!< both trees
+	/** Occupied finest voxels inside the active regions: the adaptive map's
+	 *  high tree against the single high-resolution map. */
+	std::size_t insideAdaptive = 0, insideReference = 0;
+	double insideIoU = 0;  //!< 1 when neither has any
+	/** Occupied low voxels outside all regions: the adaptive map's low tree
+	 *  against the single low-resolution map. */
+	std::size_t outsideAdaptive = 0, outsideReference = 0;
+	double outsideIoU = 0;
+};
+
+class ReferenceOctoMaps
+{
+   public:
+	/** Resolutions and ranges as the adaptive map's trees. */
+	ReferenceOctoMaps(double highResolution, double lowResolution, double highMaxRange, double lowMaxRange);
+	~ReferenceOctoMaps();
+	ReferenceOctoMaps(const ReferenceOctoMaps&) = delete;
+	ReferenceOctoMaps& operator=(const ReferenceOctoMaps&) = delete;
+
+	/** The scan's depth image, unprojected as MRPT does, into both maps
+	 *  (rays from the sensor at robotPose + obs.sensorPose). */
+	void insert(const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& robotPose);
+
+	TReferenceComparison compare(const CAdaptiveOctoMap& adaptive) const;
+
+   private:
+	std::unique_ptr<octomap::OcTree> m_high, m_low;
+	double m_highMaxRange, m_lowMaxRange;
+	double m_highMs = 0, m_lowMs = 0;
+	std::size_t m_frames = 0;
+};
+}  // namespace avm

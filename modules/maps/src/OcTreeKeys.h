@@ -1,0 +1,82 @@
+// Octree keys as the map's hot paths use them: octomap's depth-16 keys
+// (floor(coordinate / resolution) + 32768 on each axis), packed three into one
+// word, and boxes of keys. The one place that knows the key layout.
+#pragma once
+
+#include <mrpt/math/TPoint3D.h>
+#include <octomap/OcTreeKey.h>
+
+#include <cstdint>
+
+namespace avm::detail
+{
+/** octomap's key of coordinate 0 in a depth-16 tree (tree_max_val). */
+constexpr int kKeyOffset = 32768;
+
+/** 3 x 16-bit key in one word, +1 so that 0 can mark "no key". */
+inline std::uint64_t packKey(const octomap::OcTreeKey& k)
+{
+	return ((std::uint64_t(k[0]) << 32) | (std::uint64_t(k[1]) << 16) | std::uint64_t(k[2])) + 1;
+}
+inline octomap::OcTreeKey unpackKey(std::uint64_t packed)
+{
+	const std::uint64_t v = packed - 1;
+	return octomap::OcTreeKey(
+		static_cast<octomap::key_type>(v >> 32), static_cast<octomap::key_type>((v >> 16) & 0xFFFF),
+		static_cast<octomap::key_type>(v & 0xFFFF));
+}
+
+/** octomap's coordToKey, packed; false when the point is outside the tree.
+ *  Shifted by the offset first, the value is non-negative inside the tree, so
+ *  truncation is the floor. */
+inline bool packedKeyOf(double x, double y, double z, double inverseResolution, std::uint64_t& out)
+{
+	const double fx = x * inverseResolution + kKeyOffset, fy = y * inverseResolution + kKeyOffset,
+				 fz = z * inverseResolution + kKeyOffset;
+	constexpr double kEnd = 2.0 * kKeyOffset;
+	if (!(fx >= 0 && fx < kEnd && fy >= 0 && fy < kEnd && fz >= 0 && fz < kEnd)) return false;
+	out = packKey(octomap::OcTreeKey(
+		static_cast<octomap::key_type>(fx), static_cast<octomap::key_type>(fy), static_cast<octomap::key_type>(fz)));
+	return true;
+}
+
+/** The centre of the voxel of a packed key. */
+inline mrpt::math::TPoint3D centreOf(std::uint64_t packed, double resolution)
+{
+	const auto k = unpackKey(packed);
+	auto c = [resolution](int key) { return (static_cast<double>(key - kKeyOffset) + 0.5) * resolution; };
+	return {c(k[0]), c(k[1]), c(k[2])};
+}
+
+/** The key of a coordinate that lies on a voxel border (a grid-aligned box's
+ *  face), robust to its rounding. */
+inline long gridKeyOf(double alignedCoordinate, double resolution)
+{
+	return std::lround(alignedCoordinate / resolution) + kKeyOffset;
+}
+
+/** A box of finest-level keys, half-open: [lo, hi) on each axis. */
+struct KeyRange
+{
+	unsigned lo[3], hi[3];
+
+	octomap::OcTreeKey first() const { return octomap::OcTreeKey(lo[0], lo[1], lo[2]); }
+	octomap::OcTreeKey last() const { return octomap::OcTreeKey(hi[0] - 1, hi[1] - 1, hi[2] - 1); }
+	bool contains(const octomap::OcTreeKey& k) const
+	{
+		return k[0] >= lo[0] && k[0] < hi[0] && k[1] >= lo[1] && k[1] < hi[1] && k[2] >= lo[2] && k[2] < hi[2];
+	}
+	/** The cube of `span` keys per axis starting at `k` lies inside. */
+	bool containsCube(const octomap::OcTreeKey& k, unsigned span) const
+	{
+		for (int i = 0; i < 3; i++)
+			if (k[i] < lo[i] || k[i] + span > hi[i]) return false;
+		return true;
+	}
+	/** The single voxel `k`. */
+	static KeyRange of(const octomap::OcTreeKey& k)
+	{
+		return KeyRange{{k[0], k[1], k[2]}, {k[0] + 1u, k[1] + 1u, k[2] + 1u}};
+	}
+};
+}  // namespace avm::detail

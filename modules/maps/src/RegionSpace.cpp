@@ -1,0 +1,97 @@
+#include "RegionSpace.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "OcTreeKeys.h"
+#include "TreeOps.h"
+
+namespace avm::detail
+{
+namespace
+{
+KeyRange highKeysOf(const octomap::OcTreeKey& low, unsigned ratio)
+{
+	KeyRange r{};
+	for (int i = 0; i < 3; i++)
+	{
+		// Both grids put coordinate 0 on a voxel border: low key k spans the
+		// high keys from (k - offset) * ratio + offset.
+		r.lo[i] = (static_cast<unsigned>(low[i]) - unsigned(kKeyOffset)) * ratio + unsigned(kKeyOffset);
+		r.hi[i] = r.lo[i] + ratio;
+	}
+	return r;
+}
+
+unsigned ratioOf(const octomap::OcTree& low, const octomap::OcTree& high)
+{
+	return static_cast<unsigned>(std::lround(low.getResolution() / high.getResolution()));
+}
+
+/** `logOdds` from a tree where it meant `occupied`, made to mean the same in
+ *  `target` (its occupancy threshold may differ) and clamped to its limits. */
+float carried(float logOdds, bool occupied, const octomap::OcTree& target)
+{
+	// octomap: occupied is log-odds >= the threshold.
+	const float threshold = target.getOccupancyThresLog();
+	constexpr float kStep = 1e-3f;
+	if (occupied && logOdds < threshold) logOdds = threshold;
+	if (!occupied && logOdds >= threshold) logOdds = threshold - kStep;
+	return std::clamp(logOdds, target.getClampingThresMinLog(), target.getClampingThresMaxLog());
+}
+}  // namespace
+
+void refineIntoHighTree(octomap::OcTree& low, octomap::OcTree& high, std::uint64_t lowKey, SurfaceSketch* sketch)
+{
+	const auto key = unpackKey(lowKey);
+	const std::uint64_t surface = sketch ? sketch->take(lowKey) : 0;
+	const auto* node = low.search(key);
+	if (!node) return;
+	const bool occupied = low.isNodeOccupied(node);
+	const float value = carried(node->getLogOdds(), occupied, high);
+	const auto range = highKeysOf(key, sketch ? sketch->ratio() : ratioOf(low, high));
+	unsigned bit = 0;
+	for (unsigned x = range.lo[0]; x < range.hi[0]; x++)
+		for (unsigned y = range.lo[1]; y < range.hi[1]; y++)
+			for (unsigned z = range.lo[2]; z < range.hi[2]; z++, bit++)
+			{
+				if (occupied && surface != 0 && !(surface >> bit & 1u)) continue;
+				const octomap::OcTreeKey k(x, y, z);
+				if (!high.search(k)) high.setNodeValue(k, value);
+			}
+	eraseKeyRange(low, KeyRange::of(key));
+}
+
+void coarsenIntoLowTree(octomap::OcTree& high, octomap::OcTree& low, std::uint64_t lowKey, SurfaceSketch& sketch)
+{
+	if (high.size() == 0) return;
+	const auto key = unpackKey(lowKey);
+	const auto range = highKeysOf(key, sketch.ratio());
+	float maxLogOdds = -std::numeric_limits<float>::infinity();
+	bool known = false, occupied = false;
+	std::uint64_t surface = 0;
+	for (auto it = high.begin_leafs_bbx(range.first(), range.last()), end = high.end_leafs_bbx(); it != end; ++it)
+	{
+		known = true;
+		maxLogOdds = std::max(maxLogOdds, it->getLogOdds());
+		if (!high.isNodeOccupied(*it)) continue;
+		occupied = true;
+		if (!sketch.usable()) continue;
+		// Every high voxel of the occupied leaf (pruned leaves span several).
+		const auto first = it.getIndexKey();
+		const unsigned span = 1u << (high.getTreeDepth() - it.getDepth());
+		for (unsigned x = 0; x < span; x++)
+			for (unsigned y = 0; y < span; y++)
+				for (unsigned z = 0; z < span; z++)
+				{
+					const octomap::OcTreeKey k(first[0] + x, first[1] + y, first[2] + z);
+					if (range.contains(k)) surface |= std::uint64_t(1) << sketch.bitOf(packKey(k));
+				}
+	}
+	if (!known) return;
+	low.setNodeValue(key, carried(maxLogOdds, occupied, low));
+	if (sketch.usable()) sketch.set(lowKey, surface);
+	eraseKeyRange(high, range);
+}
+}  // namespace avm::detail

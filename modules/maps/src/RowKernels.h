@@ -1,0 +1,94 @@
+// The per-row passes of the depth-image keying: small plain loops the
+// compiler vectorizes. They are built twice, for AVX2 and for any x86-64, and
+// the loader picks one (GCC target_clones); AVX2 without FMA gives the same
+// floats, so the same map, on every machine. RayIntegrator::scanRows chains
+// them row by row.
+#pragma once
+
+#include <mrpt/math/TBoundingBox.h>
+
+#include <cstdint>
+#include <cstring>
+
+#include "OcTreeKeys.h"
+
+namespace avm::detail::rows
+{
+/** The rays of one image row: pixel u at depth d is the point
+ *  origin + d * (base + colFactor[u] * slope). */
+struct RowRays
+{
+	float ox, oy, oz;
+	float bx, by, bz;
+	float sx, sy, sz;
+	const float* colFactor;
+};
+
+/** Voxel keys of one image row, an array per axis; -1 marks "no voxel". */
+struct RowKeys
+{
+	int *x, *y, *z;
+};
+
+/** The depth of each pixel of a row (range images: scaled to depth). */
+void rowDepth(const std::uint16_t* row, const float* rangeScale, float units, int cols, float* depth);
+
+/** Keys (octomap's floor(coord / res) + 32768, on floats as octomap) of
+ *  the points of a row; -1 where there is no depth or below the tree. */
+void coarseRowKeys(const RowRays& r, const float* depth, float inverse, int cols, RowKeys out);
+
+/** Slab method against one box, in depth units: inside[u] becomes 1 where
+ *  the point lies in the box; crossTo[u] the depth where the ray leaves the
+ *  box if the point lies beyond it (the farthest such box wins). */
+void classifyAgainstBox(
+	const RowRays& r, const float* depth, const mrpt::math::TBoundingBox& box, int from, int to, float* inside,
+	float* crossTo);
+
+constexpr int kInsideTag = 1 << 16;
+
+/** Fine keys of the classified pixels: of the point where it lies in a
+ *  region, else of the voxel where its ray leaves the farthest region it
+ *  crosses; -1 in x for neither. The category rides on the x key (above
+ *  the tree's keys) so that a change of it is a change of voxel too. A
+ *  point inside a region is no coarse endpoint: its coarse x becomes -1. */
+void fineRowKeys(
+	const RowRays& r, const float* depth, const float* inside, const float* crossTo, float inverse, int from, int to,
+	RowKeys out, int* coarseX);
+
+/** flags[u] = 1 where the voxel at u may be new to the scan: it differs
+ *  from the voxels at u - 1, u - 2 and at u in the row above. Every key
+ *  these arrays held before is already in the scan's set (or is -1), so
+ *  the others need no lookup (doc/map.md says how few are left). */
+void flagNewVoxels(const RowKeys& row, const RowKeys& above, int from, int to, std::uint8_t* flags);
+
+/** x[u] = -1 ("no voxel") wherever reference[u] is -1. */
+void maskWhereNone(const int* reference, int cols, int* x);
+
+/** Calls `visit(u)` for every u in [from, to) whose byte in `flags` is 1.
+ *  Most bytes are 0, so whole words are skipped at once; `flags` must be
+ *  readable for 7 bytes past `to`. */
+template <typename Visit>
+inline void forEachFlagged(const std::uint8_t* flags, int from, int to, Visit&& visit)
+{
+	for (int base = from; base < to; base += 8)
+	{
+		std::uint64_t word;
+		std::memcpy(&word, flags + base, sizeof word);
+		while (word != 0)
+		{
+			const int u = base + __builtin_ctzll(word) / 8;
+			word &= word - 1;  // each flag is the lowest bit of its byte
+			if (u < to) visit(u);
+		}
+	}
+}
+
+/** packKey() of the row passes' key components, or 0 (no key, as in the
+ *  KeySets) where one is -1 ("no voxel") or beyond the tree. */
+inline std::uint64_t packedOrNone(int x, int y, int z)
+{
+	if ((static_cast<unsigned>(x) | static_cast<unsigned>(y) | static_cast<unsigned>(z)) > 0xFFFFu) return 0;
+	return packKey(octomap::OcTreeKey(
+		static_cast<octomap::key_type>(x), static_cast<octomap::key_type>(y), static_cast<octomap::key_type>(z)));
+}
+}  // namespace avm::detail::rows

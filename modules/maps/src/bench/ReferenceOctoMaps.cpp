@@ -1,0 +1,129 @@
+#include "avm/maps/ReferenceOctoMaps.h"
+
+#include <mrpt/maps/CSimplePointsMap.h>
+#include <octomap/OcTree.h>
+
+#include <set>
+#include <sstream>
+#include <tuple>
+
+#include "avm/io/ThreadCpuTime.h"
+#include "avm/maps/CAdaptiveOctoMap.h"
+
+namespace avm
+{
+namespace
+{
+using Key = std::tuple<int, int, int>;
+
+bool inRegions(const CAdaptiveOctoMap& map, double x, double y, double z)
+{
+	for (const auto& r : map.highResolutionRegions())
+		for (const auto& b : r.boxes)
+			if (x >= b.min.x && x < b.max.x && y >= b.min.y && y < b.max.y && z >= b.min.z && z < b.max.z) return true;
+	return false;
+}
+
+/** Finest-level keys of the occupied voxels of `tree` (pruned leaves split)
+ *  whose centre is inside the regions (or outside, when `inside` is false). */
+std::set<Key> occupiedKeys(const octomap::OcTree& tree, const CAdaptiveOctoMap& map, bool inside)
+{
+	std::set<Key> out;
+	if (tree.size() == 0) return out;
+	for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it)
+	{
+		if (!tree.isNodeOccupied(*it)) continue;
+		const auto key = it.getIndexKey();
+		const int span = 1 << (tree.getTreeDepth() - it.getDepth());
+		for (int x = 0; x < span; x++)
+			for (int y = 0; y < span; y++)
+				for (int z = 0; z < span; z++)
+				{
+					const octomap::OcTreeKey k(key[0] + x, key[1] + y, key[2] + z);
+					const auto c = tree.keyToCoord(k);
+					if (inRegions(map, c.x(), c.y(), c.z()) == inside) out.insert({k[0], k[1], k[2]});
+				}
+	}
+	return out;
+}
+
+double iou(const std::set<Key>& a, const std::set<Key>& b)
+{
+	if (a.empty() && b.empty()) return 1.0;
+	std::size_t common = 0;
+	for (const auto& k : a) common += b.count(k);
+	return double(common) / double(a.size() + b.size() - common);
+}
+
+TReferenceComparison::Tree sizesOf(const octomap::OcTree& t, double totalMs, std::size_t frames)
+{
+	TReferenceComparison::Tree s;
+	s.resolution = t.getResolution();
+	for (auto it = t.begin_leafs(), end = t.end_leafs(); it != end; ++it) s.occupiedLeaves += t.isNodeOccupied(*it);
+	s.memoryBytes = t.memoryUsage();
+	std::ostringstream bt;
+	t.writeBinaryConst(bt);
+	s.binaryBytes = bt.str().size();
+	s.meanInsertMs = frames ? totalMs / double(frames) : 0;
+	return s;
+}
+}  // namespace
+
+ReferenceOctoMaps::ReferenceOctoMaps(double highRes, double lowRes, double highMaxRange, double lowMaxRange)
+	: m_high(std::make_unique<octomap::OcTree>(highRes)),
+	  m_low(std::make_unique<octomap::OcTree>(lowRes)),
+	  m_highMaxRange(highMaxRange),
+	  m_lowMaxRange(lowMaxRange)
+{
+}
+
+ReferenceOctoMaps::~ReferenceOctoMaps() = default;
+
+void ReferenceOctoMaps::insert(const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& robotPose)
+{
+	mrpt::maps::CSimplePointsMap pts;
+	mrpt::obs::T3DPointsProjectionParams pp;
+	pp.takeIntoAccountSensorPoseOnRobot = true;
+	pp.robotPoseInTheWorld = robotPose;
+	const_cast<mrpt::obs::CObservation3DRangeScan&>(obs).unprojectInto(pts, pp);  // MRPT's is not const
+	octomap::Pointcloud cloud;
+	cloud.reserve(pts.size());
+	const auto& xs = pts.getPointsBufferRef_x();
+	const auto& ys = pts.getPointsBufferRef_y();
+	const auto& zs = pts.getPointsBufferRef_z();
+	for (std::size_t i = 0; i < pts.size(); i++) cloud.push_back(xs[i], ys[i], zs[i]);
+	const auto o = (robotPose + obs.sensorPose).translation();
+	const octomap::point3d origin(static_cast<float>(o.x), static_cast<float>(o.y), static_cast<float>(o.z));
+	double t0 = io::threadCpuMs();
+	m_high->insertPointCloud(cloud, origin, m_highMaxRange, false, true);
+	m_highMs += io::threadCpuMs() - t0;
+	t0 = io::threadCpuMs();
+	m_low->insertPointCloud(cloud, origin, m_lowMaxRange, false, true);
+	m_lowMs += io::threadCpuMs() - t0;
+	++m_frames;
+}
+
+TReferenceComparison ReferenceOctoMaps::compare(const CAdaptiveOctoMap& map) const
+{
+	TReferenceComparison c;
+	c.high = sizesOf(*m_high, m_highMs, m_frames);
+	c.low = sizesOf(*m_low, m_lowMs, m_frames);
+	for (const auto& s : {map.lowResolutionStats(), map.highResolutionStats()})
+	{
+		c.adaptiveMemoryBytes += s.memoryBytes;
+		c.adaptiveBinaryBytes += s.binaryBytes;
+	}
+	std::set<Key> mineInside;
+	if (const auto* high = map.tree(Resolution::High)) mineInside = occupiedKeys(*high, map, true);
+	const auto refInside = occupiedKeys(*m_high, map, true);
+	const auto mineOutside = occupiedKeys(*map.tree(Resolution::Low), map, false);
+	const auto refOutside = occupiedKeys(*m_low, map, false);
+	c.insideAdaptive = mineInside.size();
+	c.insideReference = refInside.size();
+	c.insideIoU = iou(mineInside, refInside);
+	c.outsideAdaptive = mineOutside.size();
+	c.outsideReference = refOutside.size();
+	c.outsideIoU = iou(mineOutside, refOutside);
+	return c;
+}
+}  // namespace avm

@@ -1,0 +1,76 @@
+// One person seen in one RGB-D frame, in the world frame: the single path from
+// "these pixels are a person" to a position and a box. Detector boxes (avm-map)
+// and pixel labels (a labelled rawlog in any MRPT app) both come here.
+//
+// The pixels given for a person also show what lies behind it (a detector's
+// box holds background and floor; a segmentation mask bleeds at the edges), so
+// the person's depth is the densest `depthBand`-wide window of depths in the
+// core of the pixels (the central half of their width, 10..60 % of their
+// height: head and torso, which a person almost fills), and only the pixels
+// within +-depthBand of it are the person. The box spans the [p, 1-p]
+// percentiles of those points on each world axis, so a few stray pixels do not
+// stretch it.
+#pragma once
+
+#include <mrpt/math/TBoundingBox.h>
+#include <mrpt/math/TPoint3D.h>
+#include <mrpt/obs/CObservation3DRangeScan.h>
+#include <mrpt/poses/CPose3D.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace avm::persons
+{
+/** A person's pixels in a depth image, as indices row * cols + col. */
+using PixelSet = std::vector<std::uint32_t>;
+
+/** How pixels become a sighting. Loaded by the map from its `_insertOpts`
+ *  (person_depth_band, person_percentile, min_person_pixels,
+ *  min_person_depth_fraction). */
+struct SightingOptions
+{
+	double depthBand = 0.5;         //!< [m] half-width of the person's depth band
+	double percentile = 0.02;       //!< the box spans the [p, 1-p] percentiles, p in [0, 0.5)
+	std::size_t minPixels = 200;    //!< depth pixels in the band needed for a sighting
+	double minDepthFraction = 0.2;  //!< [0..1] share of the pixels that must have depth
+};
+
+struct PersonSighting
+{
+	/** World frame: the per-axis median of the person's points. */
+	mrpt::math::TPoint3D position;
+	/** World frame, the person's own extent (no margin). */
+	mrpt::math::TBoundingBox box;
+	std::size_t points = 0;  //!< depth pixels in the person's band
+	float depth = 0;         //!< [m] the person's robust depth
+};
+
+struct SightingEstimate
+{
+	std::optional<PersonSighting> sighting;
+	std::string skipReason;  //!< why there is none ("" when there is)
+};
+
+/** The sighting of the person whose pixels are `pixels` in `obs`'s depth
+ *  image, with the depth sensor at `sensorPoseInWorld`. */
+SightingEstimate estimateSighting(
+	const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& sensorPoseInWorld,
+	const PixelSet& pixels, const SightingOptions& options);
+
+/** The pixels of an axis-aligned pixel box [u0, u1) x [v0, v1), clipped to
+ *  the image: a detector's box. */
+PixelSet pixelsOfBox(int u0, int v0, int u1, int v1, int cols, int rows);
+
+/** The persons that `obs`'s pixel labels show, each as its labelled pixels
+ *  with depth (at least `minPixels` of them): a label named `label + "/" + k`
+ *  (avm-detect writes "person/1", "person/2", ...) is one person, whatever
+ *  its shape, so touching people stay apart; a label named `label` may hold
+ *  any number of people (a segmentation's class), and each 4-connected blob
+ *  of it is one person. */
+std::vector<PixelSet> personPixelsFromLabels(
+	const mrpt::obs::CObservation3DRangeScan& obs, const std::string& label, std::size_t minPixels);
+}  // namespace avm::persons

@@ -1,0 +1,67 @@
+// Sightings across frames become persons with stable ids: what a rescue team
+// reads first (who was seen, where, when), and what the map keys its
+// high-resolution regions by.
+//
+// Association is in the world frame, nearest first: a sighting joins the
+// track whose last position is closest, if that is within the track's gate;
+// each track takes at most one sighting a frame, so two people side by side
+// stay two tracks. The gate widens with the time since the track was last
+// seen (a person walks on while unseen) up to `maxGate`, and tracks never
+// expire: a person out of view for a while and seen again near the same place
+// keeps the id. Pairs are taken in the order (distance, track id, sighting
+// index), so the same sightings always give the same ids.
+#pragma once
+
+#include <mrpt/math/TBoundingBox.h>
+#include <mrpt/math/TPoint3D.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "avm/persons/PersonSighting.h"
+
+namespace avm::persons
+{
+/** Loaded by the map from its `_insertOpts` (track_gate, track_gate_growth,
+ *  track_max_gate). */
+struct TrackerOptions
+{
+	double gate = 0.6;        //!< [m] gate of a track seen in the same instant
+	double gateGrowth = 1.0;  //!< [m/s] gate widening per second unseen (walking pace)
+	double maxGate = 1.5;     //!< [m] widest gate
+};
+
+struct PersonTrack
+{
+	std::uint32_t id = 0;  //!< 1, 2, ... in order of first sighting
+	std::size_t firstFrame = 0, lastFrame = 0;
+	double firstTime = 0, lastTime = 0;  //!< [s] UNIX time
+	mrpt::math::TPoint3D position;       //!< last world position
+	mrpt::math::TBoundingBox box;        //!< last world box (no margin)
+	std::size_t sightings = 0;
+};
+
+class PersonTracker
+{
+   public:
+	explicit PersonTracker(const TrackerOptions& options = {});
+
+	/** Associates the sightings of one frame; returns their track ids in the
+	 *  sightings' order (new tracks for the unmatched ones). */
+	std::vector<std::uint32_t> update(
+		const std::vector<PersonSighting>& sightings, std::size_t frame, double time);
+
+	/** Every track so far, in order of id. */
+	const std::vector<PersonTrack>& tracks() const { return m_tracks; }
+	const PersonTrack* find(std::uint32_t id) const;
+
+	void serializeTo(mrpt::serialization::CArchive& out) const;
+	void serializeFrom(mrpt::serialization::CArchive& in);
+
+   private:
+	TrackerOptions m_options;
+	std::vector<PersonTrack> m_tracks;
+};
+}  // namespace avm::persons

@@ -1,0 +1,219 @@
+#include "avm/persons/PersonSighting.h"
+
+#include <mrpt/obs/TPixelLabelInfo.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "avm/io/DepthCamera.h"
+
+namespace avm::persons
+{
+namespace
+{
+// Head and torso: the part of a person's pixels the person almost fills.
+constexpr double kCoreX0 = 0.25, kCoreX1 = 0.75, kCoreY0 = 0.10, kCoreY1 = 0.60;
+// Below this many core samples all the pixels are used.
+constexpr std::size_t kMinCoreSamples = 20;
+// Pixels the depth and the box are estimated from, at most.
+constexpr std::size_t kMaxSamples = 8000;
+
+/** The value at fraction q of the sorted order (nearest rank). */
+double percentile(std::vector<double>& v, double q)
+{
+	const auto k = static_cast<std::size_t>(std::lround(q * static_cast<double>(v.size() - 1)));
+	std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+	return v[k];
+}
+
+/** The middle of the densest window [d, d + band] of the sorted depths. */
+float densestWindowDepth(std::vector<float>& d, double band)
+{
+	std::sort(d.begin(), d.end());
+	std::size_t bestBegin = 0, bestEnd = 0;
+	for (std::size_t i = 0, j = 0; i < d.size(); ++i)
+	{
+		while (j < d.size() && d[j] - d[i] <= band) ++j;
+		if (j - i > bestEnd - bestBegin) bestBegin = i, bestEnd = j;
+	}
+	return d[bestBegin + (bestEnd - bestBegin) / 2];
+}
+
+std::string format(const char* what, double value, const char* key, double limit)
+{
+	std::ostringstream s;
+	s.precision(3);
+	s << what << value << " (" << key << " " << limit << ")";
+	return s.str();
+}
+}  // namespace
+
+SightingEstimate estimateSighting(
+	const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& sensorPoseInWorld,
+	const PixelSet& pixels, const SightingOptions& o)
+{
+	SightingEstimate est;
+	if (pixels.empty() || !obs.hasRangeImage || obs.rangeImage.cols() == 0)
+	{
+		est.skipReason = "no pixels with a depth image";
+		return est;
+	}
+	const auto camera = io::DepthCamera::of(obs);
+	const int cols = camera.width;
+	const auto& img = obs.rangeImage;
+	const double units = obs.rangeUnits;
+	auto metresAt = [&](std::uint32_t i) { return static_cast<float>(img(i / cols, i % cols) * units); };
+
+	int u0 = cols, u1 = -1, v0 = camera.height, v1 = -1;
+	std::size_t withDepth = 0;
+	for (const auto i : pixels)
+	{
+		const int u = static_cast<int>(i % cols), v = static_cast<int>(i / cols);
+		u0 = std::min(u0, u), u1 = std::max(u1, u), v0 = std::min(v0, v), v1 = std::max(v1, v);
+		if (metresAt(i) > 0) ++withDepth;
+	}
+	const double fraction = double(withDepth) / double(pixels.size());
+	if (fraction < o.minDepthFraction)
+	{
+		est.skipReason = format("only a share of ", fraction, "of the pixels has depth, min_person_depth_fraction", o.minDepthFraction);
+		return est;
+	}
+	// A detector's box holds tens of thousands of pixels: the statistics
+	// come from a regular sample of at most kMaxSamples of them (every
+	// step-th pixel, the same ones for the same input).
+	const std::size_t step = std::max<std::size_t>(1, (pixels.size() + kMaxSamples - 1) / kMaxSamples);
+
+	// The person's depth from the core of its pixels.
+	const double w = u1 - u0 + 1, h = v1 - v0 + 1;
+	const double cu0 = u0 + w * kCoreX0, cu1 = u0 + w * kCoreX1, cv0 = v0 + h * kCoreY0, cv1 = v0 + h * kCoreY1;
+	std::vector<float> core, all;
+	for (std::size_t k = 0; k < pixels.size(); k += step)
+	{
+		const auto i = pixels[k];
+		const float d = metresAt(i);
+		if (!(d > 0)) continue;
+		all.push_back(d);
+		const double u = i % cols, v = i / cols;
+		if (u >= cu0 && u < cu1 && v >= cv0 && v < cv1) core.push_back(d);
+	}
+	const float depth = densestWindowDepth(core.size() >= kMinCoreSamples ? core : all, o.depthBand);
+
+	std::size_t inBand = 0;
+	for (const auto i : pixels)
+	{
+		const float d = metresAt(i);
+		inBand += d > 0 && std::abs(d - depth) <= o.depthBand;
+	}
+	if (inBand < o.minPixels)
+	{
+		est.skipReason = format("depth pixels within the person's band: ", double(inBand), "min_person_pixels",
+			double(o.minPixels));
+		return est;
+	}
+	std::vector<double> xs, ys, zs;
+	const auto collect = [&](std::size_t every) {
+		xs.clear(), ys.clear(), zs.clear();
+		for (std::size_t k = 0; k < pixels.size(); k += every)
+		{
+			const auto i = pixels[k];
+			const float d = metresAt(i);
+			if (!(d > 0) || std::abs(d - depth) > o.depthBand) continue;
+			const auto p = sensorPoseInWorld.composePoint(camera.unproject(i % cols, i / cols, d));
+			xs.push_back(p.x), ys.push_back(p.y), zs.push_back(p.z);
+		}
+	};
+	collect(step);
+	// A sample that missed a sparse band: all of them then.
+	if (xs.size() < kMinCoreSamples) collect(1);
+	PersonSighting s;
+	s.points = inBand;
+	s.depth = depth;
+	const double q = o.percentile;
+	s.box.min = {percentile(xs, q), percentile(ys, q), percentile(zs, q)};
+	s.box.max = {percentile(xs, 1 - q), percentile(ys, 1 - q), percentile(zs, 1 - q)};
+	s.position = {percentile(xs, 0.5), percentile(ys, 0.5), percentile(zs, 0.5)};
+	est.sighting = s;
+	return est;
+}
+
+PixelSet pixelsOfBox(int u0, int v0, int u1, int v1, int cols, int rows)
+{
+	PixelSet out;
+	u0 = std::max(u0, 0), v0 = std::max(v0, 0), u1 = std::min(u1, cols), v1 = std::min(v1, rows);
+	for (int v = v0; v < v1; ++v)
+		for (int u = u0; u < u1; ++u) out.push_back(static_cast<std::uint32_t>(v * cols + u));
+	return out;
+}
+
+namespace
+{
+/** Rows x cols of the label matrix, whatever its bit width. */
+std::pair<int, int> labelImageSize(const mrpt::obs::TPixelLabelInfoBase& labels)
+{
+	using namespace mrpt::obs;
+	if (auto* l = dynamic_cast<const TPixelLabelInfo<1>*>(&labels)) return {l->pixelLabels.rows(), l->pixelLabels.cols()};
+	if (auto* l = dynamic_cast<const TPixelLabelInfo<2>*>(&labels)) return {l->pixelLabels.rows(), l->pixelLabels.cols()};
+	if (auto* l = dynamic_cast<const TPixelLabelInfo<4>*>(&labels)) return {l->pixelLabels.rows(), l->pixelLabels.cols()};
+	if (auto* l = dynamic_cast<const TPixelLabelInfo<8>*>(&labels)) return {l->pixelLabels.rows(), l->pixelLabels.cols()};
+	return {0, 0};
+}
+}  // namespace
+
+std::vector<PixelSet> personPixelsFromLabels(
+	const mrpt::obs::CObservation3DRangeScan& obs, const std::string& label, std::size_t minPixels)
+{
+	std::vector<PixelSet> persons;
+	if (!obs.hasPixelLabels() || !obs.hasRangeImage) return persons;
+	const auto& labels = *obs.pixelLabels;
+	const int rows = static_cast<int>(obs.rangeImage.rows()), cols = static_cast<int>(obs.rangeImage.cols());
+	if (labelImageSize(labels) != std::make_pair(rows, cols)) return persons;
+
+	std::vector<std::uint8_t> seen(static_cast<std::size_t>(rows) * cols);
+	PixelSet stack;
+	for (const auto& [labelIndex, name] : labels.pixelLabelNames)
+	{
+		const bool onePerson = name.rfind(label + "/", 0) == 0;
+		if (name != label && !onePerson) continue;
+		const auto bit = static_cast<uint8_t>(labelIndex);
+		auto usable = [&](int r, int c) { return obs.rangeImage(r, c) != 0 && labels.checkLabel(r, c, bit); };
+		if (onePerson)
+		{
+			PixelSet all;
+			for (int r = 0; r < rows; r++)
+				for (int c = 0; c < cols; c++)
+					if (usable(r, c)) all.push_back(static_cast<std::uint32_t>(r * cols + c));
+			if (all.size() >= minPixels) persons.push_back(std::move(all));
+			continue;
+		}
+		std::fill(seen.begin(), seen.end(), 0);
+		for (int r0 = 0; r0 < rows; r0++)
+			for (int c0 = 0; c0 < cols; c0++)
+			{
+				const auto start = static_cast<std::uint32_t>(r0 * cols + c0);
+				if (seen[start] || !usable(r0, c0)) continue;
+				PixelSet blob;
+				stack.assign(1, start);
+				seen[start] = 1;
+				while (!stack.empty())
+				{
+					const auto i = stack.back();
+					stack.pop_back();
+					blob.push_back(i);
+					const int r = static_cast<int>(i / cols), c = static_cast<int>(i % cols);
+					const int nb[4][2] = {{r - 1, c}, {r + 1, c}, {r, c - 1}, {r, c + 1}};
+					for (const auto& [nr, nc] : nb)
+					{
+						if (nr < 0 || nc < 0 || nr >= rows || nc >= cols) continue;
+						const auto j = static_cast<std::uint32_t>(nr * cols + nc);
+						if (seen[j] || !usable(nr, nc)) continue;
+						seen[j] = 1;
+						stack.push_back(j);
+					}
+				}
+				if (blob.size() >= minPixels) persons.push_back(std::move(blob));
+			}
+	}
+	return persons;
+}
+}  // namespace avm::persons

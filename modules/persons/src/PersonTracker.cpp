@@ -1,0 +1,89 @@
+#include "avm/persons/PersonTracker.h"
+
+#include <algorithm>
+#include <tuple>
+
+namespace avm::persons
+{
+PersonTracker::PersonTracker(const TrackerOptions& options) : m_options(options) {}
+
+std::vector<std::uint32_t> PersonTracker::update(
+	const std::vector<PersonSighting>& sightings, std::size_t frame, double time)
+{
+	struct Pair
+	{
+		double distance;
+		std::size_t track, sighting;
+	};
+	std::vector<Pair> pairs;
+	for (std::size_t t = 0; t < m_tracks.size(); ++t)
+	{
+		const auto& track = m_tracks[t];
+		const double unseen = std::max(0.0, time - track.lastTime);
+		const double gate = std::min(m_options.maxGate, m_options.gate + m_options.gateGrowth * unseen);
+		for (std::size_t s = 0; s < sightings.size(); ++s)
+		{
+			const double d = (sightings[s].position - track.position).norm();
+			if (d <= gate) pairs.push_back({d, t, s});
+		}
+	}
+	std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) {
+		return std::tie(a.distance, a.track, a.sighting) < std::tie(b.distance, b.track, b.sighting);
+	});
+
+	std::vector<std::uint32_t> ids(sightings.size(), 0);
+	std::vector<bool> trackTaken(m_tracks.size(), false);
+	const auto record = [&](PersonTrack& track, const PersonSighting& s) {
+		track.lastFrame = frame;
+		track.lastTime = time;
+		track.position = s.position;
+		track.box = s.box;
+		++track.sightings;
+	};
+	for (const auto& p : pairs)
+	{
+		if (trackTaken[p.track] || ids[p.sighting] != 0) continue;
+		trackTaken[p.track] = true;
+		ids[p.sighting] = m_tracks[p.track].id;
+		record(m_tracks[p.track], sightings[p.sighting]);
+	}
+	for (std::size_t s = 0; s < sightings.size(); ++s)
+	{
+		if (ids[s] != 0) continue;
+		PersonTrack track;
+		track.id = static_cast<std::uint32_t>(m_tracks.size() + 1);
+		track.firstFrame = frame;
+		track.firstTime = time;
+		record(track, sightings[s]);
+		ids[s] = track.id;
+		m_tracks.push_back(track);
+	}
+	return ids;
+}
+
+const PersonTrack* PersonTracker::find(std::uint32_t id) const
+{
+	return id >= 1 && id <= m_tracks.size() ? &m_tracks[id - 1] : nullptr;
+}
+
+void PersonTracker::serializeTo(mrpt::serialization::CArchive& out) const
+{
+	out.WriteAs<uint32_t>(m_tracks.size());
+	for (const auto& t : m_tracks)
+		out << t.id << static_cast<uint64_t>(t.firstFrame) << static_cast<uint64_t>(t.lastFrame) << t.firstTime
+			<< t.lastTime << t.position.x << t.position.y << t.position.z << t.box.min.x << t.box.min.y << t.box.min.z
+			<< t.box.max.x << t.box.max.y << t.box.max.z << static_cast<uint64_t>(t.sightings);
+}
+
+void PersonTracker::serializeFrom(mrpt::serialization::CArchive& in)
+{
+	m_tracks.resize(in.ReadAs<uint32_t>());
+	for (auto& t : m_tracks)
+	{
+		uint64_t first = 0, last = 0, count = 0;
+		in >> t.id >> first >> last >> t.firstTime >> t.lastTime >> t.position.x >> t.position.y >> t.position.z >>
+			t.box.min.x >> t.box.min.y >> t.box.min.z >> t.box.max.x >> t.box.max.y >> t.box.max.z >> count;
+		t.firstFrame = first, t.lastFrame = last, t.sightings = count;
+	}
+}
+}  // namespace avm::persons

@@ -1,0 +1,252 @@
+// The map's internal pieces on small synthetic inputs: octree keys, the key
+// sets, the resolution policy's region space, the surface sketch, and the ray
+// integrator through the map on a synthetic depth image.
+#include <gtest/gtest.h>
+#include <mrpt/io/CMemoryStream.h>
+#include <mrpt/serialization/CArchive.h>
+#include <octomap/OcTree.h>
+
+#include <random>
+#include <set>
+
+#include "KeySet.h"
+#include "OcTreeKeys.h"
+#include "ResolutionPolicy.h"
+#include "SurfaceSketch.h"
+#include "avm/maps/CAdaptiveOctoMap.h"
+
+using namespace avm;
+using namespace avm::detail;
+using mrpt::math::TBoundingBox;
+
+TEST(OcTreeKeys, PackedKeysAreOctomapsKeys)
+{
+	std::mt19937 rng(7);
+	std::uniform_real_distribution<double> coord(-50, 50);
+	for (const double res : {0.05, 0.2, 1.5})
+	{
+		const octomap::OcTree tree(res);
+		for (int i = 0; i < 2000; i++)
+		{
+			const double x = coord(rng), y = coord(rng), z = coord(rng);
+			std::uint64_t packed = 0;
+			ASSERT_TRUE(packedKeyOf(x, y, z, 1.0 / res, packed));
+			const auto expected = tree.coordToKey(x, y, z);
+			ASSERT_EQ(unpackKey(packed), expected) << x << " " << y << " " << z << " at " << res;
+			ASSERT_EQ(packKey(expected), packed);
+			const auto c = centreOf(packed, res);
+			const auto e = tree.keyToCoord(expected);
+			ASSERT_NEAR(c.x, e.x(), 1e-5);
+			ASSERT_NEAR(c.z, e.z(), 1e-5);
+		}
+	}
+	std::uint64_t packed = 0;
+	EXPECT_FALSE(packedKeyOf(1e6, 0, 0, 1 / 0.05, packed)) << "beyond the tree";
+	EXPECT_EQ(gridKeyOf(-0.2 + 1e-12, 0.2), kKeyOffset - 1);
+	EXPECT_EQ(gridKeyOf(0.4 - 1e-12, 0.2), kKeyOffset + 2);
+}
+
+TEST(KeySets, InsertContainsClearAndGrow)
+{
+	KeySet set;
+	std::set<std::uint64_t> reference;
+	std::mt19937 rng(3);
+	std::uniform_int_distribution<int> k(30000, 36000);
+	for (int i = 0; i < 20000; i++)  // several times the initial capacity
+	{
+		const auto key = packKey(octomap::OcTreeKey(k(rng), k(rng), k(rng)));
+		EXPECT_EQ(set.insert(key), reference.insert(key).second);
+	}
+	EXPECT_EQ(set.keys().size(), reference.size());
+	for (const auto key : reference) ASSERT_TRUE(set.contains(key));
+	set.clear();
+	EXPECT_TRUE(set.keys().empty());
+	EXPECT_FALSE(set.contains(*reference.begin()));
+
+	// The dense box set answers as the hash set, inside its box; keys outside
+	// are not stored.
+	BoxKeySet box;
+	box.reset(octomap::OcTreeKey(100, 100, 100), octomap::OcTreeKey(109, 109, 109));
+	EXPECT_TRUE(box.insert(packKey(octomap::OcTreeKey(100, 105, 109))));
+	EXPECT_FALSE(box.insert(packKey(octomap::OcTreeKey(100, 105, 109))));
+	EXPECT_FALSE(box.insert(packKey(octomap::OcTreeKey(110, 105, 109))));
+	EXPECT_TRUE(box.contains(packKey(octomap::OcTreeKey(100, 105, 109))));
+	EXPECT_EQ(box.keys().size(), 1u);
+	box.reset(octomap::OcTreeKey(100, 100, 100), octomap::OcTreeKey(109, 109, 109));
+	EXPECT_FALSE(box.contains(packKey(octomap::OcTreeKey(100, 105, 109)))) << "a new scan starts empty";
+}
+
+namespace
+{
+std::size_t voxels(const TBoundingBox& b, double res)
+{
+	std::size_t n = 1;
+	for (int i = 0; i < 3; i++) n *= static_cast<std::size_t>(std::lround((b.max[i] - b.min[i]) / res));
+	return n;
+}
+}  // namespace
+
+TEST(ResolutionPolicy, RegionSpaceIsTheExactUnionOfEachPersonsVoxels)
+{
+	ResolutionPolicy policy(SwitchPolicy::Region, 0.2);
+	// Two people 4 m apart, boxes off the grid: grown to whole low voxels.
+	policy.personSeen(1, TBoundingBox({0.05, 0.05, 0.0}, {0.55, 0.55, 1.7}), 10.0, RegionLifetime::Follow, 0);
+	policy.personSeen(2, TBoundingBox({4.05, 0.05, 0.0}, {4.55, 0.55, 1.7}), 10.0, RegionLifetime::Follow, 0);
+	const TBoundingBox aligned1({0.0, 0.0, 0.0}, {0.6, 0.6, 1.8});
+	auto change = policy.takeSpaceChange();
+	EXPECT_EQ(change.entered.size(), 2 * voxels(aligned1, 0.2));
+	EXPECT_TRUE(change.left.empty());
+	EXPECT_TRUE(policy.inHighResolutionSpace({0.1, 0.1, 1.7}));
+	EXPECT_FALSE(policy.inHighResolutionSpace({2.0, 0.3, 1.0})) << "the space between them";
+	EXPECT_TRUE(std::is_sorted(change.entered.begin(), change.entered.end()));
+
+	// Follow: person 1 steps 0.4 m along x: the space it left leaves, the
+	// space it reaches enters, the overlap stays.
+	policy.personSeen(1, TBoundingBox({0.45, 0.05, 0.0}, {0.95, 0.55, 1.7}), 10.5, RegionLifetime::Follow, 1);
+	change = policy.takeSpaceChange();
+	EXPECT_EQ(change.entered.size(), voxels(TBoundingBox({0.6, 0.0, 0.0}, {1.0, 0.6, 1.8}), 0.2));
+	EXPECT_EQ(change.left.size(), voxels(TBoundingBox({0.0, 0.0, 0.0}, {0.4, 0.6, 1.8}), 0.2));
+	EXPECT_EQ(policy.regions().size(), 2u);
+
+	// Ending person 2 gives all of its space back; an unknown person nothing.
+	EXPECT_TRUE(policy.endRegion(2));
+	EXPECT_FALSE(policy.endRegion(2));
+	EXPECT_FALSE(policy.endRegion(0)) << "fixed regions are not a person's";
+	change = policy.takeSpaceChange();
+	EXPECT_EQ(change.left.size(), voxels(aligned1, 0.2));
+	EXPECT_TRUE(change.entered.empty());
+}
+
+TEST(ResolutionPolicy, PersistKeepsEveryPlaceAndMergesExactly)
+{
+	ResolutionPolicy policy(SwitchPolicy::Region, 0.2);
+	policy.personSeen(1, TBoundingBox({0.0, 0.0, 0.0}, {0.6, 0.6, 1.8}), 1.0, RegionLifetime::Persist, 0);
+	policy.personSeen(1, TBoundingBox({0.1, 0.1, 0.1}, {0.5, 0.5, 1.7}), 1.1, RegionLifetime::Persist, 1);
+	EXPECT_EQ(policy.regions().at(0).boxes.size(), 1u) << "a box already covered adds nothing";
+	policy.personSeen(1, TBoundingBox({0.6, 0.0, 0.0}, {1.2, 0.6, 1.8}), 1.2, RegionLifetime::Persist, 2);
+	ASSERT_EQ(policy.regions().at(0).boxes.size(), 1u) << "boxes that extend each other exactly merge";
+	EXPECT_NEAR(policy.regions().at(0).boxes[0].max.x, 1.2, 1e-9);
+	policy.personSeen(1, TBoundingBox({3.0, 3.0, 0.0}, {3.6, 3.6, 1.8}), 1.3, RegionLifetime::Persist, 3);
+	EXPECT_EQ(policy.regions().at(0).boxes.size(), 2u) << "a far box is a box of its own, not a bounding box";
+	EXPECT_FALSE(policy.inHighResolutionSpace({2.0, 2.0, 1.0}));
+}
+
+TEST(ResolutionPolicy, FollowRegionsAgeOnlyInViewAndAfterTheirLastSighting)
+{
+	ResolutionPolicy policy(SwitchPolicy::Region, 0.2);
+	const TBoundingBox box({0.0, 0.0, 0.0}, {0.6, 0.6, 1.8});
+	policy.personSeen(1, box, 10.0, RegionLifetime::Follow, 0);
+	policy.addFixedRegion(TBoundingBox({5, 5, 0}, {6, 6, 1}), 0);
+	const auto always = [](const TBoundingBox&) { return true; };
+	const auto never = [](const TBoundingBox&) { return false; };
+	// Time before the sighting does not count.
+	EXPECT_TRUE(policy.age(9.0, 10.0, 1.0, always).empty());
+	EXPECT_NEAR(policy.regions()[0].unseenInViewSeconds, 0.0, 1e-12);
+	// Out of view: nothing counts.
+	EXPECT_TRUE(policy.age(10.0, 20.0, 1.0, never).empty());
+	EXPECT_TRUE(policy.age(20.0, 20.6, 1.0, always).empty());
+	EXPECT_NEAR(policy.regions()[0].unseenInViewSeconds, 0.6, 1e-9);
+	// A sighting restarts the clock.
+	policy.personSeen(1, box, 20.7, RegionLifetime::Follow, 5);
+	EXPECT_TRUE(policy.age(20.6, 21.5, 1.0, always).empty());
+	const auto ended = policy.age(21.5, 21.8, 1.0, always);
+	ASSERT_EQ(ended, std::vector<std::uint32_t>{1});
+	ASSERT_EQ(policy.regions().size(), 1u) << "the fixed region never ends";
+	EXPECT_EQ(policy.regions()[0].personId, 0u);
+}
+
+TEST(ResolutionPolicy, PaperPolicyTakesPersonsAsTriggersAndSerializes)
+{
+	ResolutionPolicy paper(SwitchPolicy::Paper, 1.5);
+	EXPECT_FALSE(paper.highActive());
+	paper.personSeen(3, TBoundingBox({0, 0, 0}, {1, 1, 1}), 0.0, RegionLifetime::Follow, 7);
+	EXPECT_TRUE(paper.highActive());
+	EXPECT_EQ(paper.switchIndex(), std::optional<std::size_t>(7));
+	EXPECT_TRUE(paper.regions().empty());
+	EXPECT_THROW(ResolutionPolicy(SwitchPolicy::Region, 0.2).trigger(0), std::logic_error);
+	EXPECT_THROW(paper.addFixedRegion(TBoundingBox({0, 0, 0}, {0, 1, 1}), 0), std::invalid_argument);
+
+	ResolutionPolicy region(SwitchPolicy::Region, 0.2);
+	region.personSeen(1, TBoundingBox({0, 0, 0}, {0.6, 0.6, 1.8}), 4.0, RegionLifetime::Persist, 0);
+	region.personSeen(1, TBoundingBox({3, 3, 0}, {3.6, 3.6, 1.8}), 5.0, RegionLifetime::Persist, 1);
+	mrpt::io::CMemoryStream buf;
+	auto arch = mrpt::serialization::archiveFrom(buf);
+	region.serializeTo(arch);
+	buf.Seek(0);
+	ResolutionPolicy restored(SwitchPolicy::Region, 0.2);
+	restored.serializeFrom(arch);
+	ASSERT_EQ(restored.regions().size(), 1u);
+	EXPECT_EQ(restored.regions()[0].boxes.size(), 2u);
+	EXPECT_EQ(restored.regions()[0].lastSeenTime, 5.0);
+	EXPECT_TRUE(restored.takeSpaceChange().entered.empty()) << "the serialized trees already hold it";
+}
+
+TEST(SurfaceSketch, BitsNameTheHighVoxelsOfTheirLowVoxel)
+{
+	SurfaceSketch sketch(4);
+	ASSERT_TRUE(sketch.usable());
+	EXPECT_FALSE(SurfaceSketch(8).usable()) << "512 high voxels do not fit 64 bits";
+	const octomap::OcTree low(0.2), high(0.05);
+	std::mt19937 rng(11);
+	std::uniform_real_distribution<double> coord(-20, 20);
+	for (int i = 0; i < 2000; i++)
+	{
+		const double x = coord(rng), y = coord(rng), z = coord(rng);
+		const auto h = packKey(high.coordToKey(x, y, z));
+		ASSERT_EQ(unpackKey(sketch.lowKeyOf(h)), low.coordToKey(x, y, z)) << x << " " << y << " " << z;
+		ASSERT_LT(sketch.bitOf(h), 64u);
+		ASSERT_EQ(sketch.highKeyOf(sketch.lowKeyOf(h), sketch.bitOf(h)), h);
+	}
+	const auto h = packKey(high.coordToKey(-0.01, 0.01, 0.19));
+	sketch.markHighVoxel(h);
+	sketch.markHighVoxel(h);
+	EXPECT_EQ(sketch.size(), 1u);
+	const auto lowKey = sketch.lowKeyOf(h);
+	sketch.prune([&](std::uint64_t k) { return k == lowKey; });
+	EXPECT_EQ(sketch.take(lowKey), std::uint64_t(1) << sketch.bitOf(h));
+	EXPECT_EQ(sketch.take(lowKey), 0u) << "taken";
+}
+
+// The integrator through the map on a synthetic scan: a flat wall 3 m ahead,
+// a region around part of it. The wall inside the region is in the high tree
+// at 5 cm, the rest in the low tree at 20 cm, the space before it free in the
+// tree that owns it, and no voxel in both.
+TEST(RayIntegrator, AWallSplitsAtTheRegionFaces)
+{
+	mrpt::obs::CObservation3DRangeScan obs;
+	obs.hasRangeImage = true;
+	obs.rangeImage.resize(120, 160);
+	obs.rangeUnits = 0.001f;
+	obs.cameraParams.ncols = 160;
+	obs.cameraParams.nrows = 120;
+	obs.cameraParams.setIntrinsicParamsFromValues(120, 120, 79.5, 59.5);
+	obs.rangeImage.fill(3000);  // depth 3 m: the plane X = 3 in the sensor frame
+	obs.sensorPose = mrpt::poses::CPose3D();
+	CAdaptiveOctoMap map;
+	const TBoundingBox region({2.6, -0.4, -0.4}, {3.4, 0.4, 0.4});
+	map.addHighResolutionRegion(region);
+	ASSERT_TRUE(map.insertObservation(obs, mrpt::poses::CPose3D()));
+
+	std::size_t highWall = 0, lowWall = 0;
+	map.forEachLeaf(Resolution::High, [&](const TLeafVoxel& v) {
+		if (!v.occupied) return;
+		++highWall;
+		EXPECT_NEAR(v.center.x, 3.025, 1e-4) << "the wall's 5 cm layer";
+		EXPECT_TRUE(region.containsPoint(v.center));
+	});
+	map.forEachLeaf(Resolution::Low, [&](const TLeafVoxel& v) {
+		if (!v.occupied) return;
+		++lowWall;
+		EXPECT_NEAR(v.center.x, 3.1, 1e-4) << "the wall's 20 cm layer";
+		EXPECT_FALSE(region.containsPoint(v.center));
+	});
+	// The region's face of the wall is 0.8 x 0.8 m: 16 x 16 high voxels.
+	EXPECT_EQ(highWall, 16u * 16u);
+	EXPECT_GT(lowWall, 20u);
+	// Between the camera and the wall: free, in the tree that owns the space.
+	EXPECT_EQ(map.query({2.8, 0.0, 0.0}).state, OccupancyState::Free);
+	EXPECT_EQ(map.query({2.8, 0.0, 0.0}).tree, Resolution::High);
+	EXPECT_EQ(map.query({1.5, 0.0, 0.0}).state, OccupancyState::Free);
+	EXPECT_EQ(map.query({1.5, 0.0, 0.0}).tree, Resolution::Low);
+	EXPECT_EQ(map.query({3.6, 0.0, 0.0}).state, OccupancyState::Unknown) << "behind the wall";
+}

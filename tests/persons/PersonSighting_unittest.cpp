@@ -1,0 +1,102 @@
+// The sighting estimator on a depth image made here: a person standing in
+// front of a wall, seen through a detector-like box that also shows the wall.
+#include <gtest/gtest.h>
+
+#include "avm/persons/PersonSighting.h"
+
+using namespace avm::persons;
+
+namespace
+{
+constexpr int kCols = 640, kRows = 480;
+constexpr double kF = 525, kCx = 319.5, kCy = 239.5;
+
+/** A wall at 4 m and, in columns [260, 380) and rows [100, 400), a person at
+ *  2 m; sensor frame = world frame (X forward, Y left, Z up). */
+mrpt::obs::CObservation3DRangeScan personBeforeAWall()
+{
+	mrpt::obs::CObservation3DRangeScan obs;
+	obs.hasRangeImage = true;
+	obs.rangeImage.resize(kRows, kCols);
+	obs.rangeUnits = 0.001f;
+	obs.range_is_depth = true;
+	obs.cameraParams.ncols = kCols;
+	obs.cameraParams.nrows = kRows;
+	obs.cameraParams.setIntrinsicParamsFromValues(kF, kF, kCx, kCy);
+	obs.sensorPose = mrpt::poses::CPose3D();
+	for (int v = 0; v < kRows; v++)
+		for (int u = 0; u < kCols; u++)
+			obs.rangeImage(v, u) = (u >= 260 && u < 380 && v >= 100 && v < 400) ? 2000 : 4000;
+	return obs;
+}
+}  // namespace
+
+TEST(PersonSighting, ThePersonNotTheWallBehindIt)
+{
+	const auto obs = personBeforeAWall();
+	// The box is wider than the person: a third of it shows the wall.
+	const auto est = estimateSighting(obs, {}, pixelsOfBox(230, 90, 410, 410, kCols, kRows), {});
+	ASSERT_TRUE(est.sighting) << est.skipReason;
+	const auto& s = *est.sighting;
+	EXPECT_NEAR(s.depth, 2.0, 1e-3);
+	EXPECT_EQ(s.points, 120u * 300u);
+	EXPECT_NEAR(s.position.x, 2.0, 1e-3);
+	EXPECT_NEAR(s.position.y, 0.0, 0.01);
+	EXPECT_NEAR(s.box.min.x, 2.0, 1e-3);
+	EXPECT_NEAR(s.box.max.x, 2.0, 1e-3);
+	// Width: 120 px at 2 m is 0.457 m; the percentiles trim 2 % each side.
+	EXPECT_NEAR(s.box.max.y - s.box.min.y, 0.457 * 0.96, 0.01);
+	EXPECT_NEAR(s.box.max.z - s.box.min.z, 300 * 2.0 / kF * 0.96, 0.01);
+}
+
+TEST(PersonSighting, ASightingIsPlacedByTheSensorPose)
+{
+	const auto obs = personBeforeAWall();
+	const mrpt::poses::CPose3D pose(10, 5, 1, 0.5, 0, 0);
+	const auto here = estimateSighting(obs, {}, pixelsOfBox(230, 90, 410, 410, kCols, kRows), {});
+	const auto there = estimateSighting(obs, pose, pixelsOfBox(230, 90, 410, 410, kCols, kRows), {});
+	ASSERT_TRUE(here.sighting && there.sighting);
+	const auto expected = pose.composePoint(here.sighting->position);
+	EXPECT_NEAR((there.sighting->position - expected).norm(), 0, 0.01);
+}
+
+TEST(PersonSighting, TooFewPixelsOrTooLittleDepthGiveNoSighting)
+{
+	auto obs = personBeforeAWall();
+	SightingOptions o;
+	o.minPixels = 200;
+	const auto tiny = estimateSighting(obs, {}, pixelsOfBox(300, 200, 310, 210, kCols, kRows), o);
+	EXPECT_FALSE(tiny.sighting);
+	EXPECT_NE(tiny.skipReason.find("min_person_pixels"), std::string::npos) << tiny.skipReason;
+
+	for (int v = 0; v < kRows; v++)
+		for (int u = 0; u < 200; u++) obs.rangeImage(v, u) = 0;
+	const auto dark = estimateSighting(obs, {}, pixelsOfBox(0, 0, 220, 480, kCols, kRows), o);
+	EXPECT_FALSE(dark.sighting);
+	EXPECT_NE(dark.skipReason.find("min_person_depth_fraction"), std::string::npos) << dark.skipReason;
+	EXPECT_FALSE(estimateSighting(obs, {}, {}, o).sighting);
+}
+
+TEST(PersonSighting, LabelBlobsAreOnePersonEachOrOneLabelOnePerson)
+{
+	auto obs = personBeforeAWall();
+	auto labels = std::make_shared<mrpt::obs::TPixelLabelInfo<1>>();
+	labels->setSize(kRows, kCols);
+	labels->setLabelName(0, "person");
+	labels->setLabelName(1, "person/1");
+	// Two blobs under the plain label, and one person whose own label is split.
+	for (int v = 100; v < 200; v++)
+	{
+		for (int u = 20; u < 60; u++) labels->setLabel(v, u, 0);
+		for (int u = 500; u < 540; u++) labels->setLabel(v, u, 0);
+		for (int u = 260; u < 380; u++)
+			if (u != 320) labels->setLabel(v, u, 1);
+	}
+	obs.pixelLabels = labels;
+	const auto persons = personPixelsFromLabels(obs, "person", 100);
+	ASSERT_EQ(persons.size(), 3u);
+	std::size_t sizes = 0;
+	for (const auto& p : persons) sizes += p.size();
+	EXPECT_EQ(sizes, 2u * 40u * 100u + 119u * 100u);
+	EXPECT_TRUE(personPixelsFromLabels(obs, "dog", 100).empty());
+}
