@@ -8,12 +8,12 @@
 #include <ctime>
 #include <cstdio>
 #include <fstream>
-#include <numeric>
 #include <sstream>
 
 #include "avm/io/AtomicFile.h"
 #include "avm/io/IniOptions.h"
 #include "avm/io/RawlogFrameReader.h"
+#include "avm/io/TimingSummary.h"
 
 namespace avm::odometry
 {
@@ -47,15 +47,12 @@ std::size_t OdometryRun::keyframes() const
 std::string OdometryRun::timingSummary() const
 {
 	const auto line = [&](const char* name, double FrameRecord::*field) {
-		std::vector<double> ms;
-		for (const auto& f : frames) ms.push_back(f.*field);
-		std::sort(ms.begin(), ms.end());
-		const auto at = [&](double q) { return ms.empty() ? 0.0 : ms[std::min(ms.size() - 1, std::size_t(q * ms.size()))]; };
-		const double mean = ms.empty() ? 0.0 : std::accumulate(ms.begin(), ms.end(), 0.0) / ms.size();
+		io::TimingSamples ms;
+		for (const auto& f : frames) ms.add(f.*field);
+		const auto s = ms.summary();
 		char text[160];
-		std::snprintf(
-			text, sizeof(text), "%s ms/frame: mean %.1f median %.1f p95 %.1f max %.1f\n", name, mean, at(0.5), at(0.95),
-			ms.empty() ? 0.0 : ms.back());
+		std::snprintf(text, sizeof(text), "%s ms/frame: mean %.1f median %.1f p95 %.1f max %.1f\n", name, s.meanMs,
+			s.medianMs, s.p95Ms, s.maxMs);
 		return std::string(text);
 	};
 	return "frames " + std::to_string(frames.size()) + ", lost " + std::to_string(lostFrames()) + ", keyframes " +

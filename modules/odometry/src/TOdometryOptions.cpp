@@ -1,9 +1,9 @@
 #include <mrpt/config/CConfigFileBase.h>
 
 #include <cmath>
-#include <sstream>
-#include <stdexcept>
 
+#include "avm/io/ErrorMessage.h"
+#include "avm/io/IniOptions.h"
 #include "avm/odometry/TOdometryOptions.h"
 
 namespace avm::odometry
@@ -47,15 +47,9 @@ void forEachKey(Options& o, Visitor&& v)
 
 void TOdometryOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section)
 {
-	forEachKey(*this, [&](const char* key, auto& value) {
-		using T = std::decay_t<decltype(value)>;
-		if constexpr (std::is_same_v<T, bool>)
-			value = cfg.read_bool(section, key, value);
-		else if constexpr (std::is_same_v<T, int>)
-			value = cfg.read_int(section, key, value);
-		else
-			value = cfg.read_double(section, key, value);
-	});
+	// io's reader, not MRPT's read_int: "abc" or an empty value is an error
+	// of its own, not a 0 that validate() would report as a wrong number.
+	forEachKey(*this, [&](const char* key, auto& value) { value = io::readIniValue(cfg, section, key, value); });
 	validate(section);
 }
 
@@ -67,10 +61,7 @@ void TOdometryOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg, cons
 void TOdometryOptions::validate(const std::string& section) const
 {
 	const auto require = [&](bool ok, const char* key, double value, const char* why) {
-		if (ok && std::isfinite(value)) return;
-		std::ostringstream s;
-		s << "[" << section << "] " << key << " = " << value << ": " << why;
-		throw std::invalid_argument(s.str());
+		if (!ok || !std::isfinite(value)) throw io::iniValueError(section, key, value, why);
 	};
 	require(num_features >= 50, "num_features", num_features, "must be at least 50");
 	require(pyramid_levels >= 1 && pyramid_levels <= 12, "pyramid_levels", pyramid_levels, "must be 1..12");

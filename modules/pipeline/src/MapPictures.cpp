@@ -14,7 +14,16 @@ namespace avm::pipeline
 {
 namespace
 {
-const cv::Scalar kBackground(255, 255, 255), kTrajectory(40, 160, 40), kRegion(0, 0, 200), kText(30, 30, 30);
+const cv::Scalar kBackground(255, 255, 255), kTrajectory(40, 160, 40), kRegion(0, 0, 200), kText(30, 30, 30),
+	kPerson(160, 0, 160);
+
+/** A person's marker: a dot and the id beside it. */
+void drawPerson(cv::Mat& img, const cv::Point2d& at, std::uint32_t id)
+{
+	cv::circle(img, at, 7, kPerson, cv::FILLED, cv::LINE_AA);
+	cv::circle(img, at, 7, cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
+	cv::putText(img, std::to_string(id), at + cv::Point2d(9, -6), cv::FONT_HERSHEY_SIMPLEX, 0.6, kPerson, 2, cv::LINE_AA);
+}
 
 /** Colour of a voxel: blues for low resolution, oranges for high, lighter with
  *  height so the structure reads in a flat picture. */
@@ -48,6 +57,7 @@ void drawLegend(cv::Mat& img, const MapPictureContent& c, const std::string& tit
 	line(2, buf, cv::Scalar(30, 100, 230));
 	line(3, "camera trajectory", kTrajectory);
 	if (!c.regions.empty()) line(4, "high-resolution regions", kRegion);
+	if (!c.persons.empty()) line(5, "persons: id at the last position", kPerson);
 }
 
 std::pair<float, float> heightRange(const std::vector<PictureVoxel>& voxels)
@@ -95,6 +105,7 @@ void drawTopView(const MapPictureContent& c, const std::filesystem::path& png, i
 			toPx(c.trajectory[i].pose.x(), c.trajectory[i].pose.y()), kTrajectory, 2, cv::LINE_AA);
 	if (!c.trajectory.empty())
 		cv::circle(img, toPx(c.trajectory.front().pose.x(), c.trajectory.front().pose.y()), 5, kTrajectory, cv::FILLED);
+	for (const auto& p : c.persons) drawPerson(img, toPx(p.position.x, p.position.y), p.id);
 	// 1 m scale bar
 	cv::line(img, {12, sizePx - 20}, {12 + static_cast<int>(scale), sizePx - 20}, kText, 2);
 	cv::putText(img, "1 m", {12, sizePx - 28}, cv::FONT_HERSHEY_SIMPLEX, 0.5, kText, 1, cv::LINE_AA);
@@ -179,6 +190,11 @@ void drawPerspectiveView(const MapPictureContent& c, const std::filesystem::path
 		if (ok && havePrev) cv::line(img, prev, px, kTrajectory, 3, cv::LINE_AA);
 		prev = px;
 		havePrev = ok;
+	}
+	for (const auto& person : c.persons)
+	{
+		cv::Point2d px;
+		if (project(person.position, px, depth)) drawPerson(img, px, person.id);
 	}
 	drawLegend(img, c, "perspective view");
 	save(img, png);

@@ -1,13 +1,15 @@
 // PNG pictures of a finished map, drawn offscreen with OpenCV so that a person
 // sees the result without a 3D viewer (and without a GL context on the
 // machine): a top view and a perspective view of the occupied voxels coloured
-// by resolution, with the camera trajectory and the high-resolution regions.
+// by resolution, with the camera trajectory, the high-resolution regions and
+// the persons seen (id at their last position).
 // World z is taken as up.
 #pragma once
 
 #include <mrpt/math/TBoundingBox.h>
 #include <mrpt/math/TPoint3D.h>
 
+#include <cstdint>
 #include <filesystem>
 #include <vector>
 
@@ -22,11 +24,18 @@ struct PictureVoxel
 	bool highResolution = false;
 };
 
+struct PicturePerson
+{
+	std::uint32_t id = 0;
+	mrpt::math::TPoint3D position;  //!< last world position
+};
+
 struct MapPictureContent
 {
 	std::vector<PictureVoxel> voxels;
 	io::Trajectory trajectory;
 	std::vector<mrpt::math::TBoundingBox> regions;
+	std::vector<PicturePerson> persons;
 	double lowResolution = 0, highResolution = 0;  //!< [m], for the legend
 };
 

@@ -2,11 +2,12 @@
 // odometry -> detection -> adaptive map, and the run ends in files a user
 // opens (octovis, SceneViewer3D, TUM tools, a browser for the pictures).
 //
-//   frame (RawlogFrameReader)
+//   frame (RawlogFrameReader, src/FrameSequence.h)
 //     -> person boxes   (detector; every N frames, on a worker thread if async)
 //     -> camera pose    (VisualOdometry with person boxes masked, or ground truth)
-//     -> regions        (a box + its frame's depth and pose -> world box)
+//     -> persons        (a box + its frame's depth and pose -> person track, region)
 //     -> map            (CAdaptiveOctoMap, inside MRPT's CMultiMetricMap from [map])
+//   one frame's steps: src/FrameProcessor.h; the files at the end: src/RunOutputs.h
 #pragma once
 
 #include <mrpt/config/CConfigFileBase.h>
@@ -20,10 +21,8 @@
 #include <optional>
 #include <string>
 
-namespace avm
-{
-class CAdaptiveOctoMap;
-}
+#include "avm/maps/ReferenceOctoMaps.h"
+#include "avm/viewer/TViewerOptions.h"
 
 namespace avm::pipeline
 {
@@ -43,6 +42,10 @@ struct TPipelineOptions : public mrpt::config::CLoadableOptions
 	unsigned detectEveryN = 3;
 	/** Detection on a worker thread, beside odometry and mapping. */
 	bool asyncDetection = true;
+	/** A detection started at frame k is applied (odometry masks, persons,
+	 *  regions) at frame k + this, waiting for it there if it is late: the
+	 *  same rawlog gives the same run, threads or not. */
+	unsigned detectionLagFrames = 2;
 	/** A frame's map insertion on a worker thread while odometry processes the
 	 *  next frame. The map is the same either way: regions are added, and
 	 *  frames inserted, in the same order. */
@@ -57,6 +60,12 @@ struct TPipelineOptions : public mrpt::config::CLoadableOptions
 	int pictureSize = 1200;      //!< [px] width of the PNG pictures; 0 = none
 	/** Frames decoded ahead on a reader thread; 0 reads on the loop's thread. */
 	unsigned readAheadFrames = 4;
+	/** Also build plain single-resolution OctoMaps (octomap's own
+	 *  insertion, at both trees' resolutions) from the same frames and poses,
+	 *  and compare (stats.json "reference"): a measurement mode, slow. */
+	bool referenceMaps = false;
+	/** `gui`, `gui_fps`: the live view of the run. */
+	viewer::TViewerOptions viewer;
 	std::string mapSection = "map";  //!< section with MRPT's map definition
 
 	void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
@@ -77,13 +86,22 @@ struct RunSummary
 	double seconds = 0, fps = 0;
 	double realTimeFactor = 0;       //!< recorded duration / processing time
 	std::optional<std::size_t> switchFrame;  //!< first frame mapped at high resolution
-	std::size_t detectionRuns = 0, framesWithPerson = 0, regions = 0;
+	std::size_t detectionRuns = 0, framesWithPerson = 0;
+	std::size_t regions = 0;  //!< person sightings that placed a region
+	std::size_t persons = 0;  //!< person tracks
 	std::optional<double> ateRmse;   //!< [m] odometry vs ground truth, when both exist
 	double peakMemoryMb = 0;         //!< [MiB] peak resident memory of the process
 	double cpuMsPerFrame = 0;        //!< [ms] CPU time of the run (all threads) per frame mapped
 	/** [0..1] share of the machine's CPU time a hypervisor took during the run. */
 	std::optional<double> stolenCpuShare;
-	StageReport odometry, detection, map;
+	/** detection: the detector's own time; detectionWait: how long the loop
+	 *  waited for a detection that was due. */
+	StageReport odometry, detection, detectionWait, map;
+	/** CPU time of the map stage (insertion and region updates), on the
+	 *  threads that did it: the work, whatever else ran on the cores. */
+	StageReport mapCpu;
+	/** With reference_maps: the adaptive map against single-resolution maps. */
+	std::optional<TReferenceComparison> reference;
 };
 
 class MappingPipeline : public mrpt::system::COutputLogger
@@ -99,6 +117,15 @@ class MappingPipeline : public mrpt::system::COutputLogger
 	MappingPipeline& operator=(const MappingPipeline&) = delete;
 
 	void setPoseSource(PoseSource source);
+	/** With the live view: after the last frame, save the X server's picture
+	 *  of the view to this PNG (a run with a scripted end, for tests and
+	 *  documentation); "" = none. */
+	void setViewScreenshot(const std::filesystem::path& png);
+
+	/** The OpenCV worker threads [detection] threads asks for (0 = OpenCV's
+	 *  default). OpenCV's thread count is process-wide, so the program sets
+	 *  it (cv::setNumThreads), not the library. */
+	int openCvThreads() const;
 
 	/** Maps the rawlog and writes every output into outDir (created if
 	 *  needed; checked for writing first). `stop` is polled once per frame:

@@ -6,7 +6,12 @@
 //  - Table 2: map size when the high-resolution share of the run is 0, 30, 50,
 //    70, 100 % (the switch forced at 100, 70, 50, 30, 0 % of the frames)
 //    (paper: 0.454, 1.1, 1.4, 1.6, 1.7 KB);
-//  - both with ground-truth and with odometry poses, and the odometry's ATE.
+//  - avm's per-person regions (ini/default.ini, follow and persist, and the
+//    paper policy at the same resolutions) against single-resolution
+//    OctoMaps built from the same frames and poses in the same run: memory,
+//    .bt bytes, occupied voxels, detail inside and outside the regions, map
+//    stage time, and the person tracks;
+//  - all with ground-truth and with odometry poses, and the odometry's ATE.
 #pragma once
 
 #include <mrpt/system/COutputLogger.h>
@@ -21,6 +26,7 @@ struct PaperExperimentSettings
 {
 	std::filesystem::path rawlog;
 	std::filesystem::path baseIni;      //!< ini/paper.ini
+	std::filesystem::path regionIni;    //!< ini/default.ini, for the per-person regions
 	std::filesystem::path projectRoot;  //!< for the model path
 	std::filesystem::path workDir;      //!< one folder per run
 	std::filesystem::path results;      //!< doc/results.md (pictures beside it in results/)

@@ -1,31 +1,12 @@
-// What a run measures about itself: wall-clock durations of one pipeline
-// stage, frame by frame, summarised as mean / median / 95th percentile
-// (CTimeLogger keeps no percentiles), the process's peak memory and CPU time,
-// and how much of the machine a hypervisor took meanwhile.
+// What a run measures about itself besides its stages' durations
+// (io::TimingSamples): the process's peak memory and CPU time, and how much
+// of the machine a hypervisor took meanwhile.
 #pragma once
 
-#include <cstddef>
 #include <optional>
-#include <vector>
 
 namespace avm::pipeline
 {
-struct StageSummary
-{
-	std::size_t count = 0;
-	double meanMs = 0, medianMs = 0, p95Ms = 0, maxMs = 0, totalMs = 0;
-};
-
-class StageTimes
-{
-   public:
-	void add(double milliseconds) { m_samples.push_back(milliseconds); }
-	StageSummary summary() const;
-
-   private:
-	std::vector<double> m_samples;
-};
-
 /** [MiB] Peak resident memory of this process so far. */
 double peakMemoryMb();
 

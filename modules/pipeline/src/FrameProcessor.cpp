@@ -1,0 +1,220 @@
+#include "FrameProcessor.h"
+
+#include <mrpt/system/CTicTac.h>
+
+#include <limits>
+#include <utility>
+
+#include "avm/detection/PersonLabels.h"
+#include "avm/io/ThreadCpuTime.h"
+
+namespace avm::pipeline::detail
+{
+using mrpt::obs::CObservation3DRangeScan;
+using mrpt::poses::CPose3D;
+
+namespace
+{
+/** Poses kept for detections that arrive late: well over any detection lag. */
+constexpr std::size_t kRecentPoses = 64;
+}  // namespace
+
+FrameProcessor::FrameProcessor(
+	const TPipelineOptions& options, const odometry::TOdometryOptions& odometryOptions,
+	detection::DetectorBase* detector, mrpt::maps::CMultiMetricMap& maps, ReferenceOctoMaps* reference,
+	mrpt::system::COutputLogger& log)
+	: m_options(options),
+	  m_odometryOptions(odometryOptions),
+	  m_detector(detector),
+	  m_maps(maps),
+	  m_adaptive(*maps.mapByClass<CAdaptiveOctoMap>()),
+	  m_reference(reference),
+	  m_log(log)
+{
+}
+
+FrameProcessor::~FrameProcessor() = default;
+
+bool FrameProcessor::process(const io::RgbdFrame& frame)
+{
+	startDetection(frame);
+	applyDueDetections(frame.index);
+	const auto pose = estimatePose(frame);
+	if (!pose)
+	{
+		++m_counts.skippedFrames;
+		return false;
+	}
+	m_recentPoses[frame.index] = *pose;
+	while (m_recentPoses.size() > kRecentPoses) m_recentPoses.erase(m_recentPoses.begin());
+	if (frame.groundTruth) m_groundTruth.push_back({frame.timestamp(), *frame.groundTruth});
+	finishInsertion();
+	updatePersons();
+	m_trajectory.push_back({frame.timestamp(), *pose});
+	if (m_view && m_view->due()) m_view->show(snapshot(frame, *pose));
+	insert(frame, *pose);
+	++m_counts.frames;
+	return true;
+}
+
+viewer::MapSnapshot FrameProcessor::snapshot(const io::RgbdFrame& frame, const mrpt::poses::CPose3D& pose) const
+{
+	auto s = viewer::snapshotOf(m_adaptive, m_view->snapshotOptions());
+	for (const auto& p : m_trajectory) s.trajectory.push_back(p.pose);
+	s.camera = pose;
+	s.intrinsics = frame.observation->cameraParamsIntensity;
+	if (frame.observation->hasIntensityImage) s.image = frame.observation->intensityImage;
+	// The boxes of the latest detection, with the person each was taken for
+	// (drawn on the current image: they are detection_lag_frames old).
+	for (auto it = m_personDetections.rbegin();
+		 it != m_personDetections.rend() && it->frameIndex == m_personDetections.back().frameIndex; ++it)
+	{
+		const auto& b = it->person.box;
+		s.imageBoxes.push_back({b.x, b.y, b.x + b.width, b.y + b.height, it->seen ? it->seen->personId : 0u,
+			it->person.score});
+	}
+	s.status.frame = frame.index;
+	const auto mean = [](const io::TimingSamples& t) { return t.summary().meanMs; };
+	s.status.stageMs = {{"odometry", mean(m_stages.odometry)}, {"detection", mean(m_stages.detection)},
+		{"map", mean(m_stages.map)}};
+	s.status.switchFrame = m_counts.switchFrame;
+	return s;
+}
+
+void FrameProcessor::finish()
+{
+	finishInsertion();
+	applyDueDetections(std::numeric_limits<std::size_t>::max());
+	updatePersons();
+}
+
+void FrameProcessor::startDetection(const io::RgbdFrame& frame)
+{
+	if (!m_detector || frame.index % m_options.detectEveryN != 0) return;
+	const auto detect = [detector = m_detector, index = frame.index, t = frame.timestamp(), obs = frame.observation] {
+		DetectionResult r{index, t, obs, {}, 0};
+		mrpt::system::CTicTac timer;
+		r.persons = detection::personsOnly(detector->detect(io::colourImage(*obs)));
+		r.milliseconds = timer.Tac() * 1e3;
+		return r;
+	};
+	// On the worker thread, or deferred to when it is due: applied
+	// detection_lag_frames later either way, so the same rawlog always gives
+	// the same odometry masks, person tracks and map.
+	m_pendingDetections.push_back({frame.index + m_options.detectionLagFrames,
+		std::async(m_options.asyncDetection ? std::launch::async : std::launch::deferred, detect)});
+}
+
+void FrameProcessor::applyDueDetections(std::size_t frameIndex)
+{
+	while (!m_pendingDetections.empty() && m_pendingDetections.front().applyAt <= frameIndex)
+	{
+		mrpt::system::CTicTac wait;
+		DetectionResult r = m_pendingDetections.front().result.get();
+		m_pendingDetections.pop_front();
+		m_stages.detectionWait.add(wait.Tac() * 1e3);
+		m_stages.detection.add(r.milliseconds);
+		++m_counts.detectionRuns;
+		if (!r.persons.empty()) ++m_counts.framesWithPerson;
+		m_latestPersonBoxes.clear();
+		for (const auto& p : r.persons) m_latestPersonBoxes.push_back(cv::Rect(p.box));
+		m_detectionsWithoutPersons.push_back(std::move(r));
+	}
+}
+
+std::optional<CPose3D> FrameProcessor::estimatePose(const io::RgbdFrame& frame)
+{
+	CPose3D pose;
+	if (m_options.poseSource == PoseSource::GroundTruth)
+	{
+		if (!frame.groundTruth)
+		{
+			m_log.logFmt(
+				mrpt::system::LVL_WARN, "frame %zu: no usable ground-truth pose, frame not mapped\n", frame.index);
+			return std::nullopt;
+		}
+		pose = *frame.groundTruth;
+	}
+	else
+	{
+		if (!m_odometry)
+			m_odometry.emplace(
+				m_odometryOptions, m_options.startAtGroundTruth && frame.groundTruth
+									   ? *frame.groundTruth
+									   : io::opticalToSensorPose().getOppositeScalar());
+		mrpt::system::CTicTac timer;
+		const auto estimate = m_odometry->process(*frame.observation, m_latestPersonBoxes);
+		m_stages.odometry.add(timer.Tac() * 1e3);
+		if (!estimate.tracked)
+			m_log.logFmt(mrpt::system::LVL_WARN, "frame %zu: odometry lost (%s), pose bridged\n", frame.index,
+				estimate.status.c_str());
+		pose = estimate.pose;
+	}
+	if (!io::isFinite(pose))
+	{
+		m_log.logFmt(mrpt::system::LVL_WARN, "frame %zu: pose is not finite, frame not mapped\n", frame.index);
+		return std::nullopt;
+	}
+	return pose;
+}
+
+void FrameProcessor::updatePersons()
+{
+	for (const auto& r : m_detectionsWithoutPersons) observePersons(r);
+	m_detectionsWithoutPersons.clear();
+}
+
+void FrameProcessor::observePersons(const DetectionResult& r)
+{
+	if (r.persons.empty()) return;
+	const auto pose = m_recentPoses.find(r.frameIndex);
+	const cv::Size size(
+		static_cast<int>(r.observation->rangeImage.cols()), static_cast<int>(r.observation->rangeImage.rows()));
+	std::vector<persons::PixelSet> pixels;
+	for (const auto& p : r.persons) pixels.push_back(detection::personPixels(p, size));
+	std::vector<TPersonObservation> seen;
+	mrpt::system::CTicTac timer;
+	const double cpu = io::threadCpuMs();
+	if (pose != m_recentPoses.end())
+		seen = m_adaptive.observePersons(*r.observation, pose->second, pixels, r.frameIndex);
+	// Persons and their regions are map work: they count in the next
+	// insertion's time.
+	m_personWork.wallMs += timer.Tac() * 1e3;
+	m_personWork.cpuMs += io::threadCpuMs() - cpu;
+	for (std::size_t i = 0; i < r.persons.size(); i++)
+	{
+		PersonDetectionRecord record{r.frameIndex, r.timestamp, r.persons[i], std::nullopt};
+		if (!seen.empty())
+		{
+			record.seen = seen[i];
+			if (seen[i].regionBox) ++m_counts.regions;
+		}
+		m_personDetections.push_back(std::move(record));
+	}
+}
+
+void FrameProcessor::insert(const io::RgbdFrame& frame, const CPose3D& pose)
+{
+	const auto work = [&maps = m_maps, reference = m_reference, obs = frame.observation, pose,
+						   persons = std::exchange(m_personWork, {})] {
+		mrpt::system::CTicTac timer;
+		const double cpu = io::threadCpuMs();
+		maps.insertObservation(*obs, pose);
+		const MapWork w{timer.Tac() * 1e3 + persons.wallMs, io::threadCpuMs() - cpu + persons.cpuMs};
+		if (reference) reference->insert(*obs, pose);  // outside the map stage's time
+		return w;
+	};
+	m_insertingFrame = frame.index;
+	m_pendingInsertion = std::async(m_options.asyncMapping ? std::launch::async : std::launch::deferred, work);
+	if (!m_options.asyncMapping) finishInsertion();
+}
+
+void FrameProcessor::finishInsertion()
+{
+	if (!m_pendingInsertion.valid()) return;
+	const auto work = m_pendingInsertion.get();
+	m_stages.map.add(work.wallMs);
+	m_stages.mapCpu.add(work.cpuMs);
+	if (!m_counts.switchFrame && m_adaptive.isHighResolutionActive()) m_counts.switchFrame = m_insertingFrame;
+}
+}  // namespace avm::pipeline::detail

@@ -1,0 +1,155 @@
+// One frame's way through avm-map, in the order of the README's data flow:
+//
+//   process(frame)
+//     1. startDetection / applyDueDetections   person boxes (detector, lagged)
+//     2. estimatePose                           odometry or ground truth
+//     3. updatePersons                          persons and their regions
+//     4. insert                                 the map (on the mapping thread)
+//
+// Threads: a detection runs on a worker (async_detection) and is applied
+// detection_lag_frames after its frame, whether it finished early or late; a
+// frame's insertion runs on a worker (async_mapping) beside the next frame's
+// steps 1-2. Persons and regions touch the map only once the insertion in
+// flight has finished, so the map is the same with threads or without.
+#pragma once
+
+#include <mrpt/maps/CMultiMetricMap.h>
+#include <mrpt/obs/CObservation3DRangeScan.h>
+#include <mrpt/poses/CPose3D.h>
+#include <mrpt/system/COutputLogger.h>
+
+#include <cstddef>
+#include <deque>
+#include <future>
+#include <map>
+#include <optional>
+#include <vector>
+
+#include "avm/detection/Detector.h"
+#include "avm/io/RgbdFrame.h"
+#include "avm/io/TimingSummary.h"
+#include "avm/io/Trajectory.h"
+#include "avm/maps/CAdaptiveOctoMap.h"
+#include "avm/maps/ReferenceOctoMaps.h"
+#include "avm/odometry/VisualOdometry.h"
+#include "avm/pipeline/MappingPipeline.h"
+#include "avm/viewer/MapView.h"
+
+namespace avm::pipeline::detail
+{
+/** One person box of a detection run and what the map made of it. */
+struct PersonDetectionRecord
+{
+	std::size_t frameIndex = 0;
+	double timestamp = 0;
+	detection::Detection person;
+	/** Nothing when the frame had no pose (it was not mapped). */
+	std::optional<TPersonObservation> seen;
+};
+
+/** Durations of each stage, frame by frame [ms]. */
+struct StageSamples
+{
+	io::TimingSamples odometry, detection, detectionWait, map, mapCpu;
+};
+
+class FrameProcessor
+{
+   public:
+	/** `detector` may be null (no detection); `reference` may be null (no
+	 *  reference maps). Everything given must outlive the processor. */
+	FrameProcessor(
+		const TPipelineOptions& options, const odometry::TOdometryOptions& odometryOptions,
+		detection::DetectorBase* detector, mrpt::maps::CMultiMetricMap& maps, ReferenceOctoMaps* reference,
+		mrpt::system::COutputLogger& log);
+	~FrameProcessor();  //!< waits for the work in flight
+	FrameProcessor(const FrameProcessor&) = delete;
+	FrameProcessor& operator=(const FrameProcessor&) = delete;
+
+	/** Steps 1-4 for one frame. False when the frame has no usable pose and
+	 *  is not mapped (counted in skippedFrames). */
+	bool process(const io::RgbdFrame& frame);
+
+	/** After the last frame: the insertion in flight, the detections still
+	 *  due and their persons. */
+	void finish();
+	/** Live view: a snapshot of the map goes to `view` whenever it is due,
+	 *  taken between two insertions (none is in flight then). */
+	void showOn(viewer::MapView* view) { m_view = view; }
+
+	/** frames, skippedFrames, switchFrame, detectionRuns, framesWithPerson,
+	 *  regions so far. */
+	const RunSummary& counts() const { return m_counts; }
+	const StageSamples& stages() const { return m_stages; }
+	const io::Trajectory& trajectory() const { return m_trajectory; }
+	/** The frames' ground truth, where the rawlog has it. */
+	const io::Trajectory& groundTruth() const { return m_groundTruth; }
+	const std::vector<PersonDetectionRecord>& personDetections() const { return m_personDetections; }
+
+   private:
+	/** A detection run on one frame: the boxes, and the frame they belong to
+	 *  (its depth is needed for the persons, with the pose of that frame). */
+	struct DetectionResult
+	{
+		std::size_t frameIndex = 0;
+		double timestamp = 0;
+		mrpt::obs::CObservation3DRangeScan::Ptr observation;
+		std::vector<detection::Detection> persons;
+		double milliseconds = 0;
+	};
+	/** A detection started at frame k, applied at k + detection_lag_frames. */
+	struct PendingDetection
+	{
+		std::size_t applyAt;
+		std::future<DetectionResult> result;
+	};
+	/** What one frame's map work took: insertion, plus the person and region
+	 *  updates that came before it. */
+	struct MapWork
+	{
+		double wallMs = 0;
+		double cpuMs = 0;  //!< of the threads that did it
+	};
+
+	// 1. Person boxes.
+	void startDetection(const io::RgbdFrame& frame);
+	/** The detections due at frameIndex (waiting for them): their boxes mask
+	 *  the odometry from now on, their persons wait for updatePersons. */
+	void applyDueDetections(std::size_t frameIndex);
+	// 2. Camera pose (optical frame in the world); nothing when not usable.
+	std::optional<mrpt::poses::CPose3D> estimatePose(const io::RgbdFrame& frame);
+	// 3. Persons and their regions, once the previous frame is in the map.
+	void updatePersons();
+	void observePersons(const DetectionResult& detection);
+	// 4. The map.
+	void insert(const io::RgbdFrame& frame, const mrpt::poses::CPose3D& pose);
+	/** What the live view shows of this moment. */
+	viewer::MapSnapshot snapshot(const io::RgbdFrame& frame, const mrpt::poses::CPose3D& pose) const;
+	void finishInsertion();
+
+	const TPipelineOptions& m_options;
+	const odometry::TOdometryOptions& m_odometryOptions;
+	detection::DetectorBase* m_detector;
+	mrpt::maps::CMultiMetricMap& m_maps;
+	CAdaptiveOctoMap& m_adaptive;
+	ReferenceOctoMaps* m_reference;
+	mrpt::system::COutputLogger& m_log;
+
+	std::optional<odometry::VisualOdometry> m_odometry;  // started at the first frame
+	RunSummary m_counts;
+	StageSamples m_stages;
+	io::Trajectory m_trajectory, m_groundTruth;
+	std::vector<PersonDetectionRecord> m_personDetections;
+
+	std::map<std::size_t, mrpt::poses::CPose3D> m_recentPoses;  // frame index -> pose, for lagging detections
+	std::vector<cv::Rect> m_latestPersonBoxes;                  // the odometry's mask
+	std::vector<DetectionResult> m_detectionsWithoutPersons;    // applied, persons not yet observed
+	MapWork m_personWork;  // person updates since the last insertion: counted in the next one
+	viewer::MapView* m_view = nullptr;
+
+	// Last, so that they are joined first: the work in flight uses the above.
+	std::deque<PendingDetection> m_pendingDetections;
+	std::future<MapWork> m_pendingInsertion;
+	std::size_t m_insertingFrame = 0;
+};
+}  // namespace avm::pipeline::detail

@@ -1,0 +1,287 @@
+#include "RunOutputs.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "JsonWriter.h"
+#include "avm/io/AtomicFile.h"
+#include "avm/pipeline/MapPictures.h"
+
+namespace avm::pipeline::detail
+{
+namespace fs = std::filesystem;
+
+namespace
+{
+struct TreeStats
+{
+	CAdaptiveOctoMap::TTreeStats low, high;
+};
+
+void writeText(const fs::path& file, const std::string& text)
+{
+	io::writeFileAtomically(file, [&](const fs::path& tmp) {
+		std::ofstream out(tmp);
+		out << text;
+		if (!out.flush()) throw std::runtime_error(file.string() + ": write failed");
+	});
+}
+
+/** detections.txt: one line per person box, with the person and region it
+ *  gave, or why none. */
+std::string detectionsText(const std::vector<PersonDetectionRecord>& detections)
+{
+	std::ostringstream out;
+	out << "# frame timestamp class score x y w h | person id, region min_x min_y min_z max_x max_y max_z [m]\n";
+	for (const auto& d : detections)
+	{
+		const auto& p = d.person;
+		char line[256];
+		std::snprintf(line, sizeof(line), "%zu %.6f %s %.3f %.1f %.1f %.1f %.1f", d.frameIndex, d.timestamp,
+			p.className.c_str(), p.score, p.box.x, p.box.y, p.box.width, p.box.height);
+		out << line;
+		if (!d.seen)
+			out << " | no pose for this frame\n";
+		else if (!d.seen->regionBox)
+			out << " | skipped: " << d.seen->skipReason << "\n";
+		else
+		{
+			const auto& b = *d.seen->regionBox;
+			std::snprintf(line, sizeof(line), " | %u %.3f %.3f %.3f %.3f %.3f %.3f\n", d.seen->personId, b.min.x,
+				b.min.y, b.min.z, b.max.x, b.max.y, b.max.z);
+			out << line;
+		}
+	}
+	return out.str();
+}
+
+/** persons.csv: one line per person track, what a rescue team reads first. */
+std::string personsCsv(const std::vector<persons::PersonTrack>& tracks)
+{
+	std::ostringstream out;
+	out << "id,first_frame,last_frame,first_time,last_time,x,y,z,box_min_x,box_min_y,box_min_z,box_max_x,box_max_y,"
+		   "box_max_z,detections\n";
+	for (const auto& t : tracks)
+	{
+		char line[512];
+		std::snprintf(line, sizeof(line), "%u,%zu,%zu,%.6f,%.6f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%zu\n", t.id,
+			t.firstFrame, t.lastFrame, t.firstTime, t.lastTime, t.position.x, t.position.y, t.position.z, t.box.min.x,
+			t.box.min.y, t.box.min.z, t.box.max.x, t.box.max.y, t.box.max.z, t.sightings);
+		out << line;
+	}
+	return out.str();
+}
+
+/** map_top.png and map_perspective.png. */
+void drawPictures(
+	const fs::path& outDir, const io::Trajectory& trajectory, const CAdaptiveOctoMap& map, const TreeStats& trees,
+	int size)
+{
+	MapPictureContent content;
+	for (const auto tree : {Resolution::Low, Resolution::High})
+		map.forEachLeaf(tree, [&](const TLeafVoxel& v) {
+			if (v.occupied)
+				content.voxels.push_back(
+					{mrpt::math::TPoint3Df(v.center), static_cast<float>(v.size), tree == Resolution::High});
+		});
+	content.trajectory = trajectory;
+	for (const auto& r : map.highResolutionRegions())
+		content.regions.insert(content.regions.end(), r.boxes.begin(), r.boxes.end());
+	for (const auto& t : map.personTracks()) content.persons.push_back({t.id, t.position});
+	content.lowResolution = trees.low.resolution;
+	content.highResolution = trees.high.resolution;
+	drawTopView(content, outDir / "map_top.png", size);
+	drawPerspectiveView(content, outDir / "map_perspective.png", size);
+}
+
+void writeStages(JsonWriter& json, const RunSummary& summary)
+{
+	json.beginObject("stages");
+	for (const auto& [name, s] :
+		 {std::pair{"odometry", summary.odometry}, {"detection", summary.detection},
+			 {"detection_wait", summary.detectionWait}, {"map", summary.map}, {"map_cpu", summary.mapCpu}})
+		json.beginObject(name)
+			.value("mean_ms", s.meanMs)
+			.value("median_ms", s.medianMs)
+			.value("p95_ms", s.p95Ms)
+			.value("count", s.count)
+			.endObject();
+	json.endObject();
+}
+
+void writePoint(JsonWriter& json, const char* name, const mrpt::math::TPoint3D& p)
+{
+	json.beginArray(name);
+	for (double v : {p.x, p.y, p.z}) json.element(v);
+	json.endArray();
+}
+
+void writeRegionsAndPersons(JsonWriter& json, const CAdaptiveOctoMap& map)
+{
+	json.value("region_lifetime", toString(map.insertionOptions.regionLifetime));
+	json.beginArray("regions");
+	for (const auto& r : map.highResolutionRegions())
+	{
+		json.beginObject().value("person", static_cast<std::size_t>(r.personId)).beginArray("boxes");
+		for (const auto& b : r.boxes)
+		{
+			json.beginObject();
+			writePoint(json, "min", b.min);
+			writePoint(json, "max", b.max);
+			json.endObject();
+		}
+		json.endArray().endObject();
+	}
+	json.endArray();
+	json.beginArray("persons");
+	for (const auto& t : map.personTracks())
+	{
+		json.beginObject()
+			.value("id", static_cast<std::size_t>(t.id))
+			.value("first_frame", t.firstFrame)
+			.value("last_frame", t.lastFrame)
+			.value("first_time", t.firstTime)
+			.value("last_time", t.lastTime)
+			.value("sightings", t.sightings);
+		writePoint(json, "position", t.position);
+		writePoint(json, "box_min", t.box.min);
+		writePoint(json, "box_max", t.box.max);
+		json.endObject();
+	}
+	json.endArray();
+}
+
+void writeReference(JsonWriter& json, const TReferenceComparison& c, const StageReport& mapCpu)
+{
+	const auto tree = [&](const char* name, const TReferenceComparison::Tree& t) {
+		json.beginObject(name)
+			.value("resolution_m", t.resolution)
+			.value("occupied_voxels", t.occupiedLeaves)
+			.value("memory_bytes", t.memoryBytes)
+			.value("bt_bytes", t.binaryBytes)
+			.value("insert_mean_ms", t.meanInsertMs)
+			.endObject();
+	};
+	json.beginObject("reference");
+	tree("single_high", c.high);
+	tree("single_low", c.low);
+	json.value("adaptive_memory_bytes", c.adaptiveMemoryBytes)
+		.value("adaptive_bt_bytes", c.adaptiveBinaryBytes)
+		.value("memory_share_of_single_high", double(c.adaptiveMemoryBytes) / double(c.high.memoryBytes))
+		.value("bt_share_of_single_high", double(c.adaptiveBinaryBytes) / double(c.high.binaryBytes))
+		.value("inside_regions_occupied_adaptive", c.insideAdaptive)
+		.value("inside_regions_occupied_single_high", c.insideReference)
+		.value("inside_regions_iou", c.insideIoU)
+		.value("outside_regions_occupied_adaptive", c.outsideAdaptive)
+		.value("outside_regions_occupied_single_low", c.outsideReference)
+		.value("outside_regions_iou", c.outsideIoU)
+		.value("map_cpu_speedup_vs_single_high", c.high.meanInsertMs / std::max(mapCpu.meanMs, 1e-9))
+		.endObject();
+}
+
+/** stats.json: the summary, the map's trees, regions and persons. */
+std::string statsJson(
+	const RunSummary& summary, const RunRecord& record, const CAdaptiveOctoMap& map, const TreeStats& trees)
+{
+	const auto& opt = *record.options;
+	JsonWriter json;
+	json.beginObject()
+		.value("rawlog", record.rawlog.string())
+		.value("pose_source", toString(opt.poseSource))
+		.value("frames", summary.frames)
+		.value("skipped_frames", summary.skippedFrames)
+		.value("interrupted", summary.interrupted)
+		.value("seconds", summary.seconds)
+		.value("fps", summary.fps)
+		.value("real_time_factor", summary.realTimeFactor)
+		.value("peak_memory_mb", summary.peakMemoryMb)
+		.value("cpu_ms_per_frame", summary.cpuMsPerFrame);
+	if (summary.stolenCpuShare)
+		json.value("cpu_stolen_percent", 100 * *summary.stolenCpuShare);
+	else
+		json.null("cpu_stolen_percent");
+	json.beginArray("peak_memory_mb_per_replay");
+	for (const double mb : record.peakMemoryPerReplay) json.element(mb);
+	json.endArray();
+	writeStages(json, summary);
+	json.beginObject("detection")
+		.value("detector", record.detector)
+		.value("every_n_frames", static_cast<int>(opt.detectEveryN))
+		.value("asynchronous", opt.asyncDetection)
+		.value("lag_frames", static_cast<int>(opt.detectionLagFrames))
+		.value("runs", summary.detectionRuns)
+		.value("frames_with_person", summary.framesWithPerson)
+		.endObject();
+	if (summary.switchFrame)
+		json.value("switch_frame", *summary.switchFrame);
+	else
+		json.null("switch_frame");
+	json.beginObject("map");
+	for (const auto& [name, s] : {std::pair{"low", trees.low}, {"high", trees.high}})
+		json.beginObject(name)
+			.value("resolution_m", s.resolution)
+			.value("occupied_voxels", s.occupiedLeaves)
+			.value("free_voxels", s.freeLeaves)
+			.value("memory_bytes", s.memoryBytes)
+			.value("bt_bytes", s.binaryBytes)
+			.endObject();
+	json.endObject();
+	writeRegionsAndPersons(json, map);
+	if (summary.reference) writeReference(json, *summary.reference, summary.mapCpu);
+	if (summary.ateRmse)
+		json.value("odometry_ate_rmse_m", *summary.ateRmse);
+	else
+		json.null("odometry_ate_rmse_m");
+	json.endObject();
+	return json.str();
+}
+
+/** Temporaries of earlier runs that were killed while writing
+ *  (".name.partial-PID.ext", see io::temporaryPathFor) whose process is gone. */
+void removeStaleTemporaries(const fs::path& dir)
+{
+	for (const auto& e : fs::directory_iterator(dir))
+	{
+		const std::string name = e.path().filename().string();
+		const auto at = name.find(".partial-");
+		if (name.empty() || name[0] != '.' || at == std::string::npos) continue;
+		const long pid = std::strtol(name.c_str() + at + 9, nullptr, 10);
+		if (pid > 0 && !fs::exists("/proc/" + std::to_string(pid))) fs::remove_all(e.path());
+	}
+}
+}  // namespace
+
+void writeRunOutputs(
+	const fs::path& outDir, const RunSummary& summary, const RunRecord& record, const CAdaptiveOctoMap& map)
+{
+	const TreeStats trees{map.lowResolutionStats(), map.highResolutionStats()};
+	map.saveMetricMapRepresentationToFile((outDir / "map").string());
+	io::writeTumTrajectory(
+		outDir / "trajectory.txt", record.trajectory,
+		"avm-map camera trajectory (" + toString(record.options->poseSource) + "), optical frame, TUM format");
+	writeText(outDir / "detections.txt", detectionsText(record.personDetections));
+	writeText(outDir / "persons.csv", personsCsv(map.personTracks()));
+	if (record.options->pictureSize > 0) 
+		drawPictures(outDir, record.trajectory, map, trees, record.options->pictureSize);
+	writeText(outDir / "stats.json", statsJson(summary, record, map, trees));
+	writeText(outDir / "avm-map.log", record.log);
+}
+
+void prepareOutputFolder(const fs::path& dir)
+{
+	std::error_code ec;
+	fs::create_directories(dir, ec);
+	if (ec || !fs::is_directory(dir))
+		throw std::runtime_error(dir.string() + ": cannot create the output folder (" + ec.message() + ")");
+	const fs::path probe = io::temporaryPathFor(dir / "write-check.txt");
+	std::ofstream(probe) << "avm";
+	const bool ok = fs::exists(probe) && fs::file_size(probe, ec) == 3;
+	fs::remove(probe, ec);
+	if (!ok) throw std::runtime_error(dir.string() + ": output folder is not writable");
+	removeStaleTemporaries(dir);
+}
+}  // namespace avm::pipeline::detail
