@@ -35,8 +35,8 @@ quiet_run() {  # quiet_run NAME [--rawlog FILE] ARGS... : a run whose stats.json
   (cd "$root" && "${cmd[@]}" >/dev/null)
 }
 
-pair_field() {  # pair_field I KEY DECIMALS : "with / without" the mapping thread in pair I
-  printf "%.${3}f / %.${3}f" "$(field "mapping-thread-$1" "$2")" "$(field "no-mapping-thread-$1" "$2")"
+pair_field() {  # pair_field WITH WITHOUT KEY DECIMALS : "with / without" from two runs' stats.json
+  printf "%.${4}f / %.${4}f" "$(field "$1" "$3")" "$(field "$2" "$3")"
 }
 
 field() {  # field RUN KEY : a top-level number from the run's stats.json, or n/a
@@ -83,8 +83,23 @@ tmp=$(mktemp "$root/doc/.performance.XXXX")
   for i in 1 2 3; do
     quiet_run "mapping-thread-$i"
     quiet_run "no-mapping-thread-$i" --set pipeline:async_mapping=false
-    echo "| $i | $(pair_field "$i" fps 1) | $(pair_field "$i" cpu_ms_per_frame 1) | $(pair_field "$i" cpu_stolen_percent 0) |"
+    echo "| $i | $(pair_field "mapping-thread-$i" "no-mapping-thread-$i" fps 1) | $(pair_field "mapping-thread-$i" "no-mapping-thread-$i" cpu_ms_per_frame 1) | $(pair_field "mapping-thread-$i" "no-mapping-thread-$i" cpu_stolen_percent 0) |"
   done
+  echo
+  echo "## The live view (--gui), alternating runs"
+  echo
+  echo "Three pairs under a virtual X server (\`xvfb-run -a\`, Mesa's software OpenGL draws the view), each the default with \`--gui\` (\`gui_fps = 5\`) and then without, so that both see the machine in the same mood:"
+  echo
+  echo "| pair | fps with / without | CPU [ms a frame] with / without | map stage [ms] with / without | CPU time stolen [%] with / without |"
+  echo "|---|---:|---:|---:|---:|"
+  for i in 1 2 3; do
+    map_command "gui-$i" --gui
+    (cd "$root" && xvfb-run -a "${cmd[@]}" >/dev/null)
+    quiet_run "no-gui-$i"
+    echo "| $i | $(pair_field "gui-$i" "no-gui-$i" fps 1) | $(pair_field "gui-$i" "no-gui-$i" cpu_ms_per_frame 1) | $(printf "%.1f / %.1f" "$(stage "gui-$i" map)" "$(stage "no-gui-$i" map)") | $(pair_field "gui-$i" "no-gui-$i" cpu_stolen_percent 0) |"
+  done
+  echo
+  echo "The view draws on its own thread; the loop only takes a snapshot of the map when one is due (at most \`gui_fps\` a second, between two insertions): doc/viewer.md has its measured cost."
   echo
   echo "## Detection on every frame, synchronous (the slowest setting)"
   echo

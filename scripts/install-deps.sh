@@ -12,6 +12,7 @@ packages=(
   libceres-dev
   libgtest-dev
   xauth xvfb          # stock GUI apps (RawLogViewer) run headless in tests
+  libx11-dev          # avm-viewer: the X server's screenshot of the view (XGetImage)
   curl unzip ca-certificates   # scripts/get-data.sh without ../shared
   clang libclang-rt-14-dev   # sanitizer and fuzzing builds
 )

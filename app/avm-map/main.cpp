@@ -3,6 +3,7 @@
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/system/progress.h>
+#include <opencv2/core/utility.hpp>
 #include <unistd.h>
 
 #include <atomic>
@@ -11,6 +12,8 @@
 #include <fstream>
 #include <sstream>
 #include <iostream>
+#include <memory>
+#include <vector>
 
 #include "avm/io/ProgramMain.h"
 #include "avm/pipeline/MappingPipeline.h"
@@ -30,20 +33,36 @@ std::string readIni(const std::string& file)
 	return text.str();
 }
 
-void applyOverride(mrpt::config::CConfigFileMemory& ini, const std::string& assignment)
+/** One --set SECTION:KEY=VALUE. */
+struct Override
+{
+	std::string section, key, value;
+};
+
+Override parseOverride(const std::string& assignment)
 {
 	const auto colon = assignment.find(':'), equals = assignment.find('=');
 	if (colon == std::string::npos || equals == std::string::npos || equals < colon || colon == 0 ||
 		equals == colon + 1)
 		throw std::invalid_argument("--set " + assignment + ": expected SECTION:KEY=VALUE");
-	ini.write(assignment.substr(0, colon), assignment.substr(colon + 1, equals - colon - 1), assignment.substr(equals + 1));
+	return {assignment.substr(0, colon), assignment.substr(colon + 1, equals - colon - 1), assignment.substr(equals + 1)};
+}
+
+/** Where the value an option error names came from: a --set that gave
+ *  [section] key, or else the ini file. */
+std::string sourceOf(const std::string& message, const std::string& iniFile, const std::vector<Override>& overrides)
+{
+	for (const auto& o : overrides)
+		if (message.rfind("[" + o.section + "] " + o.key + " =", 0) == 0) return "--set";
+	return iniFile;
 }
 }  // namespace
 
 int main(int argc, char** argv)
 {
-	return avm::io::runProgram("avm-map", [&] {
-		TCLAP::CmdLine cmd("Maps an RGB-D rawlog: odometry -> person detection -> adaptive octree map.", ' ', "avm");
+	return avm::io::runProgram(
+		"avm-map", "Maps an RGB-D rawlog: odometry -> person detection -> adaptive octree map.",
+		[&](avm::io::CommandLine& cmd) {
 		TCLAP::ValueArg<std::string> argConfig("c", "config", "ini file (e.g. ini/default.ini)", true, "", "INI", cmd);
 		TCLAP::ValueArg<std::string> argRawlog("r", "rawlog", "input rawlog of CObservation3DRangeScan", true, "", "RAWLOG", cmd);
 		TCLAP::ValueArg<std::string> argOut("o", "out", "output folder (default: output)", false, "output", "DIR", cmd);
@@ -52,13 +71,34 @@ int main(int argc, char** argv)
 			"s", "set", "override one ini value, e.g. --set pipeline:detect_every_n=1 (repeatable)", false,
 			"SECTION:KEY=VALUE", cmd);
 		TCLAP::SwitchArg argQuiet("q", "quiet", "no progress bar", cmd);
+		TCLAP::SwitchArg argGui("", "gui", "live 3D view of the run (sets [pipeline] gui = true); closing it ends the run as Ctrl-C does", cmd);
+		TCLAP::ValueArg<std::string> argGuiShot("", "gui-screenshot",
+			"with --gui: after the last frame, save the X server's picture of the view as this PNG", false, "", "PNG", cmd);
 		cmd.parse(argc, argv);
 
 		mrpt::config::CConfigFileMemory ini(readIni(argConfig.getValue()));
-		for (const auto& assignment : argSet.getValue()) applyOverride(ini, assignment);
-		avm::pipeline::MappingPipeline pipeline(ini, AVM_PROJECT_ROOT);
+		std::vector<Override> overrides;
+		for (const auto& assignment : argSet.getValue()) overrides.push_back(parseOverride(assignment));
+		if (argGui.getValue()) overrides.push_back(parseOverride("pipeline:gui=true"));
+		for (const auto& o : overrides) ini.write(o.section, o.key, o.value);
+		// The pipeline reads every option (the map's inside MRPT's
+		// CMultiMetricMap, which wraps errors in its call-stack report).
+		std::unique_ptr<avm::pipeline::MappingPipeline> loaded;
+		try
+		{
+			loaded = std::make_unique<avm::pipeline::MappingPipeline>(ini, AVM_PROJECT_ROOT);
+		}
+		catch (const std::exception& e)
+		{
+			avm::io::rethrowNamingIniSource(
+				sourceOf(avm::io::errorMessage(e), argConfig.getValue(), overrides), e);
+		}
+		auto& pipeline = *loaded;
+		// Process-wide: the ini's OpenCV threads apply to the whole run.
+		if (pipeline.openCvThreads() > 0) cv::setNumThreads(pipeline.openCvThreads());
 		pipeline.setMinLoggingLevel(mrpt::system::LVL_INFO);
 		if (argPoses.isSet()) pipeline.setPoseSource(avm::pipeline::poseSourceFromString(argPoses.getValue()));
+		if (argGuiShot.isSet()) pipeline.setViewScreenshot(argGuiShot.getValue());
 
 		std::signal(SIGINT, onSignal);
 		std::signal(SIGTERM, onSignal);

@@ -1,0 +1,418 @@
+#include "avm/viewer/MapView.h"
+
+#include <mrpt/gui/CDisplayWindow.h>
+#include <mrpt/gui/CDisplayWindow3D.h>
+#include <mrpt/opengl/CBox.h>
+#include <mrpt/opengl/CFrustum.h>
+#include <mrpt/opengl/CGridPlaneXY.h>
+#include <mrpt/opengl/COctoMapVoxels.h>
+#include <mrpt/opengl/COpenGLScene.h>
+#include <mrpt/opengl/CSetOfLines.h>
+#include <mrpt/opengl/CSphere.h>
+#include <mrpt/opengl/CText.h>
+#include <mrpt/opengl/stock_objects.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+
+#include "ScreenGrab.h"
+#include "avm/io/RgbdFrame.h"
+
+namespace avm::viewer
+{
+namespace
+{
+using Clock = std::chrono::steady_clock;
+
+// The colours of map.3Dscene (modules/maps/src/CAdaptiveOctoMap_render.cpp)
+// and, for the trajectory and persons, of map_top.png (MapPictures.cpp).
+const mrpt::img::TColor kLowColour(70, 110, 200), kHighColour(235, 90, 30);
+const mrpt::img::TColor kLowFreeColour(150, 170, 220, 40), kHighFreeColour(250, 190, 150, 40);
+const mrpt::img::TColor kRegionColour(40, 200, 60), kTrajectoryColour(40, 160, 40), kPersonColour(160, 0, 160);
+const mrpt::img::TColor kCameraColour(20, 20, 20), kGridColour(190, 190, 190);
+const mrpt::img::TColorf kBackground(0.97f, 0.97f, 0.97f);
+const mrpt::img::TColor kFeatureColour(0, 200, 0), kMaskedFeatureColour(255, 0, 0);
+
+enum VoxelSet : unsigned
+{
+	LowOccupied,
+	HighOccupied,
+	LowFree,
+	HighFree,
+	VoxelSetCount
+};
+
+const char* kKeysHelp = "space pause/resume  n step  f free space  l low tree  h high tree  m features  r reset view";
+
+mrpt::math::TBoundingBox occupiedBox(const MapSnapshot& s)
+{
+	mrpt::math::TBoundingBox box({0, 0, 0}, {0, 0, 0});
+	bool first = true;
+	const auto extend = [&](const mrpt::math::TPoint3D& p) {
+		if (first) box = mrpt::math::TBoundingBox(p, p), first = false;
+		else box.updateWithPoint(p);
+	};
+	for (const auto* set : {&s.lowOccupied, &s.highOccupied})
+		for (const auto& v : *set) extend(mrpt::math::TPoint3D(v.centre.x, v.centre.y, v.centre.z));
+	for (const auto& p : s.trajectory) extend(p.translation());
+	return box;
+}
+
+mrpt::img::CImage annotatedImage(const MapSnapshot& s, bool features)
+{
+	mrpt::img::CImage img = s.image.makeDeepCopy();
+	if (!img.isColor()) img = img.colorImage();
+	for (const auto& b : s.imageBoxes)
+	{
+		img.rectangle(int(b.x0), int(b.y0), int(b.x1), int(b.y1), kPersonColour, 3);
+		char text[64];
+		if (b.personId) std::snprintf(text, sizeof(text), "person %u %.2f", b.personId, b.score);
+		else std::snprintf(text, sizeof(text), "person %.2f", b.score);
+		img.textOut(int(b.x0) + 4, std::max(0, int(b.y0) - 14), text, kPersonColour);
+	}
+	if (features)
+	{
+		for (const auto& f : s.features) img.drawMark(int(f.x), int(f.y), kFeatureColour, '+', 4);
+		for (const auto& f : s.maskedFeatures) img.drawMark(int(f.x), int(f.y), kMaskedFeatureColour, 'x', 4);
+	}
+	return img;
+}
+}  // namespace
+
+struct MapView::Windows
+{
+	mrpt::gui::CDisplayWindow3D::Ptr view3D;
+	mrpt::gui::CDisplayWindow::Ptr image;  //!< opened with the first image
+	mrpt::opengl::COctoMapVoxels::Ptr voxels;  //!< of the snapshot on screen
+};
+
+MapView::MapView(const TViewerOptions& options) : m_options(options), m_windows(std::make_unique<Windows>())
+{
+	m_options.validate("gui");
+	m_windows->view3D = mrpt::gui::CDisplayWindow3D::Create(m_options.title, m_options.width, m_options.height);
+	if (!m_windows->view3D || !m_windows->view3D->isOpen())
+		throw std::runtime_error("cannot open the 3D window (is there a display? DISPLAY is " +
+			std::string(std::getenv("DISPLAY") ? std::getenv("DISPLAY") : "unset") + ")");
+	m_windows->view3D->setPos(0, 0);
+	{
+		mrpt::opengl::COpenGLScene::Ptr scene;
+		mrpt::gui::CDisplayWindow3DLocker lock(*m_windows->view3D, scene);
+		scene->getViewport()->setCustomBackgroundColor(kBackground);
+	}
+	m_thread = std::thread([this] { loop(); });
+}
+
+MapView::~MapView()
+{
+	m_stop = true;
+	m_changed.notify_all();
+	if (m_thread.joinable()) m_thread.join();
+	m_windows->image.reset();
+	m_windows->view3D.reset();
+}
+
+bool MapView::due() const
+{
+	std::lock_guard lock(m_mutex);
+	return !m_closed && Clock::now() - m_lastShown >= std::chrono::duration<double>(1.0 / m_options.fps);
+}
+
+void MapView::show(MapSnapshot snapshot)
+{
+	std::optional<MapSnapshot> replaced;  // freed outside the lock
+	{
+		std::lock_guard lock(m_mutex);
+		replaced.swap(m_pending);
+		m_pending = std::move(snapshot);
+		m_lastShown = Clock::now();
+		++m_given;
+	}
+	m_changed.notify_all();
+}
+
+SnapshotOptions MapView::snapshotOptions() const
+{
+	std::lock_guard lock(m_mutex);
+	SnapshotOptions o;
+	o.freeSpace = m_toggles.freeSpace;
+	return o;
+}
+
+bool MapView::isOpen() const
+{
+	std::lock_guard lock(m_mutex);
+	return !m_closed;
+}
+
+bool MapView::paused() const
+{
+	std::lock_guard lock(m_mutex);
+	return m_paused;
+}
+
+ViewToggles MapView::toggles() const
+{
+	std::lock_guard lock(m_mutex);
+	return m_toggles;
+}
+
+bool MapView::waitWhilePaused()
+{
+	std::unique_lock lock(m_mutex);
+	m_changed.wait(lock, [&] { return !m_paused || m_steps > 0 || m_closed; });
+	if (m_paused && m_steps > 0) --m_steps;
+	return !m_closed;
+}
+
+bool MapView::waitUntilDrawn(double timeoutSeconds)
+{
+	std::unique_lock lock(m_mutex);
+	const auto target = m_given;
+	return m_changed.wait_for(lock, std::chrono::duration<double>(timeoutSeconds),
+			   [&] { return m_drawn >= target || m_closed; }) &&
+		m_drawn >= target;
+}
+
+void MapView::waitUntilClosed()
+{
+	std::unique_lock lock(m_mutex);
+	m_changed.wait(lock, [&] { return m_closed; });
+}
+
+void MapView::close()
+{
+	{
+		std::lock_guard lock(m_mutex);
+		m_closed = true;
+	}
+	m_changed.notify_all();
+}
+
+void MapView::saveScreenshot(const std::filesystem::path& png, double settleSeconds) const
+{
+	std::this_thread::sleep_for(std::chrono::duration<double>(settleSeconds));
+	saveXScreenshot(m_options.title, png);
+}
+
+void MapView::handleKey(int key)
+{
+	// Under the mutex (called from loop()).
+	switch (std::tolower(key))
+	{
+		case ' ':
+			m_paused = !m_paused;
+			m_steps = 0;
+			break;
+		case 'n':
+			if (m_paused) ++m_steps;
+			break;
+		case 'f':
+			m_toggles.freeSpace = !m_toggles.freeSpace;
+			break;
+		case 'l':
+			m_toggles.lowTree = !m_toggles.lowTree;
+			break;
+		case 'h':
+			m_toggles.highTree = !m_toggles.highTree;
+			break;
+		case 'm':
+			m_toggles.features = !m_toggles.features;
+			break;
+		case 'r':
+			m_resetCamera = true;
+			break;
+		default:
+			return;
+	}
+	m_redraw = true;
+}
+
+void MapView::loop()
+{
+	const auto period = std::chrono::duration<double>(1.0 / m_options.fps);
+	while (!m_stop)
+	{
+		std::shared_ptr<const MapSnapshot> toDraw;
+		bool reset = false, closedNow = false;
+		std::uint64_t given = 0;
+		{
+			std::unique_lock lock(m_mutex);
+			m_changed.wait_for(lock, std::chrono::milliseconds(20), [&] { return m_stop.load(); });
+			if (m_stop) break;
+			for (auto* w : {static_cast<mrpt::gui::CBaseGUIWindow*>(m_windows->view3D.get()),
+					 static_cast<mrpt::gui::CBaseGUIWindow*>(m_windows->image.get())})
+				if (w && w->keyHit()) handleKey(w->getPushedKey());
+			if (!m_closed && !m_windows->view3D->isOpen()) m_closed = closedNow = true;
+			if (m_closed) m_pending.reset();
+			const bool elapsed = Clock::now() - m_lastDraw >= period;
+			if (m_pending && elapsed)
+			{
+				m_current = std::make_shared<const MapSnapshot>(std::move(*m_pending));
+				m_pending.reset();
+				toDraw = m_current;
+			}
+			else if (m_redraw && m_current)
+				toDraw = m_current;
+			if (toDraw)
+			{
+				reset = m_resetCamera;
+				m_resetCamera = m_redraw = false;
+				m_lastDraw = Clock::now();
+				given = m_given;
+			}
+		}
+		if (closedNow)
+		{
+			m_changed.notify_all();
+			continue;
+		}
+		if (!toDraw) continue;
+		draw(*toDraw, reset);
+		{
+			std::lock_guard lock(m_mutex);
+			m_drawn = std::max(m_drawn, given);
+		}
+		m_changed.notify_all();
+	}
+	// The windows are closed by the destructor; a close() leaves them for it.
+}
+
+void MapView::draw(const MapSnapshot& s, bool resetCamera)
+{
+	const ViewToggles t = toggles();
+	bool isPaused = paused();
+	auto& win = *m_windows->view3D;
+	using namespace mrpt::opengl;
+
+	auto voxels = COctoMapVoxels::Create();
+	voxels->resizeVoxelSets(VoxelSetCount);
+	const auto add = [&](VoxelSet set, const std::vector<SnapshotVoxel>& from, const mrpt::img::TColor& c) {
+		for (const auto& v : from)
+			voxels->push_back_Voxel(set, COctoMapVoxels::TVoxel(v.centre, v.size, c));
+	};
+	add(LowOccupied, s.lowOccupied, kLowColour);
+	add(HighOccupied, s.highOccupied, kHighColour);
+	add(LowFree, s.lowFree, kLowFreeColour);
+	add(HighFree, s.highFree, kHighFreeColour);
+	voxels->showVoxels(LowOccupied, t.lowTree);
+	voxels->showVoxels(LowFree, t.lowTree && t.freeSpace);
+	voxels->showVoxels(HighOccupied, t.highTree);
+	voxels->showVoxels(HighFree, t.highTree && t.freeSpace);
+	voxels->showGridLines(false);
+	voxels->enableCubeTransparency(t.freeSpace);
+	const auto box = occupiedBox(s);
+	voxels->setBoundingBox(box.min, box.max);
+
+	auto objects = CSetOfObjects::Create();
+	{
+		const double margin = 1.0;
+		auto grid = CGridPlaneXY::Create(
+			float(box.min.x - margin), float(box.max.x + margin), float(box.min.y - margin),
+			float(box.max.y + margin), float(box.min.z), 1.0f);
+		grid->setColor_u8(kGridColour);
+		objects->insert(grid);
+	}
+	objects->insert(voxels);
+	for (const auto& r : s.regions)
+	{
+		for (const auto& b : r.boxes)
+		{
+			auto cube = CBox::Create(b.min, b.max, true /*wireframe*/, 2.0f);
+			cube->setColor_u8(kRegionColour);
+			cube->setBoxBorderColor(kRegionColour);  // what MRPT 2.5.8 draws a wireframe box with
+			objects->insert(cube);
+		}
+	}
+	for (const auto& p : s.persons)
+	{
+		auto dot = CSphere::Create(0.12f, 12);
+		dot->setLocation(p.position);
+		dot->setColor_u8(kPersonColour);
+		objects->insert(dot);
+		auto label = CText::Create("person " + std::to_string(p.id));
+		label->setFont("sans", 18);
+		label->setLocation(p.position.x, p.position.y, p.position.z + 0.15);
+		label->setColor_u8(kPersonColour);
+		objects->insert(label);
+	}
+	if (s.trajectory.size() > 1)
+	{
+		auto lines = CSetOfLines::Create();
+		for (std::size_t i = 1; i < s.trajectory.size(); ++i)
+		{
+			const auto a = s.trajectory[i - 1].translation(), b = s.trajectory[i].translation();
+			lines->appendLine(a.x, a.y, a.z, b.x, b.y, b.z);
+		}
+		lines->setLineWidth(3);
+		lines->setColor_u8(kTrajectoryColour);
+		objects->insert(lines);
+	}
+	if (s.camera)
+	{
+		// CFrustum looks along +X; the camera pose is the optical frame (z forward).
+		auto frustum = s.intrinsics ? CFrustum::Create(*s.intrinsics, 1e-3)
+									: CFrustum::Create(0.05f, 0.5f, 60.0f, 45.0f, 2.0f, true, false);
+		frustum->setPose(*s.camera + io::opticalToSensorPose());
+		frustum->setColor_u8(kCameraColour);
+		objects->insert(frustum);
+		auto axes = stock_objects::CornerXYZSimple(0.2f, 2.0f);
+		axes->setPose(*s.camera);
+		objects->insert(axes);
+	}
+
+	{
+		COpenGLScene::Ptr scene;
+		mrpt::gui::CDisplayWindow3DLocker lock(win, scene);
+		scene->clear();
+		scene->insert(objects);
+		auto vp = scene->getViewport();
+		vp->setCustomBackgroundColor(kBackground);
+		TFontParams font;
+		font.color = mrpt::img::TColorf(0.1f, 0.1f, 0.1f);
+		font.vfont_scale = 14;
+		font.draw_shadow = true;
+		font.shadow_color = mrpt::img::TColorf(1.0f, 1.0f, 1.0f);
+		const auto lines = statusLines(s);
+		vp->addTextMessage(8, 30, lines[0] + (isPaused ? "  [paused]" : ""), 0, font);
+		vp->addTextMessage(8, 8, lines[1], 1, font);
+		font.vfont_scale = 12;
+		font.color = mrpt::img::TColorf(0.35f, 0.35f, 0.35f);
+		vp->addTextMessage(8, -22, kKeysHelp, 3, font);
+		std::string shown = std::string("low ") + (t.lowTree ? "on" : "off") + "  high " + (t.highTree ? "on" : "off") +
+			"  free " + (t.freeSpace ? (s.hasFreeSpace ? "on" : "from the next snapshot") : "off");
+		vp->addTextMessage(8, -46, shown, 2, font);
+	}
+	// The view frames the map as it grows (a live run starts with a few
+	// voxels), until the user resets it; 'r' frames it again.
+	const double extent = (box.max - box.min).norm();
+	if (resetCamera || extent > 1.25 * m_framedExtent)
+	{
+		m_framedExtent = extent;
+		const auto c = (box.min + box.max) * 0.5;
+		const double radius = std::max(1.0, (box.max - box.min).norm() / 2);
+		double azimuth = -90;
+		if (!s.trajectory.empty())
+		{
+			const auto d = s.trajectory.front().translation() - c;
+			if (std::hypot(d.x, d.y) > 1e-6) azimuth = mrpt::RAD2DEG(std::atan2(d.y, d.x));
+		}
+		win.setCameraPointingToPoint(float(c.x), float(c.y), float(c.z));
+		win.setCameraZoom(float(2.2 * radius));
+		win.setCameraAzimuthDeg(float(azimuth));
+		win.setCameraElevationDeg(35.0f);
+	}
+	win.forceRepaint();
+
+	if (!s.image.isEmpty())
+	{
+		if (!m_windows->image)
+		{
+			m_windows->image = mrpt::gui::CDisplayWindow::Create(
+				m_options.title + ": camera", s.image.getWidth(), s.image.getHeight());
+			m_windows->image->setPos(int(m_options.width) + 10, 0);
+		}
+		m_windows->image->showImage(annotatedImage(s, t.features));
+	}
+}
+}  // namespace avm::viewer

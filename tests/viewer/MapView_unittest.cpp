@@ -1,0 +1,291 @@
+// The live view: its options, the snapshots it draws, and what it shows on an
+// X server (a private Xvfb): a map being built frame by frame as a pipeline
+// would feed it, and avm-view on a finished avm-map run. What is on screen is
+// checked in the X server's own screenshot: not one colour, and both the low
+// tree's blue and the high tree's orange once the high tree is in use.
+#include <gtest/gtest.h>
+#include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/img/CImage.h>
+#include <mrpt/maps/CSimplePointsMap.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <set>
+
+#include "TestData.h"
+#include "Xvfb.h"
+#include "avm/io/RawlogFrameReader.h"
+#include "avm/maps/CAdaptiveOctoMap.h"
+#include "avm/viewer/MapView.h"
+
+namespace fs = std::filesystem;
+using avm::viewer::MapSnapshot;
+
+namespace
+{
+struct ScreenColours
+{
+	std::size_t pixels = 0, low = 0, high = 0, distinct = 0;
+};
+
+/** Pixels of the low tree's blue (70,110,200) and the high tree's orange
+ *  (235,90,30), lit or shaded, and the number of distinct colours. */
+ScreenColours coloursOf(const fs::path& png)
+{
+	mrpt::img::CImage img;
+	if (!img.loadFromFile(png.string())) throw std::runtime_error(png.string() + ": cannot read");
+	ScreenColours c;
+	std::set<std::uint32_t> distinct;
+	for (int y = 0; y < int(img.getHeight()); ++y)
+		for (int x = 0; x < int(img.getWidth()); ++x)
+		{
+			const auto* p = img.ptr<std::uint8_t>(x, y);  // B, G, R
+			const int b = p[0], g = p[1], r = p[2];
+			++c.pixels;
+			if (b > 90 && b > r + 50 && b > g + 20) ++c.low;
+			if (r > 120 && r > g + 60 && r > b + 80) ++c.high;
+			if (distinct.size() < 1000) distinct.insert(std::uint32_t(r) << 16 | g << 8 | b);
+		}
+	c.distinct = distinct.size();
+	return c;
+}
+
+void expectMapOnScreen(const fs::path& png)
+{
+	const auto c = coloursOf(png);
+	EXPECT_GT(c.distinct, 50u) << png << " is (nearly) one colour";
+	EXPECT_GT(c.low, c.pixels / 200) << png << ": low tree blue in " << c.low << " of " << c.pixels << " pixels";
+	EXPECT_GT(c.high, c.pixels / 1000) << png << ": high tree orange in " << c.high << " of " << c.pixels << " pixels";
+}
+
+/** One X server for the binary; it ends with the process (PR_SET_PDEATHSIG). */
+const avm::test::XvfbServer& xserver()
+{
+	static const avm::test::XvfbServer server;
+	return server;
+}
+
+/** A wall of points 3 m ahead (x), seen from the origin. */
+mrpt::maps::CSimplePointsMap wall()
+{
+	mrpt::maps::CSimplePointsMap pts;
+	for (double y = -1; y <= 1; y += 0.02)
+		for (double z = 0; z <= 2; z += 0.02) pts.insertPoint(3.0, y, z);
+	return pts;
+}
+}  // namespace
+
+TEST(TViewerOptions, ReadsGuiAndGuiFpsAndNamesABadValue)
+{
+	mrpt::config::CConfigFileMemory ini("[pipeline]\ngui = true\ngui_fps = 10\n");
+	avm::viewer::TViewerOptions o;
+	EXPECT_FALSE(o.enabled);
+	EXPECT_DOUBLE_EQ(o.fps, 5.0);
+	o.loadFromConfigFile(ini, "pipeline");
+	EXPECT_TRUE(o.enabled);
+	EXPECT_DOUBLE_EQ(o.fps, 10.0);
+
+	mrpt::config::CConfigFileMemory saved;
+	o.saveToConfigFile(saved, "pipeline");
+	EXPECT_TRUE(saved.keyExists("pipeline", "gui"));
+	EXPECT_TRUE(saved.keyExists("pipeline", "gui_fps"));
+
+	for (const char* bad : {"gui_fps = 0", "gui_fps = 61", "gui_fps = abc", "gui = maybe"})
+	{
+		mrpt::config::CConfigFileMemory b(std::string("[pipeline]\n") + bad + "\n");
+		avm::viewer::TViewerOptions x;
+		try
+		{
+			x.loadFromConfigFile(b, "pipeline");
+			ADD_FAILURE() << bad << " accepted";
+		}
+		catch (const std::invalid_argument& e)
+		{
+			EXPECT_NE(std::string(e.what()).find("[pipeline]"), std::string::npos) << e.what();
+		}
+	}
+}
+
+TEST(MapSnapshot, CopiesBothTreesTheRegionsAndFreeSpaceOnlyWhenAsked)
+{
+	avm::CAdaptiveOctoMap map;
+	map.addHighResolutionRegion(mrpt::math::TBoundingBox({2.6, -0.4, 0.6}, {3.4, 0.4, 1.4}));
+	ASSERT_TRUE(map.insertPointCloud(wall(), {0, 0, 1}));
+
+	const auto s = avm::viewer::snapshotOf(map);
+	EXPECT_GT(s.lowOccupied.size(), 0u);
+	EXPECT_GT(s.highOccupied.size(), 0u);
+	EXPECT_TRUE(s.lowFree.empty());
+	EXPECT_FALSE(s.hasFreeSpace);
+	ASSERT_EQ(s.regions.size(), 1u);
+	EXPECT_DOUBLE_EQ(s.lowResolution, 0.20);
+	EXPECT_DOUBLE_EQ(s.highResolution, 0.05);
+	EXPECT_GT(s.mapMemoryBytes, 0u);
+	for (const auto& v : s.highOccupied)  // high voxels only inside the region
+		EXPECT_TRUE(v.centre.x > 2.5 && v.centre.x < 3.5 && v.centre.y > -0.5 && v.centre.y < 0.5) << v.centre;
+
+	const auto withFree = avm::viewer::snapshotOf(map, {true});
+	EXPECT_GT(withFree.lowFree.size(), 0u);
+	EXPECT_EQ(withFree.lowOccupied.size(), s.lowOccupied.size());
+
+	const auto line = avm::viewer::statusLine(s);
+	EXPECT_NE(line.find("regions 1"), std::string::npos) << line;
+	EXPECT_NE(line.find("switch at 0"), std::string::npos) << line;
+}
+
+TEST(MapSnapshot, ARunFolderWithoutAMapIsNamed)
+{
+	const auto dir = avm::test::scratchDir("viewer-empty-run");
+	try
+	{
+		avm::viewer::snapshotOfRun(dir);
+		FAIL() << "no exception";
+	}
+	catch (const std::runtime_error& e)
+	{
+		EXPECT_NE(std::string(e.what()).find("map_low.bt"), std::string::npos) << e.what();
+	}
+}
+
+// What avm-map --gui does, without the pipeline: the Bonn frames with their
+// ground truth go into the map one by one; before each, the loop asks the view
+// whether it is due and only then takes a snapshot and hands it over. A region
+// from frame 20 on puts the space ahead of the camera in the high tree.
+TEST(MapViewLive, AMapBeingBuiltIsDrawnWithoutHoldingUpTheLoop)
+{
+	xserver();
+	const std::size_t frames = std::getenv("AVM_VIEWER_FRAMES") ? std::stoul(std::getenv("AVM_VIEWER_FRAMES")) : 60;
+	avm::viewer::TViewerOptions opt;
+	opt.fps = 5;
+	opt.title = "avm-live-test";
+	avm::viewer::MapView view(opt);
+	EXPECT_TRUE(view.isOpen());
+	EXPECT_FALSE(view.paused());
+
+	avm::CAdaptiveOctoMap map;
+	avm::io::RawlogFrameReader reader(avm::test::bonnRawlog());
+	std::vector<mrpt::poses::CPose3D> trajectory;
+	double snapshotMsMax = 0, snapshotMsSum = 0, showMsMax = 0;
+	std::vector<double> showMs;
+	std::size_t snapshots = 0;
+	const auto t0 = std::chrono::steady_clock::now();
+	while (auto f = reader.next())
+	{
+		if (f->index >= frames) break;
+		if (!f->groundTruth) continue;
+		EXPECT_TRUE(view.waitWhilePaused());  // not paused: returns at once
+		const auto& pose = *f->groundTruth;
+		if (f->index == 20)
+		{
+			const auto ahead = pose.composePoint(mrpt::math::TPoint3D(0, 0, 2.5));
+			map.addHighResolutionRegion(mrpt::math::TBoundingBox(
+				ahead - mrpt::math::TPoint3D(1.0, 1.0, 1.0), ahead + mrpt::math::TPoint3D(1.0, 1.0, 1.0)));
+		}
+		ASSERT_TRUE(map.insertObservation(*f->observation, pose));
+		trajectory.push_back(pose);
+		if (!view.due()) continue;
+		const auto a = std::chrono::steady_clock::now();
+		auto s = avm::viewer::snapshotOf(map, view.snapshotOptions());
+		const auto snapped = std::chrono::steady_clock::now();
+		s.trajectory = trajectory;
+		s.camera = pose;
+		s.intrinsics = f->observation->cameraParamsIntensity;
+		if (f->observation->hasIntensityImage) s.image = f->observation->intensityImage;
+		s.imageBoxes.push_back({200, 100, 320, 400, 1, 0.9});
+		s.status.frame = f->index;
+		s.status.frames = frames;
+		s.status.stageMs = {{"map", 12.5}};
+		const auto b = std::chrono::steady_clock::now();
+		view.show(std::move(s));
+		const auto c = std::chrono::steady_clock::now();
+		const double snapMs = std::chrono::duration<double, std::milli>(snapped - a).count();
+		snapshotMsMax = std::max(snapshotMsMax, snapMs);
+		snapshotMsSum += snapMs;
+		showMs.push_back(std::chrono::duration<double, std::milli>(c - b).count());
+		showMsMax = std::max(showMsMax, showMs.back());
+		++snapshots;
+	}
+	const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+	auto last = avm::viewer::snapshotOf(map);
+	last.trajectory = trajectory;
+	last.camera = trajectory.back();
+	std::printf("viewer: %zu frames in %.1f s, %zu snapshots (gui_fps %.0f), snapshotOf mean %.2f ms max %.2f ms "
+				"(final map: %zu low + %zu high occupied voxels), show() median %.3f ms max %.3f ms\n",
+		trajectory.size(), seconds, snapshots, opt.fps, snapshots ? snapshotMsSum / snapshots : 0.0, snapshotMsMax,
+		last.lowOccupied.size(), last.highOccupied.size(), showMs.empty() ? 0.0 : showMs[showMs.size() / 2],
+		showMsMax);
+	EXPECT_GT(snapshots, 0u);
+	// Rate limit: no more snapshots than gui_fps allows (plus the first).
+	EXPECT_LE(double(snapshots), seconds * opt.fps + 1);
+	// show() only hands the snapshot over; the max allows for a busy machine.
+	std::sort(showMs.begin(), showMs.end());
+	EXPECT_LT(showMs[showMs.size() / 2], 1.0);
+	EXPECT_LT(showMsMax, 50.0);
+	EXPECT_GT(last.highOccupied.size(), 0u);
+
+	view.show(std::move(last));
+	ASSERT_TRUE(view.waitUntilDrawn(30));
+	const auto dir = avm::test::scratchDir("viewer-live");
+	view.saveScreenshot(dir / "live.png", 2.0);
+	expectMapOnScreen(dir / "live.png");
+	view.close();
+	EXPECT_FALSE(view.isOpen());
+	EXPECT_FALSE(view.waitWhilePaused());  // a closed view never blocks
+}
+
+// avm-view on a finished run made by avm-map itself (ground-truth poses).
+TEST(AvmView, ShowsAFinishedRunInTheScreenshot)
+{
+	const auto& x = xserver();
+	const auto dir = avm::test::scratchDir("viewer-avm-view");
+	const auto run = avm::test::runCommand(avm::test::binary("avm-map").string() + " -q -c " +
+			(fs::path(AVM_SOURCE_DIR) / "ini/default.ini").string() + " -r " + avm::test::bonnRawlog().string() +
+			" -o " + (dir / "run").string() + " --poses gt --set pipeline:max_frames=120" +
+			" --set detection:model=" + avm::test::sharedFile("models/yolox_nano.onnx").string(),
+		dir);
+	ASSERT_EQ(run.exitCode, 0) << run.output;
+	ASSERT_TRUE(fs::exists(dir / "run" / "map_high.bt"));
+
+	const auto shot = dir / "avm-view.png";
+	const auto view = avm::test::runCommand("DISPLAY=" + x.display() + " " + avm::test::binary("avm-view").string() +
+			" " + (dir / "run").string() + " --screenshot " + shot.string(),
+		dir);
+	ASSERT_EQ(view.exitCode, 0) << view.output;
+	expectMapOnScreen(shot);
+
+	const auto missing = avm::test::runCommand(avm::test::binary("avm-view").string() + " " + dir.string() + "/none", dir);
+	EXPECT_EQ(missing.exitCode, 1);
+	EXPECT_NE(missing.output.find("avm-view: error: "), std::string::npos) << missing.output;
+	EXPECT_NE(missing.output.find("map_low.bt"), std::string::npos) << missing.output;
+}
+
+// avm-map --gui: the live view during a real run (ground-truth poses, 120
+// frames: the switch comes at frame ~74), its picture taken from the X server
+// after the last frame; the run and its outputs as without the view.
+TEST(AvmMapGui, TheLiveViewShowsTheMapGrowing)
+{
+	const auto& x = xserver();
+	const auto dir = avm::test::scratchDir("viewer-avm-map-gui");
+	const auto shot = dir / "avm-map-gui.png";
+	const auto run = avm::test::runCommand("DISPLAY=" + x.display() + " " + avm::test::binary("avm-map").string() +
+			" -q -c " + (fs::path(AVM_SOURCE_DIR) / "ini/default.ini").string() + " -r " +
+			avm::test::bonnRawlog().string() + " -o " + (dir / "run").string() +
+			" --poses gt --gui --gui-screenshot " + shot.string() + " --set pipeline:max_frames=120" +
+			" --set detection:model=" + avm::test::sharedFile("models/yolox_nano.onnx").string(),
+		dir);
+	ASSERT_EQ(run.exitCode, 0) << run.output;
+	EXPECT_TRUE(fs::exists(dir / "run" / "map_high.bt"));
+	EXPECT_TRUE(fs::exists(dir / "run" / "persons.csv"));
+	ASSERT_TRUE(fs::exists(shot)) << run.output;
+	expectMapOnScreen(shot);
+
+	// Without a display the view cannot open: one line, no run.
+	const auto noDisplay = avm::test::runCommand("env -u DISPLAY " + avm::test::binary("avm-map").string() + " -q -c " +
+			(fs::path(AVM_SOURCE_DIR) / "ini/default.ini").string() + " -r " + avm::test::bonnRawlog().string() +
+			" -o " + (dir / "nodisplay").string() + " --gui --set pipeline:max_frames=5" +
+			" --set detection:model=" + avm::test::sharedFile("models/yolox_nano.onnx").string(),
+		dir);
+	EXPECT_NE(noDisplay.exitCode, 0);
+	EXPECT_NE(noDisplay.output.find("avm-map: error: "), std::string::npos) << noDisplay.output;
+}
