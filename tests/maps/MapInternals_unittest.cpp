@@ -8,6 +8,7 @@
 
 #include <random>
 #include <set>
+#include <string>
 
 #include "KeySet.h"
 #include "OcTreeKeys.h"
@@ -205,6 +206,37 @@ TEST(SurfaceSketch, BitsNameTheHighVoxelsOfTheirLowVoxel)
 	sketch.prune([&](std::uint64_t k) { return k == lowKey; });
 	EXPECT_EQ(sketch.take(lowKey), std::uint64_t(1) << sketch.bitOf(h));
 	EXPECT_EQ(sketch.take(lowKey), 0u) << "taken";
+}
+
+// What the map reports of the sketch depends on its entries only, not on how
+// the hash map got there: a sketch that grew and lost entries (regions took
+// them, a prune rehashed it) and the same sketch read back from a checkpoint
+// report the same bytes, and serialize to the same bytes.
+TEST(SurfaceSketch, SameEntriesSameBytesWhateverTheHistory)
+{
+	SurfaceSketch grown(4);
+	for (unsigned i = 0; i < 1000; i++) grown.set(packKey(octomap::OcTreeKey(32768 + i, 32768, 32768)), 1 + i);
+	for (unsigned i = 0; i < 600; i++) grown.take(packKey(octomap::OcTreeKey(32768 + i, 32768, 32768)));
+	SurfaceSketch pruned = grown;
+	pruned.prune([](std::uint64_t) { return true; });
+	const auto bytesOf = [](const SurfaceSketch& s) {
+		mrpt::io::CMemoryStream buf;
+		auto arch = mrpt::serialization::archiveFrom(buf);
+		s.serializeTo(arch);
+		return std::string(static_cast<const char*>(buf.getRawBufferData()), buf.getTotalBytesCount());
+	};
+	mrpt::io::CMemoryStream buf;
+	auto arch = mrpt::serialization::archiveFrom(buf);
+	grown.serializeTo(arch);
+	buf.Seek(0);
+	SurfaceSketch restored;
+	restored.serializeFrom(arch);
+	ASSERT_EQ(restored.size(), 400u);
+	EXPECT_EQ(restored.memoryBytes(), grown.memoryBytes());
+	EXPECT_EQ(pruned.memoryBytes(), grown.memoryBytes());
+	EXPECT_EQ(bytesOf(restored), bytesOf(grown));
+	EXPECT_EQ(bytesOf(pruned), bytesOf(grown));
+	EXPECT_GT(grown.memoryBytes(), 400u * 16u);
 }
 
 // The integrator through the map on a synthetic scan: a flat wall 3 m ahead,

@@ -71,8 +71,13 @@ void SurfaceSketch::set(std::uint64_t lowKey, std::uint64_t bits)
 
 std::size_t SurfaceSketch::memoryBytes() const
 {
-	// A node of the hash map (key, value, next pointer, cached hash) and its bucket.
-	return m_bits.size() * (2 * sizeof(std::uint64_t) + 2 * sizeof(void*)) + m_bits.bucket_count() * sizeof(void*);
+	// A node of the hash map (key, value, next pointer, cached hash) and one
+	// bucket per entry (the container's maximum load factor). Counted from
+	// the entries, as octomap's memoryUsage() is from the nodes, not from
+	// bucket_count(): that depends on the map's history (growth, erasures,
+	// prune's rehash), so a map read back from a checkpoint would report
+	// other bytes than the same map never interrupted.
+	return m_bits.size() * (2 * sizeof(std::uint64_t) + 3 * sizeof(void*));
 }
 
 void SurfaceSketch::serializeTo(mrpt::serialization::CArchive& out) const

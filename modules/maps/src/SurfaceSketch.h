@@ -49,6 +49,8 @@ class SurfaceSketch
 	}
 
 	std::size_t size() const { return m_bits.size(); }
+	/** Bytes of the entries as a hash map holds them, from their count only:
+	 *  the same sketch gives the same figure whatever its history. */
 	std::size_t memoryBytes() const;
 	void clear() { m_bits.clear(); }
 
