@@ -144,7 +144,9 @@ std::vector<Match> FeatureFrontend::matchByProjection(
 		grid[int(p.y / cellSize) * cols + int(p.x / cellSize)].push_back(i);
 	}
 
-	// best[feature] = (distance, landmark): one landmark per feature, the closest.
+	// best[feature] = (distance, landmark): one landmark per feature, the closest;
+	// of equally close ones the newest (largest id), so that the result does
+	// not depend on the map's iteration order (which a reloaded map does not keep).
 	std::vector<std::pair<int, int>> best(frame.keypoints.size(), {INT32_MAX, -1});
 	const double r2 = o.search_radius * o.search_radius;
 	for (const auto& [id, lm] : landmarks)
@@ -173,7 +175,8 @@ std::vector<Match> FeatureFrontend::matchByProjection(
 						d2 = d;
 				}
 		if (bestFeature < 0 || d1 > o.max_hamming || (d2 != INT32_MAX && d1 > o.match_ratio * d2)) continue;
-		if (d1 < best[bestFeature].first) best[bestFeature] = {d1, id};
+		auto& b = best[bestFeature];
+		if (d1 < b.first || (d1 == b.first && id > b.second)) b = {d1, id};
 	}
 	std::vector<Match> matches;
 	for (int i = 0; i < int(best.size()); ++i)
@@ -194,6 +197,8 @@ std::vector<Match> FeatureFrontend::matchByDescriptor(const FrameFeatures& frame
 	cv::BFMatcher matcher(cv::NORM_HAMMING);
 	std::vector<std::vector<cv::DMatch>> knn;
 	matcher.knnMatch(frame.descriptors, train, knn, 2);
+	// A tie for the nearest landmark fails the ratio test (match_ratio <= 1),
+	// so the order of `train` does not change the matches.
 	std::vector<Match> matches;
 	for (const auto& m : knn)
 		if (m.size() == 2 && m[0].distance <= m_options.max_hamming &&
