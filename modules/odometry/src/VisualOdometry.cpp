@@ -1,10 +1,13 @@
 #include "avm/odometry/VisualOdometry.h"
 
 #include <mrpt/core/bits_math.h>
+#include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/CTimeLogger.h>
 
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
+#include <cstdint>
 #include <deque>
 #include <stdexcept>
 
@@ -47,6 +50,52 @@ const TOdometryOptions& validated(const TOdometryOptions& o)
 }
 
 double rotationAngleDeg(const Eigen::Matrix3d& R) { return mrpt::RAD2DEG(Eigen::AngleAxisd(R).angle()); }
+
+// --- the saveState stream: raw little-endian values, doubles bit-exact.
+/** Layout version of the stream; change it with the layout. */
+constexpr std::uint8_t stateVersion = 1;
+
+std::runtime_error badState(const std::string& why) { return std::runtime_error("VisualOdometry::loadState: " + why); }
+
+template <typename T>
+void write(mrpt::serialization::CArchive& out, const T* values, std::size_t n)
+{
+	out.WriteBufferFixEndianness(values, n);
+}
+
+/** Reads n values. MRPT throws when no byte is left but returns a short
+ *  count when only some are: both are a truncated stream. */
+template <typename T>
+void read(mrpt::serialization::CArchive& in, T* values, std::size_t n)
+{
+	std::size_t bytes = 0;
+	try
+	{
+		bytes = in.ReadBufferFixEndianness(values, n);
+	}
+	catch (const std::exception&)
+	{
+	}
+	if (bytes != n * sizeof(T)) throw badState("truncated odometry state (the stream ends early)");
+}
+
+template <typename T>
+T read(mrpt::serialization::CArchive& in)
+{
+	T value;
+	read(in, &value, 1);
+	return value;
+}
+
+void writePose(mrpt::serialization::CArchive& out, const Eigen::Isometry3d& T) { write(out, T.matrix().data(), 16); }
+
+Eigen::Isometry3d readPose(mrpt::serialization::CArchive& in)
+{
+	Eigen::Isometry3d T;
+	read(in, T.matrix().data(), 16);
+	if (!T.matrix().allFinite()) throw badState("corrupt odometry state (a pose is not finite)");
+	return T;
+}
 }  // namespace
 
 struct VisualOdometry::Impl
@@ -78,6 +127,8 @@ struct VisualOdometry::Impl
 	void addKeyframe(const FrameFeatures& f, const std::vector<Match>& inliers, const Eigen::Isometry3d& T);
 	void forgetUnobservedLandmarks();
 	OdometryEstimate lost(const FrameFeatures& f, const std::string& why);
+	void saveState(mrpt::serialization::CArchive& out) const;
+	void loadState(mrpt::serialization::CArchive& in);
 };
 
 OdometryEstimate VisualOdometry::Impl::lost(const FrameFeatures& f, const std::string& why)
@@ -242,6 +293,83 @@ void VisualOdometry::Impl::forgetUnobservedLandmarks()
 		it = seen.count(it->first) ? std::next(it) : landmarks.erase(it);
 }
 
+void VisualOdometry::Impl::saveState(mrpt::serialization::CArchive& out) const
+{
+	out << stateVersion;
+	writePose(out, T_cw);
+	writePose(out, velocity);
+	out << std::int32_t(nextLandmarkId);
+	// In id order, so that one state always gives the same bytes.
+	std::vector<int> ids;
+	ids.reserve(landmarks.size());
+	for (const auto& [id, lm] : landmarks) ids.push_back(id);
+	std::sort(ids.begin(), ids.end());
+	out << std::uint32_t(ids.size());
+	for (const int id : ids)
+	{
+		const Landmark& lm = landmarks.at(id);
+		out << std::int32_t(id);
+		write(out, lm.position.data(), 3);
+		write(out, lm.descriptor.data(), lm.descriptor.size());
+	}
+	out << std::uint32_t(window.size());
+	for (const auto& kf : window)
+	{
+		writePose(out, kf.T_cw);
+		out << std::uint64_t(kf.bestInliers) << std::uint32_t(kf.observations.size());
+		for (const auto& o : kf.observations)
+		{
+			out << std::int32_t(o.landmark);
+			write(out, o.pixel.data(), 2);
+			out << o.depth;
+		}
+	}
+}
+
+void VisualOdometry::Impl::loadState(mrpt::serialization::CArchive& in)
+{
+	// Everything is read and checked before any of it replaces the state.
+	if (const auto version = read<std::uint8_t>(in); version != stateVersion)
+		throw badState(
+			"odometry state of version " + std::to_string(version) + ", this build reads version " +
+			std::to_string(stateVersion));
+	const Eigen::Isometry3d pose = readPose(in), motion = readPose(in);
+	const int nextId = read<std::int32_t>(in);
+	LandmarkMap map;
+	for (auto n = read<std::uint32_t>(in); n > 0; --n)
+	{
+		const int id = read<std::int32_t>(in);
+		Landmark lm;
+		read(in, lm.position.data(), 3);
+		read(in, lm.descriptor.data(), lm.descriptor.size());
+		if (id < 0 || id >= nextId || !lm.position.allFinite() || !map.emplace(id, lm).second)
+			throw badState("corrupt odometry state (landmark " + std::to_string(id) + ")");
+	}
+	std::deque<Keyframe> keyframes;
+	for (auto n = read<std::uint32_t>(in); n > 0; --n)
+	{
+		Keyframe& kf = keyframes.emplace_back();
+		kf.T_cw = readPose(in);
+		kf.bestInliers = read<std::uint64_t>(in);
+		for (auto m = read<std::uint32_t>(in); m > 0; --m)
+		{
+			Observation& o = kf.observations.emplace_back();
+			o.landmark = read<std::int32_t>(in);
+			read(in, o.pixel.data(), 2);
+			o.depth = read<double>(in);
+			if (!map.count(o.landmark))
+				throw badState(
+					"corrupt odometry state (a keyframe observes the unknown landmark " + std::to_string(o.landmark) +
+					")");
+		}
+	}
+	T_cw = pose;
+	velocity = motion;
+	nextLandmarkId = nextId;
+	landmarks = std::move(map);
+	window = std::move(keyframes);
+}
+
 VisualOdometry::VisualOdometry(const TOdometryOptions& options, const mrpt::poses::CPose3D& initialPose)
 	: m_impl(std::make_unique<Impl>(options, initialPose))
 {
@@ -255,6 +383,8 @@ OdometryEstimate VisualOdometry::process(
 {
 	return m_impl->process(obs, personBoxes);
 }
+void VisualOdometry::saveState(mrpt::serialization::CArchive& out) const { m_impl->saveState(out); }
+void VisualOdometry::loadState(mrpt::serialization::CArchive& in) { m_impl->loadState(in); }
 const TOdometryOptions& VisualOdometry::options() const { return m_impl->options; }
 std::size_t VisualOdometry::keyframeCount() const { return m_impl->window.size(); }
 std::size_t VisualOdometry::landmarkCount() const { return m_impl->landmarks.size(); }

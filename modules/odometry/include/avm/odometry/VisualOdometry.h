@@ -19,6 +19,11 @@
 
 #include "avm/odometry/TOdometryOptions.h"
 
+namespace mrpt::serialization
+{
+class CArchive;
+}
+
 namespace avm::odometry
 {
 struct OdometryEstimate
@@ -47,6 +52,17 @@ class VisualOdometry
 	 *  range image; a frame without usable depth or texture is a lost frame. */
 	OdometryEstimate process(
 		const mrpt::obs::CObservation3DRangeScan& obs, const std::vector<cv::Rect>& personBoxes = {});
+
+	/** Writes the tracking state (pose, motion model, local map, keyframe
+	 *  window) to a checkpoint, every number bit-exact, so that a run resumed
+	 *  with loadState() gives exactly the poses of an uninterrupted run. The
+	 *  options and the stage times are not part of it: resume with the same
+	 *  options. */
+	void saveState(mrpt::serialization::CArchive& out) const;
+	/** Replaces the whole tracking state with one that saveState() wrote.
+	 *  Throws std::runtime_error on a truncated, corrupt or other-version
+	 *  stream, and then leaves the state as it was. */
+	void loadState(mrpt::serialization::CArchive& in);
 
 	const TOdometryOptions& options() const;
 	std::size_t keyframeCount() const;
