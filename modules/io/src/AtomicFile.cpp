@@ -1,5 +1,6 @@
 #include "avm/io/AtomicFile.h"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <stdexcept>
@@ -16,6 +17,19 @@ fs::path temporaryPathFor(const fs::path& target)
 	return target.parent_path() / name;
 }
 
+namespace
+{
+/** Flushes a file (or folder) to the disk: without it, a power loss soon
+ *  after the rename can leave the new name on an empty file. */
+void syncToDisk(const fs::path& path, int flags)
+{
+	const int fd = ::open(path.c_str(), flags);
+	if (fd < 0) return;  // nothing to flush through (the rename still stands)
+	::fsync(fd);
+	::close(fd);
+}
+}  // namespace
+
 void writeFileAtomically(const fs::path& target, const std::function<void(const fs::path&)>& write)
 {
 	const fs::path tmp = temporaryPathFor(target);
@@ -23,7 +37,9 @@ void writeFileAtomically(const fs::path& target, const std::function<void(const 
 	{
 		write(tmp);
 		if (!fs::exists(tmp)) throw std::runtime_error("nothing was written to " + target.string());
+		syncToDisk(tmp, O_RDONLY);
 		fs::rename(tmp, target);
+		syncToDisk(target.parent_path().empty() ? fs::path(".") : target.parent_path(), O_RDONLY | O_DIRECTORY);
 	}
 	catch (...)
 	{

@@ -1,5 +1,6 @@
-// Outputs are written to a temporary file beside the target and renamed into
-// place when complete, so a reader (or a crash) never sees half a file.
+// Outputs are written to a temporary file beside the target, flushed to the
+// disk and renamed into place when complete, so a reader, a killed process or
+// a power loss never sees half a file.
 #pragma once
 
 #include <filesystem>

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstddef>
+#include <utility>
 #include <vector>
 
 namespace avm::io
@@ -23,8 +24,13 @@ TimingSummary summariseTimes(std::vector<double> milliseconds);
 class TimingSamples
 {
    public:
+	TimingSamples() = default;
+	/** Samples collected before (a run resumed from its checkpoint). */
+	explicit TimingSamples(std::vector<double> milliseconds) : m_samples(std::move(milliseconds)) {}
+
 	void add(double milliseconds) { m_samples.push_back(milliseconds); }
 	TimingSummary summary() const { return summariseTimes(m_samples); }
+	const std::vector<double>& samples() const { return m_samples; }
 
    private:
 	std::vector<double> m_samples;
