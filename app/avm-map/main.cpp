@@ -13,6 +13,7 @@
 #include <sstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "avm/io/ProgramMain.h"
@@ -63,9 +64,12 @@ int main(int argc, char** argv)
 	return avm::io::runProgram(
 		"avm-map", "Maps an RGB-D rawlog: odometry -> person detection -> adaptive octree map.",
 		[&](avm::io::CommandLine& cmd) {
-		TCLAP::ValueArg<std::string> argConfig("c", "config", "ini file (e.g. ini/default.ini)", true, "", "INI", cmd);
-		TCLAP::ValueArg<std::string> argRawlog("r", "rawlog", "input rawlog of CObservation3DRangeScan", true, "", "RAWLOG", cmd);
+		TCLAP::ValueArg<std::string> argConfig("c", "config", "ini file (e.g. ini/default.ini); required unless --resume", false, "", "INI", cmd);
+		TCLAP::ValueArg<std::string> argRawlog("r", "rawlog", "input rawlog of CObservation3DRangeScan; required unless --resume", false, "", "RAWLOG", cmd);
 		TCLAP::ValueArg<std::string> argOut("o", "out", "output folder (default: output)", false, "output", "DIR", cmd);
+		TCLAP::ValueArg<std::string> argResume("", "resume",
+			"continue the run whose output folder is DIR from its last checkpoint (its configuration and rawlog "
+			"come from the checkpoint); the outputs go to DIR", false, "", "DIR", cmd);
 		TCLAP::ValueArg<std::string> argPoses("p", "poses", "pose source, overrides [pipeline] pose_source", false, "", "vo|gt", cmd);
 		TCLAP::MultiArg<std::string> argSet(
 			"s", "set", "override one ini value, e.g. --set pipeline:detect_every_n=1 (repeatable)", false,
@@ -76,7 +80,28 @@ int main(int argc, char** argv)
 			"with --gui: after the last frame, save the X server's picture of the view as this PNG", false, "", "PNG", cmd);
 		cmd.parse(argc, argv);
 
-		mrpt::config::CConfigFileMemory ini(readIni(argConfig.getValue()));
+		const bool resume = argResume.isSet();
+		if (resume)
+		{
+			for (const TCLAP::Arg* a : std::initializer_list<const TCLAP::Arg*>{&argConfig, &argRawlog, &argOut, &argPoses, &argSet})
+				if (a->isSet())
+					throw std::invalid_argument(
+						"--resume: --" + a->getName() + " is not allowed with it (the checkpoint holds the run's configuration, rawlog and folder)");
+		}
+		else if (!argConfig.isSet() || !argRawlog.isSet())
+		{
+			std::string missing;
+			for (const TCLAP::Arg* a : std::initializer_list<const TCLAP::Arg*>{&argRawlog, &argConfig})
+				if (!a->isSet())  // shortID() brackets an optional argument: "[-r <RAWLOG>]"
+					missing += (missing.empty() ? " " : ", ") + a->shortID().substr(1, a->shortID().size() - 2);
+			throw std::invalid_argument("missing required argument" + missing + " (or --resume DIR; see avm-map --help)");
+		}
+		std::optional<avm::pipeline::CheckpointedRun> checkpointed;
+		if (resume) checkpointed = avm::pipeline::readCheckpointedRun(argResume.getValue());
+		const std::string iniSource = resume ? avm::pipeline::checkpointFile(argResume.getValue()).string() : argConfig.getValue();
+		const std::string outDir = resume ? argResume.getValue() : argOut.getValue();
+
+		mrpt::config::CConfigFileMemory ini(resume ? checkpointed->ini : readIni(argConfig.getValue()));
 		std::vector<Override> overrides;
 		for (const auto& assignment : argSet.getValue()) overrides.push_back(parseOverride(assignment));
 		if (argGui.getValue()) overrides.push_back(parseOverride("pipeline:gui=true"));
@@ -91,7 +116,7 @@ int main(int argc, char** argv)
 		catch (const std::exception& e)
 		{
 			avm::io::rethrowNamingIniSource(
-				sourceOf(avm::io::errorMessage(e), argConfig.getValue(), overrides), e);
+				sourceOf(avm::io::errorMessage(e), iniSource, overrides), e);
 		}
 		auto& pipeline = *loaded;
 		// Process-wide: the ini's OpenCV threads apply to the whole run.
@@ -104,16 +129,18 @@ int main(int argc, char** argv)
 		std::signal(SIGTERM, onSignal);
 		const bool bar = !argQuiet.getValue() && ::isatty(STDERR_FILENO);
 		const auto start = std::chrono::steady_clock::now();
-		const auto summary = pipeline.run(
-			argRawlog.getValue(), argOut.getValue(), &stopRequested, [&](double fraction, std::size_t frames) {
-				if (!bar) return;
-				const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-				const double left = fraction > 0 ? s * (1 - fraction) / fraction : 0;
-				std::fprintf(stderr, "\r%s %zu frames, %.1f fps, %.0f s left ",
-					mrpt::system::progress(fraction, 30).c_str(), frames, frames / std::max(s, 1e-9), left);
-			});
+		const auto showProgress = [&](double fraction, std::size_t frames) {
+			if (!bar) return;
+			const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+			const double left = fraction > 0 ? s * (1 - fraction) / fraction : 0;
+			std::fprintf(stderr, "\r%s %zu frames, %.1f fps, %.0f s left ", mrpt::system::progress(fraction, 30).c_str(),
+				frames, frames / std::max(s, 1e-9), left);
+		};
+		const auto summary = resume ? pipeline.resume(outDir, &stopRequested, showProgress)
+									: pipeline.run(argRawlog.getValue(), outDir, &stopRequested, showProgress);
 		if (bar) std::fputc('\n', stderr);
 
+		if (summary.resumedAfterFrame) std::cout << "resumed:     after frame " << *summary.resumedAfterFrame << "\n";
 		std::cout << "frames:      " << summary.frames << (summary.interrupted ? " (interrupted, saved)" : "") << "\n"
 				  << "speed:       " << summary.fps << " fps, real-time factor " << summary.realTimeFactor << "\n"
 				  << "switch:      "
@@ -131,9 +158,9 @@ int main(int argc, char** argv)
 		std::printf("\n");
 		std::fflush(stdout);
 		if (summary.ateRmse) std::cout << "odometry:    ATE RMSE " << *summary.ateRmse << " m against the rawlog's ground truth\n";
-		std::cout << "outputs in:  " << argOut.getValue()
+		std::cout << "outputs in:  " << outDir
 				  << " (map_low.bt, map_high.bt, map.3Dscene, trajectory.txt, detections.txt, stats.json, "
-					 "map_top.png, map_perspective.png, avm-map.log)\n";
+					 "map_top.png, map_perspective.png, avm-map.log, checkpoint.bin)\n";
 		return summary.interrupted ? 130 : 0;
 	});
 }

@@ -108,7 +108,14 @@ INSTANTIATE_TEST_SUITE_P(AllPrograms, Program, ::testing::ValuesIn(kPrograms), [
 TEST(ProgramErrors, MissingRequiredArgumentsAreNamed)
 {
 	expectOneLineError(run("avm-map", "", "missing-map"),
-		"avm-map: error: missing required argument -r <RAWLOG>, -c <INI> (see avm-map --help)");
+		"avm-map: error: missing required argument -r <RAWLOG>, -c <INI> (or --resume DIR; see avm-map --help)");
+	expectOneLineError(run("avm-map", "--resume out -c x.ini", "resume-with-config"),
+		"avm-map: error: --resume: --config is not allowed with it (the checkpoint holds the run's configuration, "
+		"rawlog and folder)");
+	const auto empty = test::scratchDir("resume-without-checkpoint");
+	expectOneLineError(run("avm-map", "--resume '" + empty.string() + "'", "resume-nothing"),
+		"avm-map: error: " + (empty / "checkpoint.bin").string() + ": no checkpoint (the run was stopped before its "
+		"first frame, or " + empty.string() + " is not an avm-map output folder)");
 	expectOneLineError(run("avm-tum2rawlog", "", "missing-tum"),
 		"avm-tum2rawlog: error: missing required argument <DATASET_DIR>, <OUT.rawlog> (see avm-tum2rawlog --help)");
 }

@@ -37,6 +37,7 @@ FrameProcessor::~FrameProcessor() = default;
 
 bool FrameProcessor::process(const io::RgbdFrame& frame)
 {
+	m_lastFrame = frame.index;
 	startDetection(frame);
 	applyDueDetections(frame.index);
 	const auto pose = estimatePose(frame);

@@ -16,6 +16,7 @@
 #include <mrpt/maps/CMultiMetricMap.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/poses/CPose3D.h>
+#include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/COutputLogger.h>
 
 #include <cstddef>
@@ -23,6 +24,7 @@
 #include <future>
 #include <map>
 #include <optional>
+#include <set>
 #include <vector>
 
 #include "avm/detection/Detector.h"
@@ -76,6 +78,24 @@ class FrameProcessor
 	/** Live view: a snapshot of the map goes to `view` whenever it is due,
 	 *  taken between two insertions (none is in flight then). */
 	void showOn(viewer::MapView* view) { m_view = view; }
+
+	// Checkpoints (src/Checkpoint.h) are taken between two frames.
+	/** Once the persons of every applied detection are in the map: after a
+	 *  frame without a pose they wait for the next frame's. */
+	bool readyForCheckpoint() const { return m_detectionsWithoutPersons.empty(); }
+	/** What a resumed run needs to go on as this one would (not the map),
+	 *  after finishing the insertion in flight. */
+	void saveState(mrpt::serialization::CArchive& out);
+	/** Before the first frame: the state saveState() wrote. Throws
+	 *  std::runtime_error on a stream it did not write. */
+	void loadState(mrpt::serialization::CArchive& in);
+	/** A resumed run reads its rawlog from the start again: a frame the
+	 *  checkpointed run had processed is not processed twice; its detection
+	 *  is started again if it had not been applied yet (the detector gives the
+	 *  same boxes). False, doing nothing, for the frames after the checkpoint. */
+	bool resumeThrough(const io::RgbdFrame& frame);
+	/** The last frame given to process(), or restored by loadState(). */
+	std::optional<std::size_t> lastFrame() const { return m_lastFrame; }
 
 	/** frames, skippedFrames, switchFrame, detectionRuns, framesWithPerson,
 	 *  regions so far. */
@@ -146,6 +166,8 @@ class FrameProcessor
 	std::vector<DetectionResult> m_detectionsWithoutPersons;    // applied, persons not yet observed
 	MapWork m_personWork;  // person updates since the last insertion: counted in the next one
 	viewer::MapView* m_view = nullptr;
+	std::optional<std::size_t> m_lastFrame;           // the last frame given to process()
+	std::set<std::size_t> m_detectionsToRestart;     // after loadState: frames whose detection was pending
 
 	// Last, so that they are joined first: the work in flight uses the above.
 	std::deque<PendingDetection> m_pendingDetections;

@@ -9,6 +9,7 @@
 #include <optional>
 #include <utility>
 
+#include "Checkpoint.h"
 #include "FrameProcessor.h"
 #include "FrameSequence.h"
 #include "RunOutputs.h"
@@ -72,6 +73,10 @@ void TPipelineOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c
 		throw io::iniValueError(s, "read_ahead_frames", ahead, "must be 0..100 (0 = no reader thread)");
 	readAheadFrames = static_cast<unsigned>(ahead);
 	referenceMaps = read("reference_maps", referenceMaps);
+	checkpointIntervalSeconds = read("checkpoint_interval_s", checkpointIntervalSeconds);
+	if (!(checkpointIntervalSeconds >= 0 && checkpointIntervalSeconds <= 86400))
+		throw io::iniValueError(
+			s, "checkpoint_interval_s", checkpointIntervalSeconds, "must be 0 (no checkpoints) .. 86400 s");
 	viewer.loadFromConfigFile(cfg, s);
 	mapSection = cfg.read_string(s, "map_section", mapSection);
 	if (mapSection.empty()) throw io::iniValueError(s, "map_section", "", "must name the map definition section");
@@ -90,6 +95,7 @@ void TPipelineOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg, cons
 	cfg.write(s, "repeat", static_cast<int>(repeat));
 	cfg.write(s, "read_ahead_frames", static_cast<int>(readAheadFrames));
 	cfg.write(s, "reference_maps", referenceMaps);
+	cfg.write(s, "checkpoint_interval_s", checkpointIntervalSeconds);
 	viewer.saveToConfigFile(cfg, s);
 	cfg.write(s, "map_section", mapSection);
 }
@@ -152,12 +158,65 @@ struct RunCost
 class RunClock
 {
    public:
-	RunCost read() const { return {m_wall.Tac(), processCpuSeconds() - m_cpuAtStart, m_stolen.stolen()}; }
+	/** `before`: what the run had cost before it was resumed. */
+	explicit RunClock(const detail::CheckpointProgress& before = {}) : m_before(before) {}
+	RunCost read() const
+	{
+		return {m_before.seconds + m_wall.Tac(), m_before.cpuSeconds + processCpuSeconds() - m_cpuAtStart,
+			m_stolen.stolen()};
+	}
 
    private:
+	detail::CheckpointProgress m_before;
 	mrpt::system::CTicTac m_wall;
 	double m_cpuAtStart = processCpuSeconds();
 	StolenCpuTime m_stolen;
+};
+
+/** The configuration as ini text, for the checkpoint: a resumed run reads
+ *  exactly what the killed one read. */
+std::string iniText(const mrpt::config::CConfigFileBase& ini)
+{
+	std::string text;
+	std::vector<std::string> sections, keys;
+	ini.getAllSections(sections);
+	for (const auto& section : sections)
+	{
+		text += "[" + section + "]\n";
+		ini.getAllKeys(section, keys);
+		for (const auto& key : keys) text += key + " = " + ini.read_string(section, key, "") + "\n";
+	}
+	return text;
+}
+
+/** A run's checkpoints: before its first frame, every checkpoint_interval_s
+ *  of run time, and after its last frame. */
+class Checkpoints
+{
+   public:
+	Checkpoints(fs::path outDir, CheckpointedRun run, double intervalSeconds)
+		: m_outDir(std::move(outDir)), m_run(std::move(run)), m_interval(intervalSeconds)
+	{
+	}
+	bool enabled() const { return m_interval > 0; }
+	bool due() const { return enabled() && m_sinceLast.Tac() >= m_interval; }
+	void write(
+		const detail::CheckpointProgress& progress, const mrpt::maps::CMultiMetricMap& maps,
+		detail::FrameProcessor& processor)
+	{
+		mrpt::system::CTicTac timer;
+		detail::writeCheckpoint(m_outDir, m_run, progress, maps, processor);
+		m_times.add(timer.Tac() * 1e3);
+		m_sinceLast.Tic();
+	}
+	const io::TimingSamples& times() const { return m_times; }
+
+   private:
+	fs::path m_outDir;
+	CheckpointedRun m_run;
+	double m_interval;
+	mrpt::system::CTicTac m_sinceLast;
+	io::TimingSamples m_times;
 };
 }  // namespace
 
@@ -172,6 +231,7 @@ struct MappingPipeline::Impl
 	mrpt::maps::CMultiMetricMap::Ptr maps;
 	bool mapsUsed = false;
 	fs::path viewScreenshot;  //!< "" = none
+	std::string iniText;      //!< the configuration, for checkpoints
 
 	/** Fresh maps for a run of `rawlog`. */
 	CAdaptiveOctoMap& startMaps(const fs::path& rawlog);
@@ -226,6 +286,7 @@ MappingPipeline::MappingPipeline(const mrpt::config::CConfigFileBase& ini, const
 {
 	auto& d = *m_impl;
 	logging_enable_keep_record = true;  // for avm-map.log
+	d.iniText = iniText(ini);
 	d.options.loadFromConfigFile(ini, kPipelineSection);
 	d.odometryOptions.loadFromConfigFile(ini, kOdometrySection);
 	d.detectorOptions.loadFromConfigFile(ini, kDetectionSection);
@@ -274,6 +335,21 @@ RunSummary MappingPipeline::run(
 	const fs::path& rawlog, const fs::path& outDir, const std::atomic<bool>* stop,
 	const std::function<void(double, std::size_t)>& progress)
 {
+	return runFrames(rawlog, outDir, false, stop, progress);
+}
+
+RunSummary MappingPipeline::resume(
+	const fs::path& outDir, const std::atomic<bool>* stop, const std::function<void(double, std::size_t)>& progress)
+{
+	const auto checkpointed = readCheckpointedRun(outDir);
+	setPoseSource(checkpointed.poseSource);
+	return runFrames(checkpointed.rawlog, outDir, true, stop, progress);
+}
+
+RunSummary MappingPipeline::runFrames(
+	const fs::path& rawlog, const fs::path& outDir, bool resume, const std::atomic<bool>* stop,
+	const std::function<void(double, std::size_t)>& progress)
+{
 	auto& d = *m_impl;
 	const auto& opt = d.options;
 	detail::prepareOutputFolder(outDir);
@@ -282,15 +358,32 @@ RunSummary MappingPipeline::run(
 	std::optional<ReferenceOctoMaps> reference;
 	if (opt.referenceMaps)
 	{
+		if (resume) throw std::invalid_argument("a run with [pipeline] reference_maps = true cannot be resumed");
 		const auto& c = map.creationOptions();
 		reference.emplace(c.high.resolution, c.low.resolution, c.high.maxRange, c.low.maxRange);
 	}
 
-	// The clock starts before the reader thread does: reading is part of the run.
-	const RunClock clock;
-	detail::FrameSequence frames(rawlog, opt.repeat, opt.readAheadFrames);
 	detail::FrameProcessor processor(
 		opt, d.odometryOptions, d.detector.get(), *d.maps, reference ? &*reference : nullptr, *this);
+	detail::CheckpointProgress before;
+	std::optional<std::size_t> resumedAfter;
+	if (resume)
+	{
+		before = detail::readCheckpoint(outDir, *d.maps, processor);
+		resumedAfter = processor.lastFrame();
+		logFmt(mrpt::system::LVL_INFO, "resumed from %s: %zu frames mapped before\n",
+			checkpointFile(outDir).c_str(), processor.counts().frames);
+	}
+	Checkpoints checkpoints(outDir, {d.iniText, fs::absolute(rawlog), opt.poseSource}, opt.checkpointIntervalSeconds);
+	const auto checkpoint = [&](const RunClock& clock) {
+		const RunCost cost = clock.read();
+		checkpoints.write({cost.seconds, cost.cpuSeconds, before.log + getLogAsString()}, *d.maps, processor);
+	};
+
+	// The clock starts before the reader thread does: reading is part of the run.
+	const RunClock clock(before);
+	if (checkpoints.enabled() && !resume) checkpoint(clock);
+	detail::FrameSequence frames(rawlog, opt.repeat, opt.readAheadFrames);
 	// The live view (gui): closing its window ends the run as Ctrl-C does.
 	std::optional<viewer::MapView> view;
 	if (opt.viewer.enabled)
@@ -311,8 +404,12 @@ RunSummary MappingPipeline::run(
 		if (opt.maxFrames && processor.counts().frames >= opt.maxFrames) break;
 		const auto frame = frames.next();
 		if (!frame) break;
+		if (processor.resumeThrough(*frame)) continue;
 		if (processor.process(*frame) && progress) progress(frames.progress(), processor.counts().frames);
+		if (checkpoints.due() && processor.readyForCheckpoint()) checkpoint(clock);
 	}
+	// Before finish(): a resumed run applies the detections still due itself.
+	if (checkpoints.enabled() && processor.readyForCheckpoint()) checkpoint(clock);
 	processor.finish();
 	const RunCost cost = clock.read();
 	if (view && !d.viewScreenshot.empty() && view->waitUntilDrawn(30)) view->saveScreenshot(d.viewScreenshot);
@@ -326,12 +423,14 @@ RunSummary MappingPipeline::run(
 
 	RunSummary summary = d.summarise(processor, frames, cost);
 	summary.interrupted = (stop && stop->load()) || viewClosed;
+	summary.checkpoint = reportOf(checkpoints.times());
+	summary.resumedAfterFrame = resumedAfter;
 	if (reference) summary.reference = reference->compare(map);
 	logFmt(mrpt::system::LVL_INFO, "%zu frames in %.2f s (%.1f fps, real-time factor %.2f)%s\n", summary.frames,
 		summary.seconds, summary.fps, summary.realTimeFactor, summary.interrupted ? ", interrupted" : "");
 	detail::RunRecord record{rawlog, &opt, d.detector ? d.detector->description() : std::string("none"),
 		processor.trajectory(), processor.personDetections(), frames.peakMemoryPerReplay(),
-		getLogAsString() + frames.log()};
+		before.log + getLogAsString() + frames.log()};
 	detail::writeRunOutputs(outDir, summary, record, map);
 	return summary;
 }

@@ -103,7 +103,8 @@ void writeStages(JsonWriter& json, const RunSummary& summary)
 	json.beginObject("stages");
 	for (const auto& [name, s] :
 		 {std::pair{"odometry", summary.odometry}, {"detection", summary.detection},
-			 {"detection_wait", summary.detectionWait}, {"map", summary.map}, {"map_cpu", summary.mapCpu}})
+			 {"detection_wait", summary.detectionWait}, {"map", summary.map}, {"map_cpu", summary.mapCpu},
+			 {"checkpoint", summary.checkpoint}})
 		json.beginObject(name)
 			.value("mean_ms", s.meanMs)
 			.value("median_ms", s.medianMs)
@@ -208,6 +209,11 @@ std::string statsJson(
 	for (const double mb : record.peakMemoryPerReplay) json.element(mb);
 	json.endArray();
 	writeStages(json, summary);
+	json.value("checkpoint_interval_s", opt.checkpointIntervalSeconds);
+	if (summary.resumedAfterFrame)
+		json.value("resumed_after_frame", *summary.resumedAfterFrame);
+	else
+		json.null("resumed_after_frame");
 	json.beginObject("detection")
 		.value("detector", record.detector)
 		.value("every_n_frames", static_cast<int>(opt.detectEveryN))

@@ -64,6 +64,10 @@ struct TPipelineOptions : public mrpt::config::CLoadableOptions
 	 *  insertion, at both trees' resolutions) from the same frames and poses,
 	 *  and compare (stats.json "reference"): a measurement mode, slow. */
 	bool referenceMaps = false;
+	/** [s] of run time between two checkpoints (OUTDIR/checkpoint.bin, what
+	 *  avm-map --resume continues from); 0 = none. One is also written before
+	 *  the first frame and after the last. */
+	double checkpointIntervalSeconds = 5;
 	/** `gui`, `gui_fps`: the live view of the run. */
 	viewer::TViewerOptions viewer;
 	std::string mapSection = "map";  //!< section with MRPT's map definition
@@ -102,7 +106,25 @@ struct RunSummary
 	StageReport mapCpu;
 	/** With reference_maps: the adaptive map against single-resolution maps. */
 	std::optional<TReferenceComparison> reference;
+	/** Writing the checkpoints (count, mean ...): their cost. */
+	StageReport checkpoint;
+	/** A resumed run: the last frame its checkpoint had processed. */
+	std::optional<std::size_t> resumedAfterFrame;
 };
+
+/** The run a checkpoint belongs to: what `avm-map --resume OUTDIR` needs to
+ *  make the pipeline again. */
+struct CheckpointedRun
+{
+	std::string ini;  //!< the configuration the run read, --set values included
+	std::filesystem::path rawlog;  //!< absolute
+	PoseSource poseSource = PoseSource::VisualOdometry;
+};
+/** OUTDIR/checkpoint.bin, written by run() every checkpoint_interval_s. */
+std::filesystem::path checkpointFile(const std::filesystem::path& outDir);
+/** The run of outDir's checkpoint. Throws std::runtime_error naming the file
+ *  when there is none or it is not a complete checkpoint. */
+CheckpointedRun readCheckpointedRun(const std::filesystem::path& outDir);
 
 class MappingPipeline : public mrpt::system::COutputLogger
 {
@@ -137,10 +159,25 @@ class MappingPipeline : public mrpt::system::COutputLogger
 		const std::atomic<bool>* stop = nullptr,
 		const std::function<void(double, std::size_t)>& progress = {});
 
+	/** Continues the run whose checkpoint is in outDir (this pipeline made
+	 *  from its configuration: readCheckpointedRun) to the end of its rawlog,
+	 *  and writes every output into outDir: the same map and trajectory as a
+	 *  run that was never stopped. The rawlog is read again from its start;
+	 *  the frames already mapped only restart the detections that were
+	 *  pending. Throws on a missing or damaged checkpoint. */
+	RunSummary resume(
+		const std::filesystem::path& outDir, const std::atomic<bool>* stop = nullptr,
+		const std::function<void(double, std::size_t)>& progress = {});
+
 	/** The map of the last run. */
 	const CAdaptiveOctoMap& map() const;
 
    private:
+	/** run() and resume(): with `resume`, the state comes from outDir's checkpoint. */
+	RunSummary runFrames(
+		const std::filesystem::path& rawlog, const std::filesystem::path& outDir, bool resume,
+		const std::atomic<bool>* stop, const std::function<void(double, std::size_t)>& progress);
+
 	struct Impl;
 	std::unique_ptr<Impl> m_impl;
 };

@@ -1,0 +1,40 @@
+// avm-map's checkpoint, OUTDIR/checkpoint.bin: all a killed run needs to go
+// on (avm-map --resume OUTDIR). One MRPT archive, in this order:
+//   "avm-checkpoint", version
+//   CheckpointedRun    the configuration (with --set), rawlog, pose source
+//   CheckpointProgress the run's time so far and its log
+//   the FrameProcessor's state (src/FrameProcessor_state.cpp)
+//   every map of the map definition (MRPT serialization)
+// Written aside, flushed to the disk and renamed (io::writeFileAtomically):
+// a kill or a power loss at any instant leaves the previous checkpoint whole.
+#pragma once
+
+#include <mrpt/maps/CMultiMetricMap.h>
+
+#include <filesystem>
+#include <string>
+
+#include "FrameProcessor.h"
+#include "avm/pipeline/MappingPipeline.h"
+
+namespace avm::pipeline::detail
+{
+/** What the run had cost when the checkpoint was taken. */
+struct CheckpointProgress
+{
+	double seconds = 0, cpuSeconds = 0;  //!< wall and process CPU time of the run so far
+	std::string log;                     //!< the run's log so far
+};
+
+/** Writes outDir's checkpoint (finishing the processor's insertion in
+ *  flight); the processor must be readyForCheckpoint(). */
+void writeCheckpoint(
+	const std::filesystem::path& outDir, const CheckpointedRun& run, const CheckpointProgress& progress,
+	const mrpt::maps::CMultiMetricMap& maps, FrameProcessor& processor);
+
+/** Restores the maps (made from the same definition) and a fresh processor
+ *  from outDir's checkpoint. Throws std::runtime_error naming the file when it
+ *  is missing, truncated or holds another run's maps. */
+CheckpointProgress readCheckpoint(
+	const std::filesystem::path& outDir, mrpt::maps::CMultiMetricMap& maps, FrameProcessor& processor);
+}  // namespace avm::pipeline::detail

@@ -1,0 +1,101 @@
+#!/usr/bin/env bash
+# The fault test of checkpoints: kills avm-map with SIGKILL at random instants
+# (a fixed seed: the same instants every time), checks that each killed run's
+# output folder holds nothing or a checkpoint (and no other output, whole or
+# partial), resumes each with `avm-map --resume DIR` (or runs it again when the
+# kill came before the first checkpoint), and compares the resumed outputs
+# with an uninterrupted run of the same frames, byte for byte. Prints a
+# Markdown table (doc/reliability.md). Part of the test suite (ctest, label
+# kill); exits non-zero on any difference.
+#
+# Usage: scripts/kill-test.sh --rawlog FILE [--model FILE] [--bin DIR] [--work DIR]
+#                             [--kills N] [--seed S] [--frames N] [--interval S]
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+bin=$root/build/bin
+rawlog=$root/datasets/bonn_crowd_sub300.rawlog
+model=$root/datasets/yolox_nano.onnx
+work=$root/output/kill-test
+kills=4 seed=15 frames=200 interval=1
+
+while [ $# -gt 0 ]; do
+  case $1 in
+    --rawlog) rawlog=$2; shift 2 ;;
+    --model) model=$2; shift 2 ;;
+    --bin) bin=$2; shift 2 ;;
+    --work) work=$2; shift 2 ;;
+    --kills) kills=$2; shift 2 ;;
+    --seed) seed=$2; shift 2 ;;
+    --frames) frames=$2; shift 2 ;;
+    --interval) interval=$2; shift 2 ;;
+    *) echo "kill-test: unknown argument $1 (see the header of $0)" >&2; exit 2 ;;
+  esac
+done
+for f in "$rawlog" "$model" "$bin/avm-map"; do
+  [ -e "$f" ] || { echo "kill-test: $f: not found" >&2; exit 2; }
+done
+
+rm -rf "$work"
+mkdir -p "$work"
+run=("$bin/avm-map" -q -c "$root/ini/default.ini" -r "$rawlog"
+     --set "pipeline:checkpoint_interval_s=$interval" --set "pipeline:max_frames=$frames"
+     --set pipeline:picture_size=0 --set "detection:model=$model")
+compared=(trajectory.txt detections.txt persons.csv map_low.bt map_high.bt)
+
+# The uninterrupted run: the reference, and how long a run takes.
+start=$(date +%s.%N)
+"${run[@]}" -o "$work/uninterrupted" > "$work/uninterrupted.out"
+end=$(date +%s.%N)
+total=$(awk -v a="$start" -v b="$end" 'BEGIN { printf "%.2f", b - a }')
+# Time before the first frame (loading the detector) and frames a second.
+read -r runSeconds fps <<< "$(sed -n 's/.*"seconds": \([0-9.]*\).*/\1/p; s/.*"fps": \([0-9.]*\).*/\1/p' \
+  "$work/uninterrupted/stats.json" | head -2 | tr '\n' ' ')"
+startup=$(awk -v t="$total" -v r="$runSeconds" 'BEGIN { printf "%.2f", t - r }')
+
+echo "| kill | instant [s] | frames done at the kill (est.) | resumed after frame | frames redone | outputs equal |"
+echo "|---|---|---|---|---|---|"
+RANDOM=$seed
+failures=0
+for k in $(seq 1 "$kills"); do
+  dir=$work/killed-$k
+  # An instant between 5 % and 95 % of the run, in ms.
+  instantMs=$(awk -v t="$total" -v r="$RANDOM" 'BEGIN { printf "%d", t * 1000 * (0.05 + 0.9 * r / 32767) }')
+  instant=$(awk -v ms="$instantMs" 'BEGIN { printf "%.2f", ms / 1000 }')
+  "${run[@]}" -o "$dir" > /dev/null 2>&1 &
+  pid=$!
+  sleep "$instant"
+  kill -9 "$pid" 2> /dev/null || true
+  wait "$pid" 2> /dev/null || true
+  doneAtKill=$(awk -v i="$instant" -v s="$startup" -v f="$fps" -v n="$frames" \
+    'BEGIN { d = (i - s) * f; if (d < 0) d = 0; if (d > n) d = n; printf "%d", d }')
+
+  # Nothing, or a checkpoint and at most the temporary of one being written.
+  others=$(find "$dir" -mindepth 1 ! -name checkpoint.bin ! -name '.checkpoint.partial-*' 2> /dev/null || true)
+  if [ -n "$others" ]; then
+    echo "kill-test: kill $k at $instant s left outputs besides the checkpoint: $others" >&2
+    failures=$((failures + 1))
+    continue
+  fi
+  if [ -f "$dir/checkpoint.bin" ]; then
+    "$bin/avm-map" -q --resume "$dir" > "$dir.out"
+    after=$(sed -n 's/^resumed: *after frame \([0-9]*\).*/\1/p' "$dir.out")
+    after=${after:-"none (the checkpoint before the first frame)"}
+  else
+    # Killed before the first checkpoint: the run starts over.
+    "${run[@]}" -o "$dir" > "$dir.out"
+    after="none (run again)"
+  fi
+  redone=$(awk -v d="$doneAtKill" -v a="$after" 'BEGIN { if (a ~ /^[0-9]+$/) { r = d - (a + 1); printf "%d", r < 0 ? 0 : r } else printf "%d", d }')
+  equal=yes
+  for f in "${compared[@]}"; do
+    if ! cmp -s "$work/uninterrupted/$f" "$dir/$f"; then
+      equal="no ($f differs)"
+      failures=$((failures + 1))
+      break
+    fi
+  done
+  echo "| $k | $instant | $doneAtKill | $after | $redone | $equal |"
+done
+echo
+echo "Uninterrupted: $frames frames in ${total} s (${startup} s before the first frame, ${fps} fps), checkpoint every ${interval} s."
+[ "$failures" -eq 0 ] || { echo "kill-test: $failures failure(s)" >&2; exit 1; }

@@ -1,0 +1,117 @@
+// Checkpoints and resume on the real Bonn sequence with the default
+// configuration (odometry, detection on its worker thread, per-person
+// regions): a run stopped in the middle and resumed from its checkpoint ends
+// with the same files, byte for byte, as a run that was never stopped.
+// scripts/kill-test.sh does the same with SIGKILL at random instants.
+#include <gtest/gtest.h>
+#include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/io/vector_loadsave.h>
+
+#include <atomic>
+#include <fstream>
+
+#include "TestData.h"
+#include "avm/pipeline/MappingPipeline.h"
+
+using namespace avm;
+namespace fs = std::filesystem;
+
+namespace
+{
+mrpt::config::CConfigFileMemory defaultIni()
+{
+	mrpt::config::CConfigFileMemory ini;
+	ini.setContent(mrpt::io::file_get_contents((fs::path(AVM_SOURCE_DIR) / "ini/default.ini").string()));
+	ini.write("detection", "model", test::sharedFile("models/yolox_nano.onnx").string());
+	ini.write("pipeline", "max_frames", "150");
+	ini.write("pipeline", "picture_size", "0");
+	return ini;
+}
+
+std::string bytes(const fs::path& file)
+{
+	std::ifstream in(file, std::ios::binary);
+	return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+const char* const kRunFiles[] = {"trajectory.txt", "detections.txt", "persons.csv", "map_low.bt", "map_high.bt"};
+}  // namespace
+
+TEST(PipelineCheckpoint, AResumedRunEndsLikeARunThatWasNeverStopped)
+{
+	const auto dir = test::scratchDir("pipeline-checkpoint");
+	auto ini = defaultIni();
+	ini.write("pipeline", "checkpoint_interval_s", "0");
+	const auto uninterrupted = dir / "uninterrupted";
+	pipeline::MappingPipeline(ini, AVM_SOURCE_DIR).run(test::bonnRawlog(), uninterrupted);
+	EXPECT_FALSE(fs::exists(pipeline::checkpointFile(uninterrupted))) << "checkpoint_interval_s = 0 writes none";
+
+	// Stopped at frame 100, when persons and their regions are in the map
+	// and detections are in flight; checkpoints every 0.2 s before that.
+	ini.write("pipeline", "checkpoint_interval_s", "0.2");
+	const auto stopped = dir / "stopped";
+	std::atomic<bool> stop{false};
+	const auto first = pipeline::MappingPipeline(ini, AVM_SOURCE_DIR)
+						   .run(test::bonnRawlog(), stopped, &stop, [&](double, std::size_t frames) {
+							   if (frames == 100) stop = true;
+						   });
+	ASSERT_TRUE(first.interrupted);
+	EXPECT_EQ(first.frames, 100u);
+	EXPECT_GE(first.checkpoint.count, 3u) << "before the first frame, at least one on the way, after the last";
+	EXPECT_GT(first.persons, 0u);
+
+	const auto checkpointed = pipeline::readCheckpointedRun(stopped);
+	EXPECT_EQ(checkpointed.rawlog, fs::absolute(test::bonnRawlog()));
+	mrpt::config::CConfigFileMemory resumedIni(checkpointed.ini);
+	EXPECT_EQ(resumedIni.read_int("pipeline", "max_frames", 0), 150);
+	const auto resumed = pipeline::MappingPipeline(resumedIni, AVM_SOURCE_DIR).resume(stopped);
+	ASSERT_TRUE(resumed.resumedAfterFrame);
+	EXPECT_EQ(*resumed.resumedAfterFrame, 99u);
+	EXPECT_EQ(resumed.frames, 150u);
+	EXPECT_FALSE(resumed.interrupted);
+	for (const char* name : kRunFiles)
+	{
+		EXPECT_GT(bytes(uninterrupted / name).size(), 100u) << name;
+		EXPECT_EQ(bytes(uninterrupted / name), bytes(stopped / name)) << name;
+	}
+}
+
+TEST(PipelineCheckpoint, AMissingOrDamagedCheckpointIsNamedAndNothingIsWritten)
+{
+	const auto dir = test::scratchDir("pipeline-checkpoint-damaged");
+	const auto empty = dir / "empty";
+	fs::create_directories(empty);
+	try
+	{
+		pipeline::readCheckpointedRun(empty);
+		FAIL() << "no checkpoint, no error";
+	}
+	catch (const std::runtime_error& e)
+	{
+		EXPECT_NE(std::string(e.what()).find((empty / "checkpoint.bin").string() + ": no checkpoint"), std::string::npos)
+			<< e.what();
+	}
+
+	auto ini = defaultIni();
+	ini.write("pipeline", "max_frames", "10");
+	ini.write("pipeline", "detect_every_n", "0");
+	const auto run = dir / "run";
+	pipeline::MappingPipeline(ini, AVM_SOURCE_DIR).run(test::bonnRawlog(), run);
+	const auto file = pipeline::checkpointFile(run);
+	const std::string whole = bytes(file);
+	ASSERT_GT(whole.size(), 1000u);
+	fs::remove(run / "trajectory.txt");
+	std::ofstream(file, std::ios::binary | std::ios::trunc) << whole.substr(0, whole.size() / 2);
+	pipeline::MappingPipeline p(ini, AVM_SOURCE_DIR);
+	try
+	{
+		p.resume(run);
+		FAIL() << "a checkpoint cut in half resumed";
+	}
+	catch (const std::runtime_error& e)
+	{
+		EXPECT_NE(std::string(e.what()).find(file.string() + ": cannot resume from this checkpoint"), std::string::npos)
+			<< e.what();
+	}
+	EXPECT_FALSE(fs::exists(run / "trajectory.txt")) << "a failed resume writes no outputs";
+}
