@@ -96,6 +96,11 @@ for k in $(seq 1 "$kills"); do
   done
   echo "| $k | $instant | $doneAtKill | $after | $redone | $equal |"
 done
+# What the checkpoints cost the uninterrupted run (stats.json stages.checkpoint).
+read -r ckMean ckCount <<< "$(awk '/"checkpoint": \{/ { on = 1 } on && /"mean_ms"/ { gsub(/[,"a-z_: ]/, ""); m = $0 }
+  on && /"count"/ { gsub(/[,"a-z_: ]/, ""); print m, $0; exit }' "$work/uninterrupted/stats.json")"
+share=$(awk -v m="$ckMean" -v c="$ckCount" -v s="$runSeconds" 'BEGIN { printf "%.2f", 100 * m * c / 1000 / s }')
 echo
-echo "Uninterrupted: $frames frames in ${total} s (${startup} s before the first frame, ${fps} fps), checkpoint every ${interval} s."
+echo "Uninterrupted: $frames frames in ${total} s (${startup} s before the first frame, ${fps} fps), checkpoint every ${interval} s:" \
+  "$ckCount checkpoints of ${ckMean} ms on average, ${share} % of the run time."
 [ "$failures" -eq 0 ] || { echo "kill-test: $failures failure(s)" >&2; exit 1; }
