@@ -76,6 +76,11 @@ try "map: resolutions that do not divide" avm-map -c divide.ini -r none.rawlog
 try "map: unknown switch_policy" avm-map -c policy.ini -r none.rawlog
 try "non-number given with --set" avm-map -c map.ini -r none.rawlog --set odometry:num_features=abc
 try "non-number in [pipeline]" avm-map -c map.ini -r none.rawlog --set pipeline:detect_every_n=abc
+mkdir -p never-ran damaged
+printf 'avm-checkpoint' > damaged/checkpoint.bin
+try "resume: no checkpoint in the folder" avm-map --resume never-ran
+try "resume: a damaged checkpoint" avm-map --resume damaged
+try "resume with another configuration" avm-map --resume damaged -c map.ini
 try "ground truth starts 6 ms after the first frame" avm-tum2rawlog late late.rawlog
 try "the same with --trim-to-ground-truth" avm-tum2rawlog -q --trim-to-ground-truth late late.rawlog
 

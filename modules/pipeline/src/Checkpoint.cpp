@@ -50,7 +50,11 @@ CheckpointedRun readFile(const fs::path& outDir, Rest rest)
 	}
 	catch (const std::exception& e)
 	{
-		throw std::runtime_error(file.string() + ": cannot resume from this checkpoint: " + io::errorMessage(e));
+		std::string why = io::errorMessage(e);
+		// MRPT's words for a stream that ends inside a value.
+		if (why.find("Cannot read requested number of bytes") != std::string::npos)
+			why = "the file ends early (cut short while it was copied?)";
+		throw std::runtime_error(file.string() + ": cannot resume from this checkpoint: " + why);
 	}
 }
 }  // namespace
