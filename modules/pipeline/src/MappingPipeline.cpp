@@ -382,56 +382,70 @@ RunSummary MappingPipeline::runFrames(
 
 	// The clock starts before the reader thread does: reading is part of the run.
 	const RunClock clock(before);
+	detail::FrameSequence frames(rawlog, opt.repeat, opt.readAheadFrames);  // a missing rawlog fails here
 	if (checkpoints.enabled() && !resume) checkpoint(clock);
-	detail::FrameSequence frames(rawlog, opt.repeat, opt.readAheadFrames);
-	// The live view (gui): closing its window ends the run as Ctrl-C does.
-	std::optional<viewer::MapView> view;
-	if (opt.viewer.enabled)
+	try
 	{
-		auto v = opt.viewer;
-		v.title = "avm-map " + rawlog.filename().string();
-		view.emplace(v);
-		processor.showOn(&*view);
-	}
-	bool viewClosed = false;
-	while (!(stop && stop->load()))
-	{
-		if (view && !view->waitWhilePaused())
+		// The live view (gui): closing its window ends the run as Ctrl-C does.
+		std::optional<viewer::MapView> view;
+		if (opt.viewer.enabled)
 		{
-			viewClosed = true;
-			break;
+			auto v = opt.viewer;
+			v.title = "avm-map " + rawlog.filename().string();
+			view.emplace(v);
+			processor.showOn(&*view);
 		}
-		if (opt.maxFrames && processor.counts().frames >= opt.maxFrames) break;
-		const auto frame = frames.next();
-		if (!frame) break;
-		if (processor.resumeThrough(*frame)) continue;
-		if (processor.process(*frame) && progress) progress(frames.progress(), processor.counts().frames);
-		if (checkpoints.due() && processor.readyForCheckpoint()) checkpoint(clock);
-	}
-	// Before finish(): a resumed run applies the detections still due itself.
-	if (checkpoints.enabled() && processor.readyForCheckpoint()) checkpoint(clock);
-	processor.finish();
-	const RunCost cost = clock.read();
-	if (view && !d.viewScreenshot.empty() && view->waitUntilDrawn(30)) view->saveScreenshot(d.viewScreenshot);
-	frames.close();
-	if (processor.counts().frames == 0)
-	{
-		std::string why = rawlog.string() + ": no frame could be mapped";
-		if (!frames.skipped().empty()) why += " (" + frames.skipped().front() + ")";
-		throw std::runtime_error(why);
-	}
+		bool viewClosed = false;
+		while (!(stop && stop->load()))
+		{
+			if (view && !view->waitWhilePaused())
+			{
+				viewClosed = true;
+				break;
+			}
+			if (opt.maxFrames && processor.counts().frames >= opt.maxFrames) break;
+			const auto frame = frames.next();
+			if (!frame) break;
+			if (processor.resumeThrough(*frame)) continue;
+			if (processor.process(*frame) && progress) progress(frames.progress(), processor.counts().frames);
+			if (checkpoints.due() && processor.readyForCheckpoint()) checkpoint(clock);
+		}
+		// Before finish(): a resumed run applies the detections still due itself.
+		if (checkpoints.enabled() && processor.readyForCheckpoint()) checkpoint(clock);
+		processor.finish();
+		const RunCost cost = clock.read();
+		if (view && !d.viewScreenshot.empty() && view->waitUntilDrawn(30)) view->saveScreenshot(d.viewScreenshot);
+		frames.close();
+		if (processor.counts().frames == 0)
+		{
+			std::string why = rawlog.string() + ": no frame could be mapped";
+			if (!frames.skipped().empty()) why += " (" + frames.skipped().front() + ")";
+			throw std::runtime_error(why);
+		}
 
-	RunSummary summary = d.summarise(processor, frames, cost);
-	summary.interrupted = (stop && stop->load()) || viewClosed;
-	summary.checkpoint = reportOf(checkpoints.times());
-	summary.resumedAfterFrame = resumedAfter;
-	if (reference) summary.reference = reference->compare(map);
-	logFmt(mrpt::system::LVL_INFO, "%zu frames in %.2f s (%.1f fps, real-time factor %.2f)%s\n", summary.frames,
-		summary.seconds, summary.fps, summary.realTimeFactor, summary.interrupted ? ", interrupted" : "");
-	detail::RunRecord record{rawlog, &opt, d.detector ? d.detector->description() : std::string("none"),
-		processor.trajectory(), processor.personDetections(), frames.peakMemoryPerReplay(),
-		before.log + getLogAsString() + frames.log()};
-	detail::writeRunOutputs(outDir, summary, record, map);
-	return summary;
+		RunSummary summary = d.summarise(processor, frames, cost);
+		summary.interrupted = (stop && stop->load()) || viewClosed;
+		summary.checkpoint = reportOf(checkpoints.times());
+		summary.resumedAfterFrame = resumedAfter;
+		if (reference) summary.reference = reference->compare(map);
+		logFmt(mrpt::system::LVL_INFO, "%zu frames in %.2f s (%.1f fps, real-time factor %.2f)%s\n", summary.frames,
+			summary.seconds, summary.fps, summary.realTimeFactor, summary.interrupted ? ", interrupted" : "");
+		detail::RunRecord record{rawlog, &opt, d.detector ? d.detector->description() : std::string("none"),
+			processor.trajectory(), processor.personDetections(), frames.peakMemoryPerReplay(),
+			before.log + getLogAsString() + frames.log()};
+		detail::writeRunOutputs(outDir, summary, record, map);
+		return summary;
+	}
+	catch (...)
+	{
+		// A run that fails on its input leaves no outputs, checkpoints
+		// included: resuming would meet the same input.
+		if (!resume)
+		{
+			std::error_code ignored;
+			fs::remove(checkpointFile(outDir), ignored);
+		}
+		throw;
+	}
 }
 }  // namespace avm::pipeline
