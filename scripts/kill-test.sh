@@ -52,8 +52,8 @@ read -r runSeconds fps <<< "$(sed -n 's/.*"seconds": \([0-9.]*\).*/\1/p; s/.*"fp
   "$work/uninterrupted/stats.json" | head -2 | tr '\n' ' ')"
 startup=$(awk -v t="$total" -v r="$runSeconds" 'BEGIN { printf "%.2f", t - r }')
 
-echo "| kill | instant [s] | frames done at the kill (est.) | resumed after frame | frames redone | outputs equal |"
-echo "|---|---|---|---|---|---|"
+echo "| kill | instant [s] | resumed after frame | outputs equal |"
+echo "|---|---|---|---|"
 RANDOM=$seed
 failures=0
 for k in $(seq 1 "$kills"); do
@@ -66,8 +66,6 @@ for k in $(seq 1 "$kills"); do
   sleep "$instant"
   kill -9 "$pid" 2> /dev/null || true
   wait "$pid" 2> /dev/null || true
-  doneAtKill=$(awk -v i="$instant" -v s="$startup" -v f="$fps" -v n="$frames" \
-    'BEGIN { d = (i - s) * f; if (d < 0) d = 0; if (d > n) d = n; printf "%d", d }')
 
   # Nothing, or a checkpoint (with the temporary of one being written, or
   # outputs, each whole, when the kill came while they were written).
@@ -86,7 +84,6 @@ for k in $(seq 1 "$kills"); do
     "${run[@]}" -o "$dir" > "$dir.out"
     after="none (run again)"
   fi
-  redone=$(awk -v d="$doneAtKill" -v a="$after" 'BEGIN { if (a ~ /^[0-9]+$/) { r = d - (a + 1); printf "%d", r < 0 ? 0 : r } else printf "%d", d }')
   equal=yes
   for f in "${compared[@]}"; do
     if ! cmp -s "$work/uninterrupted/$f" "$dir/$f"; then
@@ -95,7 +92,7 @@ for k in $(seq 1 "$kills"); do
       break
     fi
   done
-  echo "| $k | $instant | $doneAtKill | $after | $redone | $equal |"
+  echo "| $k | $instant | $after | $equal |"
 done
 # What the checkpoints cost the uninterrupted run (stats.json stages.checkpoint).
 read -r ckMean ckCount <<< "$(awk '/"checkpoint": \{/ { on = 1 } on && /"mean_ms"/ { gsub(/[,"a-z_: ]/, ""); m = $0 }
