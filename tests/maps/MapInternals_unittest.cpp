@@ -182,6 +182,37 @@ TEST(ResolutionPolicy, PaperPolicyTakesPersonsAsTriggersAndSerializes)
 	EXPECT_TRUE(restored.takeSpaceChange().entered.empty()) << "the serialized trees already hold it";
 }
 
+// A checkpoint's policy goes on as the original: the next change reports the
+// same space entering and leaving (what the trees must refine and coarsen).
+// Read back with nothing marked as applied, it would report all of its space
+// as entering and none as leaving: the space a region leaves would then stay
+// in the high tree for good.
+TEST(ResolutionPolicy, ARestoredPolicyReportsTheSameSpaceChangesAsTheOriginal)
+{
+	ResolutionPolicy original(SwitchPolicy::Region, 0.2);
+	original.personSeen(1, TBoundingBox({0.05, 0.05, 0.0}, {0.55, 0.55, 1.7}), 10.0, RegionLifetime::Follow, 0);
+	original.personSeen(2, TBoundingBox({2.05, 0.05, 0.0}, {2.55, 0.55, 1.7}), 10.0, RegionLifetime::Follow, 0);
+	original.takeSpaceChange();  // the trees caught up, as after every insertion
+	mrpt::io::CMemoryStream buf;
+	auto arch = mrpt::serialization::archiveFrom(buf);
+	original.serializeTo(arch);
+	buf.Seek(0);
+	ResolutionPolicy restored(SwitchPolicy::Region, 0.2);
+	restored.serializeFrom(arch);
+
+	// Person 1 steps 0.4 m along x, person 2 leaves.
+	for (auto* p : {&original, &restored})
+	{
+		p->personSeen(1, TBoundingBox({0.45, 0.05, 0.0}, {0.95, 0.55, 1.7}), 10.5, RegionLifetime::Follow, 1);
+		EXPECT_TRUE(p->endRegion(2));
+	}
+	const auto expected = original.takeSpaceChange(), got = restored.takeSpaceChange();
+	EXPECT_FALSE(expected.entered.empty());
+	EXPECT_FALSE(expected.left.empty());
+	EXPECT_EQ(got.entered, expected.entered);
+	EXPECT_EQ(got.left, expected.left);
+}
+
 TEST(SurfaceSketch, BitsNameTheHighVoxelsOfTheirLowVoxel)
 {
 	SurfaceSketch sketch(4);
