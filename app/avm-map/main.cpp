@@ -18,6 +18,7 @@
 
 #include "avm/io/ProgramMain.h"
 #include "avm/pipeline/MappingPipeline.h"
+#include "avm/viewer/MapView.h"
 
 namespace
 {
@@ -61,7 +62,8 @@ std::string sourceOf(const std::string& message, const std::string& iniFile, con
 
 int main(int argc, char** argv)
 {
-	return avm::io::runProgram(
+	bool viewOpened = false;
+	const int status = avm::io::runProgram(
 		"avm-map", "Maps an RGB-D rawlog: odometry -> person detection -> adaptive octree map.",
 		[&](avm::io::CommandLine& cmd) {
 		TCLAP::ValueArg<std::string> argConfig("c", "config", "ini file (e.g. ini/default.ini); required unless --resume", false, "", "INI", cmd);
@@ -119,6 +121,7 @@ int main(int argc, char** argv)
 				sourceOf(avm::io::errorMessage(e), iniSource, overrides), e);
 		}
 		auto& pipeline = *loaded;
+		viewOpened = pipeline.opensView();
 		// Process-wide: the ini's OpenCV threads apply to the whole run.
 		if (pipeline.openCvThreads() > 0) cv::setNumThreads(pipeline.openCvThreads());
 		pipeline.setMinLoggingLevel(mrpt::system::LVL_INFO);
@@ -163,4 +166,6 @@ int main(int argc, char** argv)
 					 "map_top.png, map_perspective.png, avm-map.log, checkpoint.bin)\n";
 		return summary.interrupted ? 130 : 0;
 	});
+	if (viewOpened) avm::viewer::exitAfterView(status);
+	return status;
 }

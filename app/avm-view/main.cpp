@@ -9,7 +9,7 @@
 
 int main(int argc, char** argv)
 {
-	return avm::io::runProgram(
+	const int status = avm::io::runProgram(
 		"avm-view", "Shows a finished avm-map run (map_low.bt, map_high.bt, trajectory.txt, persons.csv, stats.json) in a 3D window.",
 		[&](avm::io::CommandLine& cmd) {
 		TCLAP::UnlabeledValueArg<std::string> argDir("OUTDIR", "avm-map output folder", true, "", "OUTDIR", cmd);
@@ -39,4 +39,5 @@ int main(int argc, char** argv)
 		view.waitUntilClosed();
 		return 0;
 	});
+	avm::viewer::exitAfterView(status);
 }

@@ -329,6 +329,8 @@ void MappingPipeline::setPoseSource(PoseSource source) { m_impl->options.poseSou
 
 int MappingPipeline::openCvThreads() const { return m_impl->detectorOptions.threads; }
 
+bool MappingPipeline::opensView() const { return m_impl->options.viewer.enabled; }
+
 const CAdaptiveOctoMap& MappingPipeline::map() const { return *m_impl->maps->mapByClass<CAdaptiveOctoMap>(); }
 
 RunSummary MappingPipeline::run(

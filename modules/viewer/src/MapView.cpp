@@ -13,6 +13,9 @@
 #include <mrpt/opengl/stock_objects.h>
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
 #include <cctype>
 #include <cmath>
 
@@ -414,5 +417,12 @@ void MapView::draw(const MapSnapshot& s, bool resetCamera)
 		}
 		m_windows->image->showImage(annotatedImage(s, t.features));
 	}
+}
+void exitAfterView(int status)
+{
+	std::cout.flush();
+	std::cerr.flush();
+	std::fflush(nullptr);
+	std::_Exit(status);
 }
 }  // namespace avm::viewer

@@ -148,6 +148,8 @@ class MappingPipeline : public mrpt::system::COutputLogger
 	 *  default). OpenCV's thread count is process-wide, so the program sets
 	 *  it (cv::setNumThreads), not the library. */
 	int openCvThreads() const;
+	/** Whether a run opens the live view ([pipeline] gui). */
+	bool opensView() const;
 
 	/** Maps the rawlog and writes every output into outDir (created if
 	 *  needed; checked for writing first). `stop` is polled once per frame:

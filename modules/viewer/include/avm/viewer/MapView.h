@@ -103,4 +103,14 @@ class MapView
 	std::atomic<bool> m_stop{false};
 	std::thread m_thread;
 };
+/** Ends a program that opened a view: flushes the standard streams and
+ *  exits with `status` without running static destructors. A complete
+ *  avm-map --gui run, every output written, once aborted at exit with
+ *  "free(): invalid pointer" on a loaded 2-core machine, most likely MRPT
+ *  2.5.8's wxWidgets thread still tearing its windows down while static
+ *  objects were destroyed. Outputs are
+ *  flushed to the disk when written (io::writeFileAtomically), so nothing is
+ *  lost by skipping the destructors. Not for runs without a view: the leak
+ *  checks of the sanitizer builds run at exit. */
+[[noreturn]] void exitAfterView(int status);
 }  // namespace avm::viewer
