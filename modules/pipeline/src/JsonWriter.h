@@ -2,6 +2,7 @@
 // does not write it).
 #pragma once
 
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -25,6 +26,12 @@ class JsonWriter
 	JsonWriter& value(std::string_view key, std::string_view v);
 	JsonWriter& value(std::string_view key, const char* v) { return value(key, std::string_view(v)); }
 	JsonWriter& null(std::string_view key);
+	/** The value, or null when there is none. */
+	template <typename T>
+	JsonWriter& value(std::string_view key, const std::optional<T>& v)
+	{
+		return v ? value(key, *v) : null(key);
+	}
 	/** Array elements (no key). */
 	JsonWriter& element(double v) { return value({}, v); }
 	const std::string& str() const { return m_out; }

@@ -201,19 +201,14 @@ std::string statsJson(
 		.value("real_time_factor", summary.realTimeFactor)
 		.value("peak_memory_mb", summary.peakMemoryMb)
 		.value("cpu_ms_per_frame", summary.cpuMsPerFrame);
-	if (summary.stolenCpuShare)
-		json.value("cpu_stolen_percent", 100 * *summary.stolenCpuShare);
-	else
-		json.null("cpu_stolen_percent");
+	json.value("cpu_stolen_percent",
+		summary.stolenCpuShare ? std::optional(100 * *summary.stolenCpuShare) : std::nullopt);
 	json.beginArray("peak_memory_mb_per_replay");
 	for (const double mb : record.peakMemoryPerReplay) json.element(mb);
 	json.endArray();
 	writeStages(json, summary);
 	json.value("checkpoint_interval_s", opt.checkpointIntervalSeconds);
-	if (summary.resumedAfterFrame)
-		json.value("resumed_after_frame", *summary.resumedAfterFrame);
-	else
-		json.null("resumed_after_frame");
+	json.value("resumed_after_frame", summary.resumedAfterFrame);
 	json.beginObject("detection")
 		.value("detector", record.detector)
 		.value("every_n_frames", static_cast<int>(opt.detectEveryN))
@@ -222,10 +217,7 @@ std::string statsJson(
 		.value("runs", summary.detectionRuns)
 		.value("frames_with_person", summary.framesWithPerson)
 		.endObject();
-	if (summary.switchFrame)
-		json.value("switch_frame", *summary.switchFrame);
-	else
-		json.null("switch_frame");
+	json.value("switch_frame", summary.switchFrame);
 	json.beginObject("map");
 	for (const auto& [name, s] : {std::pair{"low", trees.low}, {"high", trees.high}})
 		json.beginObject(name)
@@ -238,10 +230,7 @@ std::string statsJson(
 	json.endObject();
 	writeRegionsAndPersons(json, map);
 	if (summary.reference) writeReference(json, *summary.reference, summary.mapCpu);
-	if (summary.ateRmse)
-		json.value("odometry_ate_rmse_m", *summary.ateRmse);
-	else
-		json.null("odometry_ate_rmse_m");
+	json.value("odometry_ate_rmse_m", summary.ateRmse);
 	json.endObject();
 	return json.str();
 }
