@@ -14,6 +14,7 @@
 #include "OcTreeKeys.h"
 #include "ResolutionPolicy.h"
 #include "SurfaceSketch.h"
+#include "SerializationCopy.h"
 #include "avm/maps/CAdaptiveOctoMap.h"
 
 using namespace avm;
@@ -170,12 +171,8 @@ TEST(ResolutionPolicy, PaperPolicyTakesPersonsAsTriggersAndSerializes)
 	ResolutionPolicy region(SwitchPolicy::Region, 0.2);
 	region.personSeen(1, TBoundingBox({0, 0, 0}, {0.6, 0.6, 1.8}), 4.0, RegionLifetime::Persist, 0);
 	region.personSeen(1, TBoundingBox({3, 3, 0}, {3.6, 3.6, 1.8}), 5.0, RegionLifetime::Persist, 1);
-	mrpt::io::CMemoryStream buf;
-	auto arch = mrpt::serialization::archiveFrom(buf);
-	region.serializeTo(arch);
-	buf.Seek(0);
 	ResolutionPolicy restored(SwitchPolicy::Region, 0.2);
-	restored.serializeFrom(arch);
+	test::copyBySerialization(region, restored);
 	ASSERT_EQ(restored.regions().size(), 1u);
 	EXPECT_EQ(restored.regions()[0].boxes.size(), 2u);
 	EXPECT_EQ(restored.regions()[0].lastSeenTime, 5.0);
@@ -193,12 +190,8 @@ TEST(ResolutionPolicy, ARestoredPolicyReportsTheSameSpaceChangesAsTheOriginal)
 	original.personSeen(1, TBoundingBox({0.05, 0.05, 0.0}, {0.55, 0.55, 1.7}), 10.0, RegionLifetime::Follow, 0);
 	original.personSeen(2, TBoundingBox({2.05, 0.05, 0.0}, {2.55, 0.55, 1.7}), 10.0, RegionLifetime::Follow, 0);
 	original.takeSpaceChange();  // the trees caught up, as after every insertion
-	mrpt::io::CMemoryStream buf;
-	auto arch = mrpt::serialization::archiveFrom(buf);
-	original.serializeTo(arch);
-	buf.Seek(0);
 	ResolutionPolicy restored(SwitchPolicy::Region, 0.2);
-	restored.serializeFrom(arch);
+	test::copyBySerialization(original, restored);
 
 	// Person 1 steps 0.4 m along x, person 2 leaves.
 	for (auto* p : {&original, &restored})
@@ -256,12 +249,8 @@ TEST(SurfaceSketch, SameEntriesSameBytesWhateverTheHistory)
 		s.serializeTo(arch);
 		return std::string(static_cast<const char*>(buf.getRawBufferData()), buf.getTotalBytesCount());
 	};
-	mrpt::io::CMemoryStream buf;
-	auto arch = mrpt::serialization::archiveFrom(buf);
-	grown.serializeTo(arch);
-	buf.Seek(0);
 	SurfaceSketch restored;
-	restored.serializeFrom(arch);
+	test::copyBySerialization(grown, restored);
 	ASSERT_EQ(restored.size(), 400u);
 	EXPECT_EQ(restored.memoryBytes(), grown.memoryBytes());
 	EXPECT_EQ(pruned.memoryBytes(), grown.memoryBytes());

@@ -1,11 +1,10 @@
 // Person tracks on synthetic sequences: what the ids must do when people walk
 // across the view, stand side by side, cross, leave and come back.
 #include <gtest/gtest.h>
-#include <mrpt/io/CMemoryStream.h>
-#include <mrpt/serialization/CArchive.h>
 
 #include <set>
 
+#include "SerializationCopy.h"
 #include "avm/persons/PersonTracker.h"
 
 using namespace avm::persons;
@@ -95,12 +94,8 @@ TEST(PersonTracker, TheSameSightingsGiveTheSameIdsAndSurviveSerialization)
 	PersonTracker a, b;
 	EXPECT_EQ(run(a), run(b));
 
-	mrpt::io::CMemoryStream buf;
-	auto arch = mrpt::serialization::archiveFrom(buf);
-	a.serializeTo(arch);
-	buf.Seek(0);
 	PersonTracker restored;
-	restored.serializeFrom(arch);
+	avm::test::copyBySerialization(a, restored);
 	ASSERT_EQ(restored.tracks().size(), a.tracks().size());
 	for (std::size_t i = 0; i < a.tracks().size(); i++)
 	{
