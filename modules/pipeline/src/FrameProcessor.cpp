@@ -75,9 +75,8 @@ viewer::MapSnapshot FrameProcessor::snapshot(const io::RgbdFrame& frame, const m
 			it->person.score});
 	}
 	s.status.frame = frame.index;
-	const auto mean = [](const io::TimingSamples& t) { return t.summary().meanMs; };
-	s.status.stageMs = {{"odometry", mean(m_stages.odometry)}, {"detection", mean(m_stages.detection)},
-		{"map", mean(m_stages.map)}};
+	s.status.stageMs = {{"odometry", m_stages.odometry.meanMs()}, {"detection", m_stages.detection.meanMs()},
+		{"map", m_stages.map.meanMs()}};
 	s.status.switchFrame = m_counts.switchFrame;
 	return s;
 }
