@@ -208,7 +208,11 @@ class Checkpoints
 		detail::writeCheckpoint(m_outDir, m_run, progress, maps, processor);
 		m_times.add(timer.Tac() * 1e3);
 		m_sinceLast.Tic();
+		m_written = true;
+		m_writtenAfter = processor.lastFrame();
 	}
+	/** Whether this run's last checkpoint already holds the state after `frame`. */
+	bool holds(std::optional<std::size_t> frame) const { return m_written && m_writtenAfter == frame; }
 	const io::TimingSamples& times() const { return m_times; }
 
    private:
@@ -217,6 +221,8 @@ class Checkpoints
 	double m_interval;
 	mrpt::system::CTicTac m_sinceLast;
 	io::TimingSamples m_times;
+	bool m_written = false;
+	std::optional<std::size_t> m_writtenAfter;  // the last frame of the last checkpoint
 };
 }  // namespace
 
@@ -413,7 +419,8 @@ RunSummary MappingPipeline::runFrames(
 			if (checkpoints.due() && processor.readyForCheckpoint()) checkpoint(clock);
 		}
 		// Before finish(): a resumed run applies the detections still due itself.
-		if (checkpoints.enabled() && processor.readyForCheckpoint()) checkpoint(clock);
+		if (checkpoints.enabled() && processor.readyForCheckpoint() && !checkpoints.holds(processor.lastFrame()))
+			checkpoint(clock);
 		processor.finish();
 		const RunCost cost = clock.read();
 		if (view && !d.viewScreenshot.empty() && view->waitUntilDrawn(30)) view->saveScreenshot(d.viewScreenshot);
