@@ -52,7 +52,6 @@ class SurfaceSketch
 	/** Bytes of the entries as a hash map holds them, from their count only:
 	 *  the same sketch gives the same figure whatever its history. */
 	std::size_t memoryBytes() const;
-	void clear() { m_bits.clear(); }
 
 	void serializeTo(mrpt::serialization::CArchive& out) const;
 	void serializeFrom(mrpt::serialization::CArchive& in);

@@ -61,11 +61,6 @@ std::vector<std::uint32_t> PersonTracker::update(
 	return ids;
 }
 
-const PersonTrack* PersonTracker::find(std::uint32_t id) const
-{
-	return id >= 1 && id <= m_tracks.size() ? &m_tracks[id - 1] : nullptr;
-}
-
 void PersonTracker::serializeTo(mrpt::serialization::CArchive& out) const
 {
 	out.WriteAs<uint32_t>(m_tracks.size());

@@ -55,7 +55,6 @@ class PersonTracker
 
 	/** Every track so far, in order of id. */
 	const std::vector<PersonTrack>& tracks() const { return m_tracks; }
-	const PersonTrack* find(std::uint32_t id) const;
 
 	void serializeTo(mrpt::serialization::CArchive& out) const;
 	void serializeFrom(mrpt::serialization::CArchive& in);
