@@ -78,6 +78,32 @@ TEST(KeySets, InsertContainsClearAndGrow)
 	EXPECT_FALSE(box.contains(packKey(octomap::OcTreeKey(100, 105, 109)))) << "a new scan starts empty";
 }
 
+// The bits of 4 x 4 x 4 voxels share a word: a box whose sides are no
+// multiple of 4, keys on its faces and just outside it, and a second scan
+// over another box must all answer as a plain set would.
+TEST(KeySets, BoxKeySetAnswersAsASetWhateverTheBoxSides)
+{
+	BoxKeySet box;
+	std::mt19937 rng(5);
+	for (const unsigned side : {1u, 6u, 13u})
+	{
+		const octomap::OcTreeKey lo(1000, 2001, 3002), hi(1000 + side - 1, 2001 + side + 1, 3002 + 2 * side);
+		box.reset(lo, hi);
+		std::set<std::uint64_t> reference;
+		std::uniform_int_distribution<int> dx(lo[0] - 2, hi[0] + 2), dy(lo[1] - 2, hi[1] + 2), dz(lo[2] - 2, hi[2] + 2);
+		for (int i = 0; i < 3000; i++)
+		{
+			const octomap::OcTreeKey k(dx(rng), dy(rng), dz(rng));
+			const bool inBox = KeyRange{{lo[0], lo[1], lo[2]}, {hi[0] + 1u, hi[1] + 1u, hi[2] + 1u}}.contains(k);
+			const bool isNew = inBox && reference.insert(packKey(k)).second;
+			ASSERT_EQ(box.insert(packKey(k)), isNew) << k[0] << " " << k[1] << " " << k[2];
+		}
+		EXPECT_EQ(std::set<std::uint64_t>(box.keys().begin(), box.keys().end()), reference);
+		for (const auto k : reference) ASSERT_TRUE(box.contains(k));
+		EXPECT_FALSE(box.contains(packKey(octomap::OcTreeKey(lo[0] - 1, lo[1], lo[2]))));
+	}
+}
+
 namespace
 {
 std::size_t voxels(const TBoundingBox& b, double res)

@@ -79,10 +79,13 @@ class KeySet
 
 namespace avm::detail
 {
-/** A KeySet for keys inside a known box of voxels: a dense array of scan
- *  stamps instead of hashing (the fine tree's keys all lie in the regions).
- *  Keys outside the box are not stored (insert() returns false); a box too
- *  large for the array falls back to hashing. */
+/** A KeySet for keys inside a known box of voxels: one bit per voxel instead
+ *  of hashing (the fine tree's keys all lie in the regions). The bits of
+ *  4 x 4 x 4 voxels share a word, so a ray's next voxel is mostly in a word
+ *  just read, and a box of regions takes a few tens of kB, not the MB a word
+ *  per voxel took (the fine rays' lookups were cache misses). Keys outside
+ *  the box are not stored (insert() returns false); a box too large for the
+ *  bits falls back to hashing. */
 class BoxKeySet
 {
    public:
@@ -91,54 +94,52 @@ class BoxKeySet
 	{
 		m_sparse.clear();
 		m_keys.clear();
+		std::size_t cells = 1;
 		for (int i = 0; i < 3; i++)
 		{
 			m_lo[i] = lo[i];
 			m_dim[i] = static_cast<std::size_t>(hi[i]) - lo[i] + 1;
+			m_bricks[i] = (m_dim[i] + 3) / 4;
+			cells *= m_dim[i];
 		}
-		const std::size_t cells = m_dim[0] * m_dim[1] * m_dim[2];
 		m_dense = cells <= kMaxCells;
-		if (!m_dense) return;
-		if (m_stamp.size() < cells) m_stamp.assign(cells, 0);
-		if (++m_current == 0)  // wrapped: forget all stamps
-		{
-			std::fill(m_stamp.begin(), m_stamp.end(), 0);
-			m_current = 1;
-		}
+		if (m_dense) m_bits.assign(m_bricks[0] * m_bricks[1] * m_bricks[2], 0);
 	}
 	bool insert(std::uint64_t key)
 	{
 		if (!m_dense) return m_sparse.insert(key);
-		const auto i = indexOf(key);
-		if (i == kOutside || m_stamp[i] == m_current) return false;
-		m_stamp[i] = m_current;
+		std::size_t word;
+		std::uint64_t bit;
+		if (!locate(key, word, bit) || (m_bits[word] & bit)) return false;
+		m_bits[word] |= bit;
 		m_keys.push_back(key);
 		return true;
 	}
 	bool contains(std::uint64_t key) const
 	{
 		if (!m_dense) return m_sparse.contains(key);
-		const auto i = indexOf(key);
-		return i != kOutside && m_stamp[i] == m_current;
+		std::size_t word;
+		std::uint64_t bit;
+		return locate(key, word, bit) && (m_bits[word] & bit);
 	}
 	const std::vector<std::uint64_t>& keys() const { return m_dense ? m_keys : m_sparse.keys(); }
 
    private:
 	static constexpr std::size_t kMaxCells = std::size_t(1) << 24;
-	static constexpr std::size_t kOutside = ~std::size_t(0);
-	std::size_t indexOf(std::uint64_t packed) const
+	bool locate(std::uint64_t packed, std::size_t& word, std::uint64_t& bit) const
 	{
 		const auto k = unpackKey(packed);
 		const std::size_t x = std::size_t(k[0]) - m_lo[0], y = std::size_t(k[1]) - m_lo[1], z = std::size_t(k[2]) - m_lo[2];
 		// Below the box the subtraction wraps to a huge value.
-		if (x >= m_dim[0] || y >= m_dim[1] || z >= m_dim[2]) return kOutside;
-		return (x * m_dim[1] + y) * m_dim[2] + z;
+		if (x >= m_dim[0] || y >= m_dim[1] || z >= m_dim[2]) return false;
+		word = ((x >> 2) * m_bricks[1] + (y >> 2)) * m_bricks[2] + (z >> 2);
+		bit = std::uint64_t(1) << ((x & 3) << 4 | (y & 3) << 2 | (z & 3));
+		return true;
 	}
 
 	bool m_dense = false;
-	std::size_t m_lo[3] = {0, 0, 0}, m_dim[3] = {0, 0, 0};
-	std::vector<std::uint32_t> m_stamp;
-	std::uint32_t m_current = 0;
+	std::size_t m_lo[3] = {0, 0, 0}, m_dim[3] = {0, 0, 0}, m_bricks[3] = {0, 0, 0};
+	std::vector<std::uint64_t> m_bits;
 	std::vector<std::uint64_t> m_keys;
 	KeySet m_sparse;
 };
