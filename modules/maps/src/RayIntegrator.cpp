@@ -48,17 +48,24 @@ bool forEachRayKey(const octomap::OcTree& tree, const octomap::point3d& origin, 
 		else
 			tMax[i] = tDelta[i] = std::numeric_limits<double>::max();
 	}
+	// In scalars, not the arrays: the loop's state then stays in registers
+	// instead of going through memory at every step.
+	double tx = tMax[0], ty = tMax[1], tz = tMax[2];
+	const double dx = tDelta[0], dy = tDelta[1], dz = tDelta[2];
+	const std::uint64_t mx = move[0], my = move[1], mz = move[2];
 	for (;;)
 	{
 		// octomap's choice, ties included: x if before y and z, else y if
 		// before z, else z.
-		const bool xFirst = tMax[0] < tMax[1];
-		const double xy = xFirst ? tMax[0] : tMax[1];
-		const unsigned dim = xy < tMax[2] ? (xFirst ? 0u : 1u) : 2u;
-		current += move[dim];
-		tMax[dim] += tDelta[dim];
+		const bool xFirst = tx < ty;
+		const bool zStep = !((xFirst ? tx : ty) < tz);
+		const bool xStep = xFirst && !zStep, yStep = !xFirst && !zStep;
+		current += xStep ? mx : (yStep ? my : mz);
+		tx = xStep ? tx + dx : tx;
+		ty = yStep ? ty + dy : ty;
+		tz = zStep ? tz + dz : tz;
 		if (current == stop) return true;
-		if (std::min(std::min(tMax[0], tMax[1]), tMax[2]) > length) return true;
+		if (std::min(std::min(tx, ty), tz) > length) return true;
 		visit(current);
 	}
 }
