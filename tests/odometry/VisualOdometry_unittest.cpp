@@ -158,3 +158,31 @@ TEST(VisualOdometry, PersonBoxesFromPixelLabels)
 	ASSERT_EQ(boxes.size(), 1u);
 	EXPECT_EQ(boxes.front(), cv::Rect(50, 100, 70, 200));
 }
+
+TEST(VisualOdometry, ReportedFeaturesShowWhatAPersonBoxMasks)
+{
+	odometry::TOdometryOptions opt;
+	opt.person_depth_band = 0;	// the whole box is masked: a sharp line to test against
+	const auto f0 = bonnFrame(0), f1 = bonnFrame(1);
+	const cv::Rect box(200, 100, 200, 250);
+	const auto grown = [&](const cv::Point2f& p) {
+		return p.x >= box.x - opt.person_box_margin && p.x < box.br().x + opt.person_box_margin &&
+			   p.y >= box.y - opt.person_box_margin && p.y < box.br().y + opt.person_box_margin;
+	};
+
+	odometry::VisualOdometry quiet(opt), reporting(opt);
+	reporting.reportFeatures(true);
+	quiet.process(*f0.observation, {box});
+	reporting.process(*f0.observation, {box});
+	const auto q = quiet.process(*f1.observation, {box});
+	const auto r = reporting.process(*f1.observation, {box});
+
+	EXPECT_TRUE(q.features.empty() && q.maskedFeatures.empty());
+	ASSERT_GT(r.features.size(), 100u);
+	ASSERT_GT(r.maskedFeatures.size(), 20u);
+	for (const auto& p : r.features) EXPECT_FALSE(grown(p)) << p;
+	for (const auto& p : r.maskedFeatures) EXPECT_TRUE(grown(p)) << p;
+	// Reporting is for the eyes only: the same poses either way.
+	EXPECT_EQ(q.pose.asString(), r.pose.asString());
+	EXPECT_EQ(q.inliers, r.inliers);
+}

@@ -120,6 +120,8 @@ struct VisualOdometry::Impl
 	std::deque<Keyframe> window;
 	int nextLandmarkId = 0;
 	mrpt::system::CTimeLogger stageTimer{true, "avm odometry stages"};
+	bool reportFeatures = false;
+	std::vector<cv::Point2f> lastFeatures, lastMaskedFeatures;  // when reportFeatures
 
 	OdometryEstimate process(const mrpt::obs::CObservation3DRangeScan& obs, const std::vector<cv::Rect>& boxes);
 	/** A keyframe at T from the frame's matched inliers and new landmarks for
@@ -165,6 +167,13 @@ OdometryEstimate VisualOdometry::Impl::process(
 		mrpt::system::CTimeLoggerEntry t(stageTimer, "1 features");
 		return frontend.extract(grey, depth, K, options.mask_people ? boxes : std::vector<cv::Rect>{});
 	}();
+	if (reportFeatures)
+	{
+		cv::KeyPoint::convert(f.keypoints, lastFeatures);
+		cv::KeyPoint::convert(
+			frontend.maskedKeypoints(grey, depth, options.mask_people ? boxes : std::vector<cv::Rect>{}),
+			lastMaskedFeatures);
+	}
 	if (window.empty())
 	{
 		if (int(f.keypoints.size()) < options.min_inliers)
@@ -381,8 +390,15 @@ VisualOdometry& VisualOdometry::operator=(VisualOdometry&&) noexcept = default;
 OdometryEstimate VisualOdometry::process(
 	const mrpt::obs::CObservation3DRangeScan& obs, const std::vector<cv::Rect>& personBoxes)
 {
-	return m_impl->process(obs, personBoxes);
+	auto e = m_impl->process(obs, personBoxes);
+	if (m_impl->reportFeatures)
+	{
+		e.features = std::move(m_impl->lastFeatures);
+		e.maskedFeatures = std::move(m_impl->lastMaskedFeatures);
+	}
+	return e;
 }
+void VisualOdometry::reportFeatures(bool on) { m_impl->reportFeatures = on; }
 void VisualOdometry::saveState(mrpt::serialization::CArchive& out) const { m_impl->saveState(out); }
 void VisualOdometry::loadState(mrpt::serialization::CArchive& in) { m_impl->loadState(in); }
 const TOdometryOptions& VisualOdometry::options() const { return m_impl->options; }

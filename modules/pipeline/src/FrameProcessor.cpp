@@ -37,6 +37,11 @@ FrameProcessor::~FrameProcessor() = default;
 
 bool FrameProcessor::process(const io::RgbdFrame& frame)
 {
+	if (!m_framesAtClockStart)
+	{
+		m_framesAtClockStart = m_counts.frames;
+		m_runClock.Tic();
+	}
 	m_lastFrame = frame.index;
 	startDetection(frame);
 	applyDueDetections(frame.index);
@@ -75,6 +80,10 @@ viewer::MapSnapshot FrameProcessor::snapshot(const io::RgbdFrame& frame, const m
 			it->person.score});
 	}
 	s.status.frame = frame.index;
+	if (const double seconds = m_runClock.Tac(); m_counts.frames > *m_framesAtClockStart && seconds > 0)
+		s.status.fps = double(m_counts.frames - *m_framesAtClockStart) / seconds;
+	for (const auto& p : m_lastEstimate.features) s.features.emplace_back(p.x, p.y);
+	for (const auto& p : m_lastEstimate.maskedFeatures) s.maskedFeatures.emplace_back(p.x, p.y);
 	s.status.stageMs = {{"odometry", m_stages.odometry.meanMs()}, {"detection", m_stages.detection.meanMs()},
 		{"map", m_stages.map.meanMs()}};
 	s.status.switchFrame = m_counts.switchFrame;
@@ -142,13 +151,14 @@ std::optional<CPose3D> FrameProcessor::estimatePose(const io::RgbdFrame& frame)
 				m_odometryOptions, m_options.startAtGroundTruth && frame.groundTruth
 									   ? *frame.groundTruth
 									   : io::opticalToSensorPose().getOppositeScalar());
+		m_odometry->reportFeatures(m_view != nullptr);
 		mrpt::system::CTicTac timer;
-		const auto estimate = m_odometry->process(*frame.observation, m_latestPersonBoxes);
+		m_lastEstimate = m_odometry->process(*frame.observation, m_latestPersonBoxes);
 		m_stages.odometry.add(timer.Tac() * 1e3);
-		if (!estimate.tracked)
+		if (!m_lastEstimate.tracked)
 			m_log.logFmt(mrpt::system::LVL_WARN, "frame %zu: odometry lost (%s), pose bridged\n", frame.index,
-				estimate.status.c_str());
-		pose = estimate.pose;
+				m_lastEstimate.status.c_str());
+		pose = m_lastEstimate.pose;
 	}
 	if (!io::isFinite(pose))
 	{

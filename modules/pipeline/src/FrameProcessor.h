@@ -18,6 +18,7 @@
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/COutputLogger.h>
+#include <mrpt/system/CTicTac.h>
 
 #include <cstddef>
 #include <deque>
@@ -166,6 +167,11 @@ class FrameProcessor
 	std::vector<DetectionResult> m_detectionsWithoutPersons;    // applied, persons not yet observed
 	MapWork m_personWork;  // person updates since the last insertion: counted in the next one
 	viewer::MapView* m_view = nullptr;
+	odometry::OdometryEstimate m_lastEstimate;  // its features, for the view
+	// The view's fps: frames processed since this process's first frame (a
+	// resumed run's counts start at its checkpoint).
+	mrpt::system::CTicTac m_runClock;
+	std::optional<std::size_t> m_framesAtClockStart;
 	std::optional<std::size_t> m_lastFrame;           // the last frame given to process()
 	std::set<std::size_t> m_detectionsToRestart;     // after loadState: frames whose detection was pending
 

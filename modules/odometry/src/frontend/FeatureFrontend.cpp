@@ -62,16 +62,11 @@ FeatureFrontend::FeatureFrontend(const TOdometryOptions& options)
 {
 }
 
-FrameFeatures FeatureFrontend::extract(
-	const cv::Mat& grey, const cv::Mat& depth, const Intrinsics& K, const std::vector<cv::Rect>& excluded) const
+cv::Mat FeatureFrontend::personMask(const cv::Mat& depth, const std::vector<cv::Rect>& boxes) const
 {
 	const auto& o = m_options;
-	FrameFeatures f;
-	f.K = K;
-	f.imageSize = grey.size();
-
-	cv::Mat mask = depth > 0;
-	for (const auto& box : excluded)
+	cv::Mat mask = cv::Mat::zeros(depth.size(), CV_8U);
+	for (const auto& box : boxes)
 	{
 		const cv::Rect grown =
 			cv::Rect(
@@ -82,14 +77,38 @@ FrameFeatures FeatureFrontend::extract(
 		const auto far = personBackgroundDepth(depth, box, o.person_depth_band);
 		if (!far)
 		{
-			mask(grown).setTo(0);
+			mask(grown).setTo(255);
 			continue;
 		}
 		// Only the person and whatever is in front: the background seen around
 		// and behind them in the box stays usable.
 		cv::Mat roiMask = mask(grown);
-		roiMask.setTo(0, depth(grown) < *far);
+		roiMask.setTo(255, depth(grown) < *far);
 	}
+	return mask;
+}
+
+std::vector<cv::KeyPoint> FeatureFrontend::maskedKeypoints(
+	const cv::Mat& grey, const cv::Mat& depth, const std::vector<cv::Rect>& excluded) const
+{
+	std::vector<cv::KeyPoint> masked;
+	if (excluded.empty()) return masked;
+	cv::Mat mask = personMask(depth, excluded);
+	mask.setTo(0, depth <= 0);
+	m_orb->detect(grey, masked, mask);
+	return masked;
+}
+
+FrameFeatures FeatureFrontend::extract(
+	const cv::Mat& grey, const cv::Mat& depth, const Intrinsics& K, const std::vector<cv::Rect>& excluded) const
+{
+	const auto& o = m_options;
+	FrameFeatures f;
+	f.K = K;
+	f.imageSize = grey.size();
+
+	cv::Mat mask = depth > 0;
+	mask.setTo(0, personMask(depth, excluded));
 	std::vector<cv::KeyPoint> detected;
 	m_orb->detect(grey, detected, mask);
 

@@ -26,6 +26,12 @@ class FeatureFrontend
 	FrameFeatures extract(
 		const cv::Mat& grey, const cv::Mat& depth, const Intrinsics& K, const std::vector<cv::Rect>& excluded) const;
 
+	/** The features that the person boxes `excluded` took away from extract():
+	 *  those ORB finds on the masked pixels with depth. For the live view only
+	 *  (a second detection), never used for tracking. */
+	std::vector<cv::KeyPoint> maskedKeypoints(
+		const cv::Mat& grey, const cv::Mat& depth, const std::vector<cv::Rect>& excluded) const;
+
 	/** Each landmark projected with T_cw, matched to the best feature within
 	 *  search_radius (distance and ratio tests; one landmark per feature). */
 	std::vector<Match> matchByProjection(
@@ -48,6 +54,10 @@ class FeatureFrontend
 		const Eigen::Isometry3d& guess) const;
 
    private:
+	/** 255 where a person box masks the image: the whole grown box, or only
+	 *  the pixels nearer than the box's background depth. */
+	cv::Mat personMask(const cv::Mat& depth, const std::vector<cv::Rect>& boxes) const;
+
 	const TOdometryOptions& m_options;
 	cv::Ptr<cv::ORB> m_orb;
 };

@@ -34,6 +34,9 @@ struct OdometryEstimate
 	std::size_t inliers = 0;      //!< matches consistent with the pose
 	double reprojectionRmse = 0;  //!< [px] over the inliers
 	std::string status;           //!< "tracking", "initialised", or why tracking was lost
+	/** [px] The frame's features with depth, and those a person box took away;
+	 *  empty unless VisualOdometry::reportFeatures() is on (the live view). */
+	std::vector<cv::Point2f> features, maskedFeatures;
 };
 
 class VisualOdometry
@@ -63,6 +66,11 @@ class VisualOdometry
 	 *  Throws std::runtime_error on a truncated, corrupt or other-version
 	 *  stream, and then leaves the state as it was. */
 	void loadState(mrpt::serialization::CArchive& in);
+
+	/** Fills OdometryEstimate::features and maskedFeatures from now on. The
+	 *  masked ones cost a second ORB detection on the masked pixels; tracking
+	 *  is the same either way. */
+	void reportFeatures(bool on);
 
 	const TOdometryOptions& options() const;
 	std::size_t keyframeCount() const;
