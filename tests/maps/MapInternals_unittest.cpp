@@ -6,9 +6,12 @@
 #include <mrpt/serialization/CArchive.h>
 #include <octomap/OcTree.h>
 
+#include <algorithm>
+#include <iterator>
 #include <random>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "KeySet.h"
 #include "OcTreeKeys.h"
@@ -143,6 +146,112 @@ TEST(ResolutionPolicy, RegionSpaceIsTheExactUnionOfEachPersonsVoxels)
 	change = policy.takeSpaceChange();
 	EXPECT_EQ(change.left.size(), voxels(aligned1, 0.2));
 	EXPECT_TRUE(change.entered.empty());
+}
+
+namespace
+{
+/** The packed low keys of a grid-aligned box, counted by hand. */
+std::set<std::uint64_t> lowKeysOf(const TBoundingBox& b, double res)
+{
+	std::set<std::uint64_t> keys;
+	for (double x = b.min.x + res / 2; x < b.max.x; x += res)
+		for (double y = b.min.y + res / 2; y < b.max.y; y += res)
+			for (double z = b.min.z + res / 2; z < b.max.z; z += res)
+			{
+				std::uint64_t k = 0;
+				EXPECT_TRUE(packedKeyOf(x, y, z, 1 / res, k));
+				keys.insert(k);
+			}
+	return keys;
+}
+std::vector<std::uint64_t> minus(const std::set<std::uint64_t>& a, const std::set<std::uint64_t>& b)
+{
+	std::vector<std::uint64_t> out;
+	std::set_difference(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(out));
+	return out;
+}
+std::set<std::uint64_t> joined(const std::set<std::uint64_t>& a, const std::set<std::uint64_t>& b)
+{
+	auto out = a;
+	out.insert(b.begin(), b.end());
+	return out;
+}
+}  // namespace
+
+// The voxels themselves, not only how many: overlapping boxes share voxels,
+// which stay while either box holds them; changes that undo each other before
+// the trees catch up, and sightings that move nothing, report nothing.
+TEST(ResolutionPolicy, SpaceChangesNameTheVoxelsThatEnterAndLeave)
+{
+	ResolutionPolicy policy(SwitchPolicy::Region, 0.2);
+	const TBoundingBox a({0.0, 0.0, 0.0}, {0.6, 0.6, 1.8}), b({0.4, 0.2, 0.0}, {1.0, 0.8, 1.8}),
+		c({2.0, 0.0, 0.0}, {2.6, 0.6, 1.8});
+	const auto ka = lowKeysOf(a, 0.2), kb = lowKeysOf(b, 0.2), kc = lowKeysOf(c, 0.2);
+	ASSERT_LT(joined(ka, kb).size(), ka.size() + kb.size()) << "a and b must overlap";
+
+	policy.personSeen(1, a, 10.0, RegionLifetime::Follow, 0);
+	policy.personSeen(2, b, 10.0, RegionLifetime::Follow, 0);
+	auto change = policy.takeSpaceChange();
+	EXPECT_EQ(change.entered, minus(joined(ka, kb), {}));
+	EXPECT_TRUE(change.left.empty());
+
+	change = policy.takeSpaceChange();
+	EXPECT_TRUE(change.entered.empty() && change.left.empty()) << "nothing changed";
+	policy.personSeen(1, a, 10.1, RegionLifetime::Follow, 1);
+	change = policy.takeSpaceChange();
+	EXPECT_TRUE(change.entered.empty() && change.left.empty()) << "seen where it was";
+	policy.personSeen(1, c, 10.2, RegionLifetime::Follow, 2);
+	policy.personSeen(1, a, 10.3, RegionLifetime::Follow, 2);
+	change = policy.takeSpaceChange();
+	EXPECT_TRUE(change.entered.empty() && change.left.empty()) << "moved away and back before the trees caught up";
+
+	// Person 1 moves from a to c: what b still holds of a stays.
+	policy.personSeen(1, c, 10.4, RegionLifetime::Follow, 3);
+	change = policy.takeSpaceChange();
+	EXPECT_EQ(change.entered, minus(kc, {}));
+	EXPECT_EQ(change.left, minus(ka, kb));
+
+	EXPECT_TRUE(policy.endRegion(2));
+	change = policy.takeSpaceChange();
+	EXPECT_TRUE(change.entered.empty());
+	EXPECT_EQ(change.left, minus(kb, {}));
+
+	EXPECT_TRUE(policy.endRegion(1));
+	change = policy.takeSpaceChange();
+	EXPECT_EQ(change.left, minus(kc, {}));
+	EXPECT_FALSE(policy.highActive());
+	EXPECT_FALSE(policy.boxes().covers(*kc.begin(), 1)) << "no space left";
+}
+
+// What the integrator asks of every key: whether its voxel lies in the
+// space, for the low grid and for grids 3 and 4 times finer, against the
+// boxes themselves.
+TEST(ResolutionPolicy, AVoxelIsCoveredExactlyWhenItsCentreIsInABox)
+{
+	ResolutionPolicy policy(SwitchPolicy::Region, 0.2);
+	const std::vector<TBoundingBox> boxes{TBoundingBox({-0.6, -0.4, 0.0}, {0.2, 0.4, 1.0}),
+		TBoundingBox({0.0, 0.2, 0.4}, {0.8, 1.0, 1.2}), TBoundingBox({3.0, -1.0, -0.2}, {3.4, -0.6, 0.2})};
+	for (std::uint32_t i = 0; i < boxes.size(); i++) policy.personSeen(i + 1, boxes[i], 1.0, RegionLifetime::Follow, 0);
+	const auto& space = policy.boxes();
+	for (const unsigned ratio : {1u, 3u, 4u})
+	{
+		const double res = 0.2 / ratio;
+		std::size_t inside = 0;
+		for (double x = -1.0 + res / 2; x < 4.0; x += res)
+			for (double y = -1.4 + res / 2; y < 1.4; y += res)
+				for (double z = -0.6 + res / 2; z < 1.6; z += res)
+				{
+					std::uint64_t k = 0;
+					ASSERT_TRUE(packedKeyOf(x, y, z, 1 / res, k));
+					const auto c = centreOf(k, res);
+					const bool expected = std::any_of(boxes.begin(), boxes.end(), [&](const TBoundingBox& b) {
+						return Region{b}.contains(c.x, c.y, c.z);
+					});
+					ASSERT_EQ(space.covers(k, ratio), expected) << c.x << " " << c.y << " " << c.z << " ratio " << ratio;
+					inside += expected;
+				}
+		EXPECT_GT(inside, 0u);
+	}
 }
 
 TEST(ResolutionPolicy, PersistKeepsEveryPlaceAndMergesExactly)

@@ -98,7 +98,7 @@ inline bool clipToBox(
 
 bool RayIntegrator::insideAnyRegion(double x, double y, double z) const
 {
-	for (const auto& r : *m_targets.regions)
+	for (const auto& r : m_targets.regions->boxes)
 		if (r.contains(x, y, z)) return true;
 	return false;
 }
@@ -116,8 +116,8 @@ void RayIntegrator::begin(const mrpt::math::TPoint3D& origin, const ScanTargets&
 	if (m_hasRegions)
 	{
 		// Fine keys only matter inside the regions: a dense box of them.
-		mrpt::math::TBoundingBox all = targets.regions->front().box;
-		for (const auto& r : *targets.regions) all = all.unionWith(r.box);
+		mrpt::math::TBoundingBox all = targets.regions->boxes.front().box;
+		for (const auto& r : targets.regions->boxes) all = all.unionWith(r.box);
 		const auto lo = targets.inside->coordToKey(all.min.x, all.min.y, all.min.z);
 		const auto hi = targets.inside->coordToKey(all.max.x, all.max.y, all.max.z);
 		m_insideFree.reset(lo, hi);
@@ -142,7 +142,7 @@ inline void RayIntegrator::addPoint(double x, double y, double z, bool nearRegio
 			return;
 		}
 		const mrpt::math::TPoint3D d(x - m_origin.x, y - m_origin.y, z - m_origin.z);
-		for (const auto& r : *m_targets.regions)
+		for (const auto& r : m_targets.regions->boxes)
 		{
 			double t0, t1;
 			if (!clipToBox(m_origin, d, r.box, t0, t1)) continue;
@@ -200,7 +200,7 @@ void RayIntegrator::castRay(const mrpt::math::TPoint3D& end, std::uint64_t endKe
 	m_intervals.clear();
 	if (m_hasRegions)
 	{
-		for (const auto& r : *m_targets.regions)
+		for (const auto& r : m_targets.regions->boxes)
 		{
 			double t0, t1;
 			if (clipToBox(m_origin, m_rayDir, r.box, t0, t1)) m_intervals.emplace_back(t0, t1);
@@ -236,29 +236,10 @@ void RayIntegrator::applyUpdates(
 {
 	// A voxel belongs to exactly one tree: region space to the high tree,
 	// the rest to the low tree.
-	// Regions are whole coarse voxels and the fine edge divides the coarse
-	// one, so "centre inside a region" is a range test on the keys.
-	m_keyBoxes.clear();
-	if (m_hasRegions)
-		for (const auto& r : *m_targets.regions)
-		{
-			KeyBox b;
-			for (int i = 0; i < 3; i++)
-			{
-				b.lo[i] = gridKeyOf(r.box.min[i], grid.resolution);
-				b.hi[i] = gridKeyOf(r.box.max[i], grid.resolution);
-			}
-			m_keyBoxes.push_back(b);
-		}
+	const unsigned ratio = m_hasRegions
+		? static_cast<unsigned>(std::lround(m_outsideGrid.resolution / grid.resolution)) : 1;
 	auto belongs = [&](std::uint64_t packed) {
-		if (!m_hasRegions) return true;
-		const auto key = unpackKey(packed);
-		const std::int64_t k[3] = {key[0], key[1], key[2]};
-		bool inside = false;
-		for (const auto& b : m_keyBoxes)
-			inside |= k[0] >= b.lo[0] && k[0] < b.hi[0] && k[1] >= b.lo[1] && k[1] < b.hi[1] && k[2] >= b.lo[2] &&
-					  k[2] < b.hi[2];
-		return inside == keepInsideRegions;
+		return !m_hasRegions || m_targets.regions->covers(packed, ratio) == keepInsideRegions;
 	};
 	m_batch.clear();
 	for (const auto k : freeKeys.keys())
@@ -324,7 +305,7 @@ void RayIntegrator::integrateDepthImage(
 	m_regionRects.clear();
 	if (m_hasRegions)
 	{
-		for (const auto& r : *targets.regions)
+		for (const auto& r : targets.regions->boxes)
 		{
 			PixelRect rect{cols, -1, rows, -1};
 			bool whole = false;
@@ -373,7 +354,7 @@ void RayIntegrator::integrateDepthImage(
 	rs.unitsF = static_cast<float>(units);
 	rs.colFactor = m_columnFactor.data();
 	rs.rangeToDepth = m_rangeToDepth.empty() ? nullptr : m_rangeToDepth.data();
-	rs.regions = m_hasRegions ? targets.regions : nullptr;
+	rs.regions = m_hasRegions ? &targets.regions->boxes : nullptr;
 
 	// Row bands: the first feeds the scan's endpoint sets directly, the
 	// others their own, merged after the join.

@@ -33,7 +33,7 @@ struct ScanTargets
 	/** Space inside `regions` (region policy): the high tree. */
 	octomap::OcTree* inside = nullptr;
 	double insideMaxRange = 0;
-	const std::vector<Region>* regions = nullptr;
+	const RegionBoxes* regions = nullptr;
 	/** Region policy: takes the high voxels of the endpoints that land in
 	 *  low-tree space (within its range), at `sketchResolution`. */
 	SurfaceSketch* sketch = nullptr;
@@ -140,12 +140,6 @@ class RayIntegrator
 	std::vector<std::pair<double, double>> m_intervals;
 	std::vector<float> m_columnFactor;
 	std::vector<float> m_rangeToDepth;
-	/** Regions as half-open key ranges of the grid being updated. */
-	struct KeyBox
-	{
-		std::int64_t lo[3], hi[3];
-	};
-	std::vector<KeyBox> m_keyBoxes;
 	unsigned m_threads = 1;
 	std::vector<PixelBand> m_bands;
 	struct PixelRect

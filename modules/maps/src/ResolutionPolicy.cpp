@@ -198,46 +198,83 @@ bool ResolutionPolicy::highActive() const
 
 bool ResolutionPolicy::inHighResolutionSpace(const mrpt::math::TPoint3D& p) const
 {
-	for (const auto& b : m_boxes)
+	for (const auto& b : m_space.boxes)
 		if (b.contains(p.x, p.y, p.z)) return true;
 	return false;
 }
 
+const RegionBoxes& ResolutionPolicy::boxes()
+{
+	updateCovered();
+	return m_space;
+}
+
 void ResolutionPolicy::regionsChanged()
 {
-	m_boxes.clear();
-	m_covered.clear();
+	m_space.boxes.clear();
 	for (const auto& r : m_regions)
-		for (const auto& box : r.boxes)
+		for (const auto& box : r.boxes) m_space.boxes.push_back({box});
+	if (m_treesCaughtUp)
+	{
+		// What the trees hold is what was covered: kept, not copied.
+		m_coveredApplied.swap(m_covered);
+		m_treesCaughtUp = false;
+	}
+	m_coveredStale = true;
+}
+
+void ResolutionPolicy::updateCovered()
+{
+	if (!m_coveredStale) return;
+	m_coveredStale = false;
+	struct Span
+	{
+		std::int64_t lo[3], hi[3];
+	};
+	std::vector<Span> spans;
+	std::int64_t lo[3] = {2 * kKeyOffset, 2 * kKeyOffset, 2 * kKeyOffset}, hi[3] = {0, 0, 0};
+	for (const auto& b : m_space.boxes)
+	{
+		Span s;
+		for (int i = 0; i < 3; i++)
 		{
-			m_boxes.push_back({box});
-			std::int64_t lo[3], hi[3];
-			for (int i = 0; i < 3; i++)
-			{
-				lo[i] = gridKeyOf(box.min[i], m_lowResolution);
-				hi[i] = gridKeyOf(box.max[i], m_lowResolution);
-				// Beyond the tree nothing can be mapped: nothing to cover.
-				lo[i] = std::clamp<std::int64_t>(lo[i], 0, 2 * kKeyOffset);
-				hi[i] = std::clamp<std::int64_t>(hi[i], 0, 2 * kKeyOffset);
-			}
-			for (auto x = lo[0]; x < hi[0]; x++)
-				for (auto y = lo[1]; y < hi[1]; y++)
-					for (auto z = lo[2]; z < hi[2]; z++)
-						m_covered.push_back(packKey(octomap::OcTreeKey(static_cast<octomap::key_type>(x),
-							static_cast<octomap::key_type>(y), static_cast<octomap::key_type>(z))));
+			// Beyond the tree nothing can be mapped: nothing to cover.
+			s.lo[i] = std::clamp<std::int64_t>(gridKeyOf(b.box.min[i], m_lowResolution), 0, 2 * kKeyOffset);
+			s.hi[i] = std::clamp<std::int64_t>(gridKeyOf(b.box.max[i], m_lowResolution), 0, 2 * kKeyOffset);
+			lo[i] = std::min(lo[i], s.lo[i]);
+			hi[i] = std::max(hi[i], s.hi[i]);
 		}
-	std::sort(m_covered.begin(), m_covered.end());
-	m_covered.erase(std::unique(m_covered.begin(), m_covered.end()), m_covered.end());
+		spans.push_back(s);
+	}
+	auto key = [](std::int64_t x, std::int64_t y, std::int64_t z) {
+		return octomap::OcTreeKey(
+			static_cast<octomap::key_type>(x), static_cast<octomap::key_type>(y), static_cast<octomap::key_type>(z));
+	};
+	auto& covered = m_space.covered;
+	if (spans.empty() || lo[0] >= hi[0] || lo[1] >= hi[1] || lo[2] >= hi[2])
+		covered.reset(key(0, 0, 0), key(0, 0, 0));
+	else
+		covered.reset(key(lo[0], lo[1], lo[2]), key(hi[0] - 1, hi[1] - 1, hi[2] - 1));
+	// The set drops the voxels that overlapping boxes share.
+	for (const auto& s : spans)
+		for (auto x = s.lo[0]; x < s.hi[0]; x++)
+			for (auto y = s.lo[1]; y < s.hi[1]; y++)
+				for (auto z = s.lo[2]; z < s.hi[2]; z++) covered.insert(packKey(key(x, y, z)));
+	m_covered.assign(covered.keys().begin(), covered.keys().end());
+	// One box's voxels come in key order already.
+	if (spans.size() > 1) std::sort(m_covered.begin(), m_covered.end());
 }
 
 SpaceChange ResolutionPolicy::takeSpaceChange()
 {
+	updateCovered();
 	SpaceChange c;
+	if (m_treesCaughtUp) return c;
 	std::set_difference(m_covered.begin(), m_covered.end(), m_coveredApplied.begin(), m_coveredApplied.end(),
 		std::back_inserter(c.entered));
 	std::set_difference(m_coveredApplied.begin(), m_coveredApplied.end(), m_covered.begin(), m_covered.end(),
 		std::back_inserter(c.left));
-	m_coveredApplied = m_covered;
+	m_treesCaughtUp = true;
 	return c;
 }
 
@@ -271,7 +308,8 @@ void ResolutionPolicy::serializeFrom(mrpt::serialization::CArchive& in)
 		}
 	}
 	regionsChanged();
+	updateCovered();
 	// The serialized trees already hold the space as it is.
-	m_coveredApplied = m_covered;
+	m_treesCaughtUp = true;
 }
 }  // namespace avm::detail

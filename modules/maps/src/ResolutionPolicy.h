@@ -20,6 +20,7 @@
 #include <optional>
 #include <vector>
 
+#include "KeySet.h"
 #include "avm/maps/CAdaptiveOctoMap.h"
 
 namespace avm::detail
@@ -35,6 +36,34 @@ struct Region
 	{
 		return x >= box.min.x && x < box.max.x && y >= box.min.y && y < box.max.y && z >= box.min.z &&
 			   z < box.max.z;
+	}
+};
+
+/** The high-resolution space as the ray integrator tests it: the boxes for
+ *  rays and points, and the low voxels they cover for keys, so that testing a
+ *  key is one lookup however many boxes there are. */
+struct RegionBoxes
+{
+	std::vector<Region> boxes;
+	/** Packed low keys. */
+	BoxKeySet covered;
+
+	bool empty() const { return boxes.empty(); }
+	/** Whether the voxel of `packed`, a key of a grid whose voxels divide the
+	 *  low ones `ratio` times per axis, lies in the space. The regions are
+	 *  whole low voxels, so this is whether its low voxel does. */
+	bool covers(std::uint64_t packed, unsigned ratio) const
+	{
+		if (ratio == 1) return covered.contains(packed);
+		const auto k = unpackKey(packed);
+		// floor((k - offset) / ratio) + offset, kept non-negative for the
+		// division; a power of two (the usual ratio) shifts instead.
+		const unsigned bias = static_cast<unsigned>(kKeyOffset) * (ratio - 1);
+		const bool pow2 = (ratio & (ratio - 1)) == 0;
+		const unsigned shift = static_cast<unsigned>(__builtin_ctz(ratio));
+		auto low = [&](unsigned v) { return pow2 ? (v + bias) >> shift : (v + bias) / ratio; };
+		return covered.contains(packKey(octomap::OcTreeKey(static_cast<octomap::key_type>(low(k[0])),
+			static_cast<octomap::key_type>(low(k[1])), static_cast<octomap::key_type>(low(k[2])))));
 	}
 };
 
@@ -82,8 +111,9 @@ class ResolutionPolicy
 	bool highActive() const;
 	std::optional<std::size_t> switchIndex() const { return m_switchIndex; }
 	const std::vector<THighResolutionRegion>& regions() const { return m_regions; }
-	/** Every box of every region, for the integrator. */
-	const std::vector<Region>& boxes() const { return m_boxes; }
+	/** Every box of every region and the low voxels they cover, for the
+	 *  integrator (brings the covered voxels up to date first). */
+	const RegionBoxes& boxes();
 	bool inHighResolutionSpace(const mrpt::math::TPoint3D& p) const;
 
 	/** What the high-resolution space gained and lost since the last call. */
@@ -94,8 +124,11 @@ class ResolutionPolicy
 
    private:
 	void markSwitched(std::size_t insertionIndex);
-	/** Rebuilds boxes and the covered key set after the regions changed. */
+	/** After the regions changed: rebuilds the boxes, and marks the covered
+	 *  voxels for a rebuild (once for all the changes of a frame). */
 	void regionsChanged();
+	/** Rebuilds the covered voxels if the regions changed since. */
+	void updateCovered();
 	mrpt::math::TBoundingBox alignedToGrid(const mrpt::math::TBoundingBox& b) const;
 	void requireValid(const mrpt::math::TBoundingBox& box) const;
 
@@ -103,8 +136,10 @@ class ResolutionPolicy
 	double m_lowResolution;
 	std::optional<std::size_t> m_switchIndex;
 	std::vector<THighResolutionRegion> m_regions;
-	std::vector<Region> m_boxes;
-	/** Low keys covered now, and when the trees last caught up. */
+	RegionBoxes m_space;
+	/** Low keys covered now (sorted; stale while m_coveredStale), and, unless
+	 *  m_treesCaughtUp (the trees hold m_covered), what the trees hold. */
 	std::vector<std::uint64_t> m_covered, m_coveredApplied;
+	bool m_coveredStale = false, m_treesCaughtUp = true;
 };
 }  // namespace avm::detail
