@@ -15,8 +15,10 @@
 
 #include "KeySet.h"
 #include "OcTreeKeys.h"
+#include "RegionSpace.h"
 #include "ResolutionPolicy.h"
 #include "SurfaceSketch.h"
+#include "TreeOps.h"
 #include "SerializationCopy.h"
 #include "avm/maps/CAdaptiveOctoMap.h"
 
@@ -436,4 +438,98 @@ TEST(RayIntegrator, AWallSplitsAtTheRegionFaces)
 	EXPECT_EQ(map.query({1.5, 0.0, 0.0}).state, OccupancyState::Free);
 	EXPECT_EQ(map.query({1.5, 0.0, 0.0}).tree, Resolution::Low);
 	EXPECT_EQ(map.query({3.6, 0.0, 0.0}).state, OccupancyState::Unknown) << "behind the wall";
+}
+
+namespace
+{
+/** A tree at `res` whose cube of 8 x 8 x 8 finest voxels from `first` (a
+ *  multiple of 8 on each axis) is one pruned occupied leaf. */
+octomap::OcTree treeWithPrunedCube(double res, const octomap::OcTreeKey& first)
+{
+	octomap::OcTree tree(res);
+	for (unsigned x = 0; x < 8; x++)
+		for (unsigned y = 0; y < 8; y++)
+			for (unsigned z = 0; z < 8; z++)
+				tree.setNodeValue(octomap::OcTreeKey(first[0] + x, first[1] + y, first[2] + z), 2.0f);
+	tree.prune();
+	return tree;
+}
+std::size_t leafCount(const octomap::OcTree& tree)
+{
+	std::size_t n = 0;
+	for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it) n++;
+	return n;
+}
+}  // namespace
+
+TEST(KeyRange, TheCubeOfAPrunedLeafIsWalkedOnlyWhereItOverlaps)
+{
+	const KeyRange range{{10, 20, 30}, {13, 22, 40}};
+	std::vector<octomap::OcTreeKey> expected, got;
+	const octomap::OcTreeKey first(8, 16, 32);
+	for (unsigned x = 0; x < 8; x++)
+		for (unsigned y = 0; y < 8; y++)
+			for (unsigned z = 0; z < 8; z++)
+			{
+				const octomap::OcTreeKey k(first[0] + x, first[1] + y, first[2] + z);
+				if (range.contains(k)) expected.push_back(k);
+			}
+	range.forEachKeyOfCube(first, 8, [&](const octomap::OcTreeKey& k) { got.push_back(k); });
+	EXPECT_EQ(got, expected);
+	EXPECT_EQ(got.size(), 3u * 2u * 8u);
+	got.clear();
+	range.forEachKeyOfCube(octomap::OcTreeKey(0, 16, 32), 8, [&](const octomap::OcTreeKey& k) { got.push_back(k); });
+	EXPECT_TRUE(got.empty()) << "no overlap";
+}
+
+// A range that cuts a pruned leaf: the leaf is split, exactly the finest
+// voxels in the range go, the rest of the leaf stays with its value.
+TEST(TreeOps, ErasingARangeThatCutsAPrunedLeafKeepsTheRestOfIt)
+{
+	const octomap::OcTreeKey first(32768, 32768, 32768);
+	auto tree = treeWithPrunedCube(0.05, first);
+	ASSERT_EQ(leafCount(tree), 1u) << "the cube is one pruned leaf";
+	// Reaches out of the cube in y.
+	const KeyRange range{{32770, 32772, 32769}, {32772, 32780, 32770}};
+	eraseKeyRange(tree, range);
+	std::size_t kept = 0;
+	for (unsigned x = 0; x < 8; x++)
+		for (unsigned y = 0; y < 8; y++)
+			for (unsigned z = 0; z < 8; z++)
+			{
+				const octomap::OcTreeKey k(first[0] + x, first[1] + y, first[2] + z);
+				const auto* node = tree.search(k);
+				ASSERT_EQ(node == nullptr, range.contains(k)) << x << " " << y << " " << z;
+				if (node)
+				{
+					EXPECT_FLOAT_EQ(node->getLogOdds(), 2.0f);
+					kept++;
+				}
+			}
+	EXPECT_EQ(kept, 512u - 2u * 4u * 1u);
+}
+
+// A high leaf pruned over 2 x 2 x 2 low voxels folds into one of them: all of
+// that low voxel's 64 high voxels are surface, and only its part of the leaf
+// leaves the high tree.
+TEST(RegionSpace, CoarseningTakesALowVoxelsPartOfAPrunedHighLeaf)
+{
+	const octomap::OcTreeKey first(32768, 32768, 32768);
+	auto high = treeWithPrunedCube(0.05, first);
+	octomap::OcTree low(0.2);
+	SurfaceSketch sketch(4);
+	const auto lowKey = packKey(low.coordToKey(0.3, 0.1, 0.3));  // the low voxel [0.2, 0.4) x [0, 0.2) x [0.2, 0.4)
+	coarsenIntoLowTree(high, low, lowKey, sketch);
+	const auto* node = low.search(unpackKey(lowKey));
+	ASSERT_NE(node, nullptr);
+	EXPECT_TRUE(low.isNodeOccupied(node));
+	EXPECT_EQ(sketch.take(lowKey), ~std::uint64_t(0)) << "every high voxel of the low voxel is surface";
+	std::size_t kept = 0;
+	for (auto it = high.begin_leafs(), end = high.end_leafs(); it != end; ++it)
+	{
+		const auto c = it.getCoordinate();
+		EXPECT_FALSE(c.x() > 0.2 && c.x() < 0.4 && c.y() < 0.2 && c.z() > 0.2 && c.z() < 0.4) << "left the high tree";
+		kept += std::size_t(1) << (3 * (high.getTreeDepth() - it.getDepth()));
+	}
+	EXPECT_EQ(kept, 512u - 64u);
 }

@@ -6,6 +6,7 @@
 #include <mrpt/math/TPoint3D.h>
 #include <octomap/OcTreeKey.h>
 
+#include <algorithm>
 #include <cstdint>
 
 namespace avm::detail
@@ -72,6 +73,23 @@ struct KeyRange
 		for (int i = 0; i < 3; i++)
 			if (k[i] < lo[i] || k[i] + span > hi[i]) return false;
 		return true;
+	}
+	/** Calls `visit(key)` for every key of the cube of `span` keys per axis
+	 *  starting at `k` that lies inside, in x, y, z order: the part of a
+	 *  pruned leaf inside the range, without walking the rest of it. */
+	template <typename Visit>
+	void forEachKeyOfCube(const octomap::OcTreeKey& k, unsigned span, Visit&& visit) const
+	{
+		unsigned from[3], to[3];
+		for (int i = 0; i < 3; i++)
+		{
+			from[i] = std::max<unsigned>(k[i], lo[i]);
+			to[i] = std::min<unsigned>(k[i] + span, hi[i]);
+			if (from[i] >= to[i]) return;
+		}
+		for (unsigned x = from[0]; x < to[0]; x++)
+			for (unsigned y = from[1]; y < to[1]; y++)
+				for (unsigned z = from[2]; z < to[2]; z++) visit(octomap::OcTreeKey(x, y, z));
 	}
 	/** The single voxel `k`. */
 	static KeyRange of(const octomap::OcTreeKey& k)

@@ -78,16 +78,11 @@ void coarsenIntoLowTree(octomap::OcTree& high, octomap::OcTree& low, std::uint64
 		if (!high.isNodeOccupied(*it)) continue;
 		occupied = true;
 		if (!sketch.usable()) continue;
-		// Every high voxel of the occupied leaf (pruned leaves span several).
-		const auto first = it.getIndexKey();
+		// Every high voxel of the occupied leaf in the low voxel (pruned
+		// leaves span several, a pruned leaf may span many low voxels).
 		const unsigned span = 1u << (high.getTreeDepth() - it.getDepth());
-		for (unsigned x = 0; x < span; x++)
-			for (unsigned y = 0; y < span; y++)
-				for (unsigned z = 0; z < span; z++)
-				{
-					const octomap::OcTreeKey k(first[0] + x, first[1] + y, first[2] + z);
-					if (range.contains(k)) surface |= std::uint64_t(1) << sketch.bitOf(packKey(k));
-				}
+		range.forEachKeyOfCube(it.getIndexKey(), span,
+			[&](const octomap::OcTreeKey& k) { surface |= std::uint64_t(1) << sketch.bitOf(packKey(k)); });
 	}
 	if (!known) return;
 	low.setNodeValue(key, carried(maxLogOdds, occupied, low));

@@ -78,13 +78,7 @@ void eraseKeyRange(octomap::OcTree& tree, const KeyRange& range)
 			continue;
 		}
 		// A pruned leaf reaching out of the range: its finest voxels inside.
-		for (unsigned x = 0; x < span; x++)
-			for (unsigned y = 0; y < span; y++)
-				for (unsigned z = 0; z < span; z++)
-				{
-					const octomap::OcTreeKey k(key[0] + x, key[1] + y, key[2] + z);
-					if (range.contains(k)) doomed.push_back({k, maxDepth});
-				}
+		range.forEachKeyOfCube(key, span, [&](const octomap::OcTreeKey& k) { doomed.push_back({k, maxDepth}); });
 	}
 	for (const auto& d : doomed) eraseNode(tree, d.key, d.depth);
 }
