@@ -69,6 +69,14 @@ TEST(KeySets, InsertContainsClearAndGrow)
 	set.clear();
 	EXPECT_TRUE(set.keys().empty());
 	EXPECT_FALSE(set.contains(*reference.begin()));
+	// A few keys in the grown table: cleared key by key, not table-wide.
+	for (const auto key : {*reference.begin(), *reference.rbegin()}) EXPECT_TRUE(set.insert(key));
+	set.clear();
+	for (const auto key : {*reference.begin(), *reference.rbegin()})
+	{
+		EXPECT_FALSE(set.contains(key));
+		EXPECT_TRUE(set.insert(key)) << "gone after the clear";
+	}
 
 	// The dense box set answers as the hash set, inside its box; keys outside
 	// are not stored.

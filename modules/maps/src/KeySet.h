@@ -1,6 +1,7 @@
 // A flat hash set of packed octree keys for the insertion hot path: open
-// addressing with linear probing, cleared per scan in O(inserted), never
-// shrinking, so a steady stream of scans allocates nothing.
+// addressing with linear probing, cleared per scan in O(inserted) (or one pass
+// over the table when the keys fill a good part of it), never shrinking, so a
+// steady stream of scans allocates nothing.
 #pragma once
 
 #include "OcTreeKeys.h"
@@ -18,7 +19,13 @@ class KeySet
 
 	void clear()
 	{
-		for (const auto k : m_keys) m_slots[slotOf(k)] = 0;
+		// Finding each key's slot again is a cache miss per key once the
+		// table outgrows the cache: past a few keys a slot, zeroing the whole
+		// table in order is cheaper.
+		if (m_keys.size() * 16 > m_slots.size())
+			std::fill(m_slots.begin(), m_slots.end(), 0);
+		else
+			for (const auto k : m_keys) m_slots[slotOf(k)] = 0;
 		m_keys.clear();
 	}
 	/** True if the key was not there yet. */
