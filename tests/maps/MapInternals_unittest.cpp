@@ -10,6 +10,7 @@
 #include <iterator>
 #include <random>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -540,4 +541,56 @@ TEST(RegionSpace, CoarseningTakesALowVoxelsPartOfAPrunedHighLeaf)
 		kept += std::size_t(1) << (3 * (high.getTreeDepth() - it.getDepth()));
 	}
 	EXPECT_EQ(kept, 512u - 64u);
+}
+
+namespace
+{
+std::string bytesOf(const octomap::OcTree& tree)
+{
+	std::ostringstream out;
+	tree.write(out);
+	return out.str();
+}
+}  // namespace
+
+// setNodeValues against octomap's setNodeValue key by key: trees that
+// already hold voxels (pruned blocks among them) get blocks of unknown keys
+// and scattered ones; the two trees must be the same node for node. The
+// first case completes a block next to equal pruned blocks, so the pruning
+// climbs above it.
+TEST(TreeOps, SetNodeValuesGivesOctomapsTreeKeyByKey)
+{
+	std::mt19937 rng(17);
+	for (int trial = 0; trial < 20; trial++)
+	{
+		octomap::OcTree reference(0.05);
+		std::uniform_int_distribution<int> near(32760, 32791), value(0, 3);
+		// Seven of the eight 8-cubes of a 16-cube, all at 1.0: pruned blocks.
+		for (unsigned x = 0; x < 16; x++)
+			for (unsigned y = 0; y < 16; y++)
+				for (unsigned z = 0; z < 16; z++)
+					if (x >= 8 || y >= 8 || z >= 8)
+						reference.setNodeValue(octomap::OcTreeKey(32768 + x, 32768 + y, 32768 + z), 1.0f);
+		for (int i = 0; i < 300 * (trial % 3); i++)
+			reference.setNodeValue(octomap::OcTreeKey(near(rng), near(rng), near(rng)), 0.5f * value(rng) - 0.7f);
+		reference.prune();
+		std::vector<octomap::OcTreeKey> keys;
+		auto addIfUnknown = [&](const octomap::OcTreeKey& k) {
+			if (!reference.search(k) && std::find(keys.begin(), keys.end(), k) == keys.end()) keys.push_back(k);
+		};
+		for (unsigned x = 0; x < 8; x++)
+			for (unsigned y = 0; y < 8; y++)
+				for (unsigned z = 0; z < 8; z++) addIfUnknown(octomap::OcTreeKey(32768 + x, 32768 + y, 32768 + z));
+		for (int i = 0; i < 40 * trial; i++) addIfUnknown(octomap::OcTreeKey(near(rng), near(rng), near(rng)));
+		auto batched = reference;
+		const float v = trial == 0 ? 1.0f : 0.5f * value(rng) - 0.7f;
+		for (const auto& k : keys) reference.setNodeValue(k, v);
+		setNodeValues(batched, keys, v);
+		ASSERT_EQ(batched.size(), reference.size()) << "trial " << trial;
+		ASSERT_EQ(bytesOf(batched), bytesOf(reference)) << "trial " << trial;
+		if (trial == 0)
+		{
+			EXPECT_EQ(leafCount(batched), 1u) << "the 16-cube pruned into one leaf";
+		}
+	}
 }

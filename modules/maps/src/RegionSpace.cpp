@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "OcTreeKeys.h"
 #include "TreeOps.h"
@@ -52,14 +53,16 @@ void refineIntoHighTree(octomap::OcTree& low, octomap::OcTree& high, std::uint64
 	const float value = carried(node->getLogOdds(), occupied, high);
 	const auto range = highKeysOf(key, sketch ? sketch->ratio() : ratioOf(low, high));
 	unsigned bit = 0;
+	std::vector<octomap::OcTreeKey> unknown;
 	for (unsigned x = range.lo[0]; x < range.hi[0]; x++)
 		for (unsigned y = range.lo[1]; y < range.hi[1]; y++)
 			for (unsigned z = range.lo[2]; z < range.hi[2]; z++, bit++)
 			{
 				if (occupied && surface != 0 && !(surface >> bit & 1u)) continue;
 				const octomap::OcTreeKey k(x, y, z);
-				if (!high.search(k)) high.setNodeValue(k, value);
+				if (!high.search(k)) unknown.push_back(k);
 			}
+	setNodeValues(high, unknown, value);
 	eraseKeyRange(low, KeyRange::of(key));
 }
 

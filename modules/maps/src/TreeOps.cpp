@@ -1,5 +1,6 @@
 #include "TreeOps.h"
 
+#include <algorithm>
 #include <vector>
 
 namespace avm::detail
@@ -54,6 +55,51 @@ void eraseNode(octomap::OcTree& t, const octomap::OcTreeKey& key, unsigned depth
 	if (!t.nodeHasChildren(t.getRoot())) t.clear();
 }
 }  // namespace
+
+void setNodeValues(octomap::OcTree& tree, const std::vector<octomap::OcTreeKey>& keys, float logOdds)
+{
+	if (keys.empty()) return;
+	for (const auto& k : keys) tree.setNodeValue(k, logOdds, /*lazy_eval=*/true);
+	// In Z order the keys under any one node are consecutive, at every depth:
+	// the nodes on their paths come each once from one pass per depth.
+	auto zOrder = keys;
+	std::sort(zOrder.begin(), zOrder.end(), [](const octomap::OcTreeKey& a, const octomap::OcTreeKey& b) {
+		// The axis whose keys differ in the highest bit decides.
+		auto lowerTopBit = [](unsigned x, unsigned y) { return x < y && x < (x ^ y); };
+		int axis = 0;
+		unsigned top = a[0] ^ b[0];
+		for (int i = 1; i < 3; i++)
+			if (lowerTopBit(top, a[i] ^ b[i]))
+			{
+				axis = i;
+				top = a[i] ^ b[i];
+			}
+		return a[axis] < b[axis];
+	});
+	for (unsigned depth = tree.getTreeDepth(); depth-- > 0;)
+	{
+		if (depth == 0)
+		{
+			// octomap's search reads depth 0 as the full depth.
+			auto* root = tree.getRoot();
+			if (!tree.pruneNode(root)) root->updateOccupancyChildren();
+			break;
+		}
+		bool first = true;
+		octomap::OcTreeKey previous;
+		for (const auto& k : zOrder)
+		{
+			const auto atDepth = tree.adjustKeyAtDepth(k, depth);
+			if (!first && atDepth == previous) continue;
+			first = false;
+			previous = atDepth;
+			// Deeper nodes are done and nothing above is pruned yet: the
+			// search ends at the node itself.
+			auto* node = tree.search(atDepth, depth);
+			if (!tree.pruneNode(node)) node->updateOccupancyChildren();
+		}
+	}
+}
 
 void eraseKeyRange(octomap::OcTree& tree, const KeyRange& range)
 {
