@@ -8,6 +8,10 @@
 #include <cmath>
 
 #include <map>
+#include <optional>
+
+#include <mrpt/img/CImage.h>
+#include <opencv2/imgproc.hpp>
 
 #include "TestData.h"
 #include "avm/detection/Detector.h"
@@ -45,6 +49,33 @@ odometry::OdometryRun runBonn(bool maskPeople)
 		const auto it = boxes.find(f.index);
 		return it == boxes.end() ? std::vector<cv::Rect>{} : it->second;
 	});
+}
+
+/** Frames [first, last] of the masked run with the lens covered: no depth
+ *  and a uniform grey image. Per frame: the estimate. */
+std::vector<odometry::OdometryEstimate> runBonnCovered(std::size_t first, std::size_t last, io::Trajectory& trajectory)
+{
+	const auto& boxes = bonnPersonBoxes();
+	std::optional<odometry::VisualOdometry> vo;
+	std::vector<odometry::OdometryEstimate> estimates;
+	io::RawlogFrameReader reader(test::bonnRawlog());
+	while (auto f = reader.next())
+	{
+		if (!vo) vo.emplace(odometry::TOdometryOptions{}, f->groundTruth.value_or(mrpt::poses::CPose3D()));
+		auto obs = *f->observation;
+		std::vector<cv::Rect> persons;
+		if (f->index >= first && f->index <= last)
+		{
+			const cv::Mat grey(io::colourImage(obs).size(), CV_8UC3, cv::Scalar(128, 128, 128));
+			obs.intensityImage = mrpt::img::CImage(grey, mrpt::img::DEEP_COPY);
+			obs.rangeImage.setZero();
+		}
+		else if (const auto it = boxes.find(f->index); it != boxes.end())
+			persons = it->second;
+		estimates.push_back(vo->process(obs, persons));
+		trajectory.push_back({f->timestamp(), estimates.back().pose});
+	}
+	return estimates;
 }
 
 io::Trajectory groundTruth()
@@ -108,4 +139,32 @@ TEST(VisualOdometryBonn, TrajectoryIsTheOpticalFrameOfTheGroundTruth)
 		EXPECT_LT(err.translation().norm(), 0.06) << i;
 		EXPECT_NEAR(run.frames[i].timestamp, gt[i].timestamp, 1e-6);
 	}
+}
+
+TEST(VisualOdometryBonn, LensCoveredForElevenFramesIsReportedAndRelocalised)
+{
+	constexpr std::size_t first = 150, last = 160;
+	io::Trajectory covered;
+	const auto estimates = runBonnCovered(first, last, covered);
+	ASSERT_EQ(estimates.size(), 300u);
+	for (std::size_t i = first; i <= last; ++i)
+	{
+		EXPECT_FALSE(estimates[i].tracked) << i;
+		EXPECT_NE(estimates[i].status.find("lost"), std::string::npos) << i << ": " << estimates[i].status;
+	}
+	std::size_t back = last + 1;
+	while (back < estimates.size() && !estimates[back].tracked) ++back;
+	std::cout << "view back at frame " << last + 1 << ", tracked again at frame " << back << ": "
+			  << (back < estimates.size() ? estimates[back].status : "never") << "\n";
+	EXPECT_LE(back, last + 5);
+	std::size_t lost = 0;
+	for (std::size_t i = 0; i < estimates.size(); ++i)
+		if (i < first || i > last) lost += !estimates[i].tracked;
+	EXPECT_EQ(lost, back - last - 1) << "no loss outside the covered frames and the recovery";
+
+	const auto reference = runBonn(true).trajectory();
+	const double uncovered = ate(reference, 0, 0), withCover = ate(covered, 0, 0);
+	std::cout << "ATE uncovered " << uncovered << " m, lens covered " << withCover << " m; frames after the cover "
+			  << ate(reference, last + 1, 0) << " m and " << ate(covered, last + 1, 0) << " m\n";
+	EXPECT_LE(withCover, uncovered + 0.005);
 }

@@ -38,6 +38,10 @@ void forEachKey(Options& o, Visitor&& v)
 	v("keyframe_translation", o.keyframe_translation);
 	v("keyframe_rotation", o.keyframe_rotation);
 	v("keyframe_overlap", o.keyframe_overlap);
+	v("map_max_keyframes", o.map_max_keyframes);
+	v("relocalisation_candidates", o.relocalisation_candidates);
+	v("relocalisation_min_inliers", o.relocalisation_min_inliers);
+	v("relocalisation_frames", o.relocalisation_frames);
 	v("mask_people", o.mask_people);
 	v("person_box_margin", o.person_box_margin);
 	v("person_depth_band", o.person_depth_band);
@@ -87,6 +91,11 @@ void TOdometryOptions::validate(const std::string& section) const
 	require(keyframe_translation > 0, "keyframe_translation", keyframe_translation, "must be > 0 m");
 	require(keyframe_rotation > 0, "keyframe_rotation", keyframe_rotation, "must be > 0 deg");
 	require(keyframe_overlap > 0 && keyframe_overlap <= 1, "keyframe_overlap", keyframe_overlap, "must be in (0, 1]");
+	require(map_max_keyframes >= 10, "map_max_keyframes", map_max_keyframes, "must be >= 10");
+	require(relocalisation_candidates >= 1, "relocalisation_candidates", relocalisation_candidates, "must be >= 1");
+	require(relocalisation_min_inliers >= min_inliers, "relocalisation_min_inliers", relocalisation_min_inliers,
+		"must be >= min_inliers");
+	require(relocalisation_frames >= 0, "relocalisation_frames", relocalisation_frames, "must be >= 0");
 	require(person_box_margin >= 0, "person_box_margin", person_box_margin, "must be >= 0 px");
 	require(person_depth_band >= 0, "person_depth_band", person_depth_band, "must be >= 0 m");
 	require(threads >= 1, "threads", threads, "must be >= 1");

@@ -7,13 +7,18 @@
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <deque>
+#include <optional>
 #include <stdexcept>
 
 #include "avm/io/RgbdFrame.h"
+#include "StateStream.h"
 #include "backend/CeresBackend.h"
 #include "frontend/FeatureFrontend.h"
+#include "map/KeyframeMap.h"
 
 namespace avm::odometry
 {
@@ -51,51 +56,26 @@ const TOdometryOptions& validated(const TOdometryOptions& o)
 
 double rotationAngleDeg(const Eigen::Matrix3d& R) { return mrpt::RAD2DEG(Eigen::AngleAxisd(R).angle()); }
 
-// --- the saveState stream: raw little-endian values, doubles bit-exact.
-/** Layout version of the stream; change it with the layout. */
-constexpr std::uint8_t stateVersion = 1;
-
-std::runtime_error badState(const std::string& why) { return std::runtime_error("VisualOdometry::loadState: " + why); }
-
-template <typename T>
-void write(mrpt::serialization::CArchive& out, const T* values, std::size_t n)
+struct FrameImages
 {
-	out.WriteBufferFixEndianness(values, n);
+	cv::Mat grey, depth;  //!< depth in metres, registered to the colour image
+	Intrinsics K;
+};
+
+FrameImages imagesOf(const mrpt::obs::CObservation3DRangeScan& obs)
+{
+	if (!obs.hasRangeImage) throw std::invalid_argument("VisualOdometry: observation without a range image");
+	FrameImages out;
+	cv::cvtColor(io::colourImage(obs), out.grey, cv::COLOR_BGR2GRAY);
+	out.depth = io::depthInMetres(obs);
+	if (out.depth.size() != out.grey.size())
+		throw std::invalid_argument("VisualOdometry: depth and colour images differ in size (not registered)");
+	out.K = {obs.cameraParams.fx(), obs.cameraParams.fy(), obs.cameraParams.cx(), obs.cameraParams.cy()};
+	return out;
 }
 
-/** Reads n values. MRPT throws when no byte is left but returns a short
- *  count when only some are: both are a truncated stream. */
-template <typename T>
-void read(mrpt::serialization::CArchive& in, T* values, std::size_t n)
-{
-	std::size_t bytes = 0;
-	try
-	{
-		bytes = in.ReadBufferFixEndianness(values, n);
-	}
-	catch (const std::exception&)
-	{
-	}
-	if (bytes != n * sizeof(T)) throw badState("truncated odometry state (the stream ends early)");
-}
-
-template <typename T>
-T read(mrpt::serialization::CArchive& in)
-{
-	T value;
-	read(in, &value, 1);
-	return value;
-}
-
-void writePose(mrpt::serialization::CArchive& out, const Eigen::Isometry3d& T) { write(out, T.matrix().data(), 16); }
-
-Eigen::Isometry3d readPose(mrpt::serialization::CArchive& in)
-{
-	Eigen::Isometry3d T;
-	read(in, T.matrix().data(), 16);
-	if (!T.matrix().allFinite()) throw badState("corrupt odometry state (a pose is not finite)");
-	return T;
-}
+/** Layout version of the saveState stream; change it with the layout. */
+constexpr std::uint8_t stateVersion = 2;
 }  // namespace
 
 struct VisualOdometry::Impl
@@ -119,16 +99,41 @@ struct VisualOdometry::Impl
 	LandmarkMap landmarks;
 	std::deque<Keyframe> window;
 	int nextLandmarkId = 0;
+	KeyframeMap keyframeMap{options};
+	int nextKeyframeId = 0;
+	/** Consecutive lost frames, and those of them with enough features to
+	 *  track (only these count towards giving up the old map). */
+	int lostFrames = 0, lostFramesWithFeatures = 0;
 	mrpt::system::CTimeLogger stageTimer{true, "avm odometry stages"};
 	bool reportFeatures = false;
 	std::vector<cv::Point2f> lastFeatures, lastMaskedFeatures;  // when reportFeatures
 
 	OdometryEstimate process(const mrpt::obs::CObservation3DRangeScan& obs, const std::vector<cv::Rect>& boxes);
+	VisualOdometry::PlaceQuery queryPlace(
+		const mrpt::obs::CObservation3DRangeScan& obs, const std::vector<cv::Rect>& boxes) const;
 	/** A keyframe at T from the frame's matched inliers and new landmarks for
 	 *  the unmatched features; runs the window bundle adjustment. */
 	void addKeyframe(const FrameFeatures& f, const std::vector<Match>& inliers, const Eigen::Isometry3d& T);
 	void forgetUnobservedLandmarks();
 	OdometryEstimate lost(const FrameFeatures& f, const std::string& why);
+
+	struct Relocalisation
+	{
+		int keyframe = -1;
+		Eigen::Isometry3d T_cw;
+		std::vector<Match> inliers;
+		double rmse = 0;
+	};
+	/** The frame's pose against the keyframe map: each candidate of the
+	 *  place index in turn, descriptor matches to its features, PnP RANSAC,
+	 *  Ceres refinement; the candidate with the most inliers, if it has
+	 *  relocalisation_min_inliers. */
+	std::optional<Relocalisation> relocalise(const FrameFeatures& f, std::vector<KeyframeMap::Candidate>* tried) const;
+	/** Inliers (within ransac_reprojection) of the matches at pose T, and their squared error sum. */
+	std::vector<Match> inliersAt(
+		const Eigen::Isometry3d& T, const FrameFeatures& f, const std::vector<Match>& matches, const LandmarkMap& map,
+		double& squaredErrors) const;
+	std::vector<Observation> observationsOf(const FrameFeatures& f, const std::vector<Match>& matches) const;
 	void saveState(mrpt::serialization::CArchive& out) const;
 	void loadState(mrpt::serialization::CArchive& in);
 };
@@ -136,15 +141,45 @@ struct VisualOdometry::Impl
 OdometryEstimate VisualOdometry::Impl::lost(const FrameFeatures& f, const std::string& why)
 {
 	OdometryEstimate e;
+	++lostFrames;
+	const bool trackable = int(f.keypoints.size()) >= options.min_inliers;
+	if (trackable)
+	{
+		mrpt::system::CTimeLoggerEntry relocalisationTimer(stageTimer, "5 relocalisation");
+		auto r = relocalise(f, nullptr);
+		relocalisationTimer.stop();
+		if (r)
+		{
+			// Back in the old map's frame: a new local map starts at the
+			// relocalised pose. The motion across the gap is unknown.
+			const std::string after = std::to_string(lostFrames);
+			window.clear();
+			landmarks.clear();
+			addKeyframe(f, {}, r->T_cw);
+			T_cw = window.back().T_cw;
+			velocity = Eigen::Isometry3d::Identity();
+			lostFrames = lostFramesWithFeatures = 0;
+			e.tracked = e.keyframe = true;
+			e.inliers = r->inliers.size();
+			e.reprojectionRmse = r->rmse;
+			e.status = "relocalised on keyframe " + std::to_string(r->keyframe) + " after " + after + " lost frames";
+			e.pose = toPose(T_cw.inverse());
+			return e;
+		}
+		++lostFramesWithFeatures;
+	}
 	T_cw = velocity * T_cw;  // bridged by the constant-velocity model
 	e.status = "lost: " + why + "; pose bridged by the motion model";
-	// Start a new local map here when the frame can carry one, so the next
-	// frame tracks again; otherwise keep the old map and try again next frame.
-	if (int(f.keypoints.size()) >= options.min_inliers)
+	// The old map is kept while the frames may still relocalise against it;
+	// after relocalisation_frames frames that could have but did not, a new
+	// local map starts here so that tracking goes on (in a frame that has
+	// drifted by the bridge; the keyframe map keeps the old keyframes).
+	if (trackable && lostFramesWithFeatures > options.relocalisation_frames)
 	{
 		window.clear();
 		landmarks.clear();
 		addKeyframe(f, {}, T_cw);
+		lostFrames = lostFramesWithFeatures = 0;
 		e.keyframe = true;
 		e.status += "; re-initialised";
 	}
@@ -152,17 +187,75 @@ OdometryEstimate VisualOdometry::Impl::lost(const FrameFeatures& f, const std::s
 	return e;
 }
 
+std::vector<Observation> VisualOdometry::Impl::observationsOf(const FrameFeatures& f, const std::vector<Match>& matches) const
+{
+	std::vector<Observation> out;
+	out.reserve(matches.size());
+	for (const auto& m : matches)
+		out.push_back(
+			{m.landmark, Eigen::Vector2d(f.keypoints[m.feature].pt.x, f.keypoints[m.feature].pt.y),
+			 f.points[m.feature].z()});
+	return out;
+}
+
+std::vector<Match> VisualOdometry::Impl::inliersAt(
+	const Eigen::Isometry3d& T, const FrameFeatures& f, const std::vector<Match>& matches, const LandmarkMap& map,
+	double& squaredErrors) const
+{
+	std::vector<Match> inliers;
+	squaredErrors = 0;
+	for (const auto& m : matches)
+	{
+		const double err = reprojectionError(
+			T, map.at(m.landmark).position, Eigen::Vector2d(f.keypoints[m.feature].pt.x, f.keypoints[m.feature].pt.y),
+			f.K);
+		if (err > options.ransac_reprojection) continue;
+		inliers.push_back(m);
+		squaredErrors += err * err;
+	}
+	return inliers;
+}
+
+std::optional<VisualOdometry::Impl::Relocalisation> VisualOdometry::Impl::relocalise(
+	const FrameFeatures& f, std::vector<KeyframeMap::Candidate>* tried) const
+{
+	std::optional<Relocalisation> best;
+	const auto candidates = keyframeMap.candidates(f.descriptors, std::size_t(options.relocalisation_candidates));
+	if (tried) *tried = candidates;
+	for (const auto& c : candidates)
+	{
+		const MapKeyframe& kf = *keyframeMap.find(c.keyframe);
+		// The keyframe's features as landmarks in the world, by feature index.
+		LandmarkMap points;
+		const Eigen::Isometry3d T_wc = kf.T_cw.inverse();
+		for (int i = 0; i < kf.descriptors.rows; ++i)
+		{
+			Landmark& lm = points[i];
+			lm.position = T_wc * kf.points[i];
+			std::memcpy(lm.descriptor.data(), kf.descriptors.ptr(i), lm.descriptor.size());
+		}
+		const auto matches = frontend.matchByDescriptor(f, points);
+		if (int(matches.size()) < options.relocalisation_min_inliers) continue;
+		const auto pnp = frontend.solvePnp(f, points, matches, kf.T_cw);
+		if (!pnp) continue;
+		Eigen::Isometry3d T = pnp->T_cw;
+		backend.refinePose(T, observationsOf(f, pnp->inliers), points, f.K);
+		if (!T.matrix().allFinite()) continue;
+		double sq = 0;
+		auto inliers = inliersAt(T, f, matches, points, sq);
+		if (int(inliers.size()) < options.relocalisation_min_inliers ||
+			(best && inliers.size() <= best->inliers.size()))
+			continue;
+		best = Relocalisation{c.keyframe, T, std::move(inliers), 0};
+		best->rmse = std::sqrt(sq / best->inliers.size());
+	}
+	return best;
+}
+
 OdometryEstimate VisualOdometry::Impl::process(
 	const mrpt::obs::CObservation3DRangeScan& obs, const std::vector<cv::Rect>& boxes)
 {
-	if (!obs.hasRangeImage) throw std::invalid_argument("VisualOdometry: observation without a range image");
-	cv::Mat grey;
-	cv::cvtColor(io::colourImage(obs), grey, cv::COLOR_BGR2GRAY);
-	const cv::Mat depth = io::depthInMetres(obs);
-	if (depth.size() != grey.size())
-		throw std::invalid_argument("VisualOdometry: depth and colour images differ in size (not registered)");
-	const Intrinsics K{obs.cameraParams.fx(), obs.cameraParams.fy(), obs.cameraParams.cx(), obs.cameraParams.cy()};
-
+	const auto [grey, depth, K] = imagesOf(obs);
 	const auto f = [&] {
 		mrpt::system::CTimeLoggerEntry t(stageTimer, "1 features");
 		return frontend.extract(grey, depth, K, options.mask_people ? boxes : std::vector<cv::Rect>{});
@@ -206,31 +299,14 @@ OdometryEstimate VisualOdometry::Impl::process(
 	if (!pnp) return lost(f, std::to_string(matches.size()) + " matches, PnP found no consistent pose");
 
 	Eigen::Isometry3d T = pnp->T_cw;
-	const auto observationsOf = [&](const std::vector<Match>& ms) {
-		std::vector<Observation> obsList;
-		for (const auto& m : ms)
-			obsList.push_back(
-				{m.landmark, Eigen::Vector2d(f.keypoints[m.feature].pt.x, f.keypoints[m.feature].pt.y),
-				 f.points[m.feature].z()});
-		return obsList;
-	};
 	{
 		mrpt::system::CTimeLoggerEntry t(stageTimer, "3 pose refinement");
-		backend.refinePose(T, observationsOf(pnp->inliers), landmarks, K);
+		backend.refinePose(T, observationsOf(f, pnp->inliers), landmarks, K);
 	}
 
 	// Inliers at the refined pose among all matches.
-	std::vector<Match> inliers;
 	double sq = 0;
-	for (const auto& m : matches)
-	{
-		const double err = reprojectionError(
-			T, landmarks.at(m.landmark).position,
-			Eigen::Vector2d(f.keypoints[m.feature].pt.x, f.keypoints[m.feature].pt.y), K);
-		if (err > options.ransac_reprojection) continue;
-		inliers.push_back(m);
-		sq += err * err;
-	}
+	const auto inliers = inliersAt(T, f, matches, landmarks, sq);
 	if (int(inliers.size()) < options.min_inliers || !T.matrix().allFinite())
 		return lost(f, std::to_string(inliers.size()) + " inliers after refinement");
 
@@ -239,6 +315,11 @@ OdometryEstimate VisualOdometry::Impl::process(
 	e.inliers = inliers.size();
 	e.reprojectionRmse = std::sqrt(sq / inliers.size());
 	e.status = "tracking";
+	// Found the kept local map again after a loss: the bridged pose says
+	// nothing of the motion across the gap.
+	const bool recovered = lostFrames > 0;
+	if (recovered) e.status = "tracking again after " + std::to_string(lostFrames) + " lost frames";
+	lostFrames = lostFramesWithFeatures = 0;
 
 	// Keyframe when the camera moved or turned enough, or sees too little of
 	// the last keyframe's landmarks.
@@ -255,16 +336,37 @@ OdometryEstimate VisualOdometry::Impl::process(
 		T = window.back().T_cw;  // as the bundle adjustment left it
 		e.keyframe = true;
 	}
-	velocity = T * previous.inverse();
+	velocity = recovered ? Eigen::Isometry3d::Identity() : Eigen::Isometry3d(T * previous.inverse());
 	T_cw = T;
 	e.pose = toPose(T_cw.inverse());
 	return e;
 }
 
+VisualOdometry::PlaceQuery VisualOdometry::Impl::queryPlace(
+	const mrpt::obs::CObservation3DRangeScan& obs, const std::vector<cv::Rect>& boxes) const
+{
+	const auto [grey, depth, K] = imagesOf(obs);
+	const auto f = frontend.extract(grey, depth, K, options.mask_people ? boxes : std::vector<cv::Rect>{});
+	PlaceQuery q;
+	std::vector<KeyframeMap::Candidate> candidates;
+	const auto r = f.keypoints.empty() ? std::nullopt : relocalise(f, &candidates);
+	for (const auto& c : candidates) q.candidates.emplace_back(std::size_t(c.keyframe), c.score);
+	if (r)
+	{
+		q.accepted = true;
+		q.keyframe = std::size_t(r->keyframe);
+		q.inliers = r->inliers.size();
+		q.pose = toPose(r->T_cw.inverse());
+	}
+	return q;
+}
+
 void VisualOdometry::Impl::addKeyframe(const FrameFeatures& f, const std::vector<Match>& inliers, const Eigen::Isometry3d& T)
 {
 	Keyframe kf;
+	kf.id = nextKeyframeId++;
 	kf.T_cw = T;
+	keyframeMap.add(kf.id, MapKeyframe{T, f.descriptors.clone(), f.points, {}});
 	std::vector<bool> matched(f.keypoints.size(), false);
 	for (const auto& m : inliers)
 	{
@@ -290,6 +392,7 @@ void VisualOdometry::Impl::addKeyframe(const FrameFeatures& f, const std::vector
 	{
 		mrpt::system::CTimeLoggerEntry t(stageTimer, "4 window bundle adjustment");
 		backend.bundleAdjust(window, landmarks, f.K);
+		for (const auto& k : window) keyframeMap.updatePose(k.id, k.T_cw);
 	}
 }
 
@@ -324,6 +427,7 @@ void VisualOdometry::Impl::saveState(mrpt::serialization::CArchive& out) const
 	out << std::uint32_t(window.size());
 	for (const auto& kf : window)
 	{
+		out << std::int32_t(kf.id);
 		writePose(out, kf.T_cw);
 		out << std::uint64_t(kf.bestInliers) << std::uint32_t(kf.observations.size());
 		for (const auto& o : kf.observations)
@@ -333,6 +437,8 @@ void VisualOdometry::Impl::saveState(mrpt::serialization::CArchive& out) const
 			out << o.depth;
 		}
 	}
+	out << std::int32_t(nextKeyframeId) << std::int32_t(lostFrames) << std::int32_t(lostFramesWithFeatures);
+	keyframeMap.save(out);
 }
 
 void VisualOdometry::Impl::loadState(mrpt::serialization::CArchive& in)
@@ -358,6 +464,7 @@ void VisualOdometry::Impl::loadState(mrpt::serialization::CArchive& in)
 	for (auto n = read<std::uint32_t>(in); n > 0; --n)
 	{
 		Keyframe& kf = keyframes.emplace_back();
+		kf.id = read<std::int32_t>(in);
 		kf.T_cw = readPose(in);
 		kf.bestInliers = read<std::uint64_t>(in);
 		for (auto m = read<std::uint32_t>(in); m > 0; --m)
@@ -372,11 +479,24 @@ void VisualOdometry::Impl::loadState(mrpt::serialization::CArchive& in)
 					")");
 		}
 	}
+	const int nextKeyframe = read<std::int32_t>(in);
+	const int lost = read<std::int32_t>(in), lostWithFeatures = read<std::int32_t>(in);
+	KeyframeMap places(options);
+	places.load(in);
+	for (const auto& kf : keyframes)
+		if (kf.id < 0 || kf.id >= nextKeyframe)
+			throw badState("corrupt odometry state (keyframe id " + std::to_string(kf.id) + ")");
+	if (lost < 0 || lostWithFeatures < 0 || lostWithFeatures > lost)
+		throw badState("corrupt odometry state (lost frame counts)");
 	T_cw = pose;
 	velocity = motion;
 	nextLandmarkId = nextId;
 	landmarks = std::move(map);
 	window = std::move(keyframes);
+	nextKeyframeId = nextKeyframe;
+	lostFrames = lost;
+	lostFramesWithFeatures = lostWithFeatures;
+	keyframeMap = std::move(places);
 }
 
 VisualOdometry::VisualOdometry(const TOdometryOptions& options, const mrpt::poses::CPose3D& initialPose)
@@ -403,6 +523,12 @@ void VisualOdometry::saveState(mrpt::serialization::CArchive& out) const { m_imp
 void VisualOdometry::loadState(mrpt::serialization::CArchive& in) { m_impl->loadState(in); }
 const TOdometryOptions& VisualOdometry::options() const { return m_impl->options; }
 std::size_t VisualOdometry::keyframeCount() const { return m_impl->window.size(); }
+std::size_t VisualOdometry::mapKeyframeCount() const { return m_impl->keyframeMap.size(); }
+VisualOdometry::PlaceQuery VisualOdometry::queryPlace(
+	const mrpt::obs::CObservation3DRangeScan& obs, const std::vector<cv::Rect>& personBoxes) const
+{
+	return m_impl->queryPlace(obs, personBoxes);
+}
 std::size_t VisualOdometry::landmarkCount() const { return m_impl->landmarks.size(); }
 std::string VisualOdometry::stageTimesText() const { return m_impl->stageTimer.getStatsAsText(); }
 }  // namespace avm::odometry

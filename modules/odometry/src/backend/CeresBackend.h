@@ -14,6 +14,7 @@ namespace avm::odometry::detail
 {
 struct Keyframe
 {
+	int id = -1;  //!< the keyframe's id in the KeyframeMap
 	Eigen::Isometry3d T_cw;
 	std::vector<Observation> observations;
 	/** Most inliers a frame tracked against the map while this was the newest keyframe. */

@@ -38,6 +38,11 @@ struct TOdometryOptions : public mrpt::config::CLoadableOptions
 	double keyframe_translation = 0.08;  //!< [m] motion from the last keyframe that makes a keyframe
 	double keyframe_rotation = 8.0;      //!< [deg] rotation from the last keyframe that makes a keyframe
 	double keyframe_overlap = 0.6;       //!< a keyframe is made when the tracked share of the last keyframe's landmarks falls below this
+	// --- keyframe map (kept through tracking loss) and relocalisation
+	int map_max_keyframes = 300;          //!< keyframes kept for the whole run (about 70 kB each); beyond, the most redundant goes
+	int relocalisation_candidates = 3;    //!< map keyframes a lost frame is checked against (PnP + refinement), most similar first
+	int relocalisation_min_inliers = 50;  //!< inliers after the refinement that accept a relocalisation
+	int relocalisation_frames = 10;       //!< lost frames with features during which the old map is kept for relocalisation; then a new local map starts at the bridged pose
 	// --- dynamic people
 	bool mask_people = true;         //!< ignore features inside person boxes
 	int person_box_margin = 10;      //!< [px] added on every side of a person box

@@ -1,7 +1,9 @@
 // Feature-based RGB-D visual odometry: ORB features with depth, matched to a
 // local map of recent landmarks, PnP RANSAC from a constant-velocity guess,
 // then a robust Ceres pose refinement and a sliding-window bundle adjustment
-// over the last keyframes. Features inside person boxes are left out.
+// over the last keyframes. Features inside person boxes are left out. The
+// keyframes of the whole run stay in a map with a place-recognition index:
+// a lost frame is relocalised against it, back in the old map's frame.
 //
 // Frames: every pose is the camera OPTICAL frame (z forward, x right, y down)
 // in the world, the convention of TUM trajectories and of avm rawlogs.
@@ -15,6 +17,7 @@
 #include <cstddef>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "avm/odometry/TOdometryOptions.h"
@@ -72,11 +75,30 @@ class VisualOdometry
 	 *  is the same either way. */
 	void reportFeatures(bool on);
 
+	/** Place recognition of a frame against the keyframe map, as a lost frame
+	 *  would be relocalised, without changing the state. Keyframe ids count
+	 *  the frames that process() reported as keyframes, from 0. */
+	struct PlaceQuery
+	{
+		/** (keyframe id, similarity in [0, 1]) of the index's candidates,
+		 *  best first; similarity 0 while the vocabulary is not trained yet. */
+		std::vector<std::pair<std::size_t, double>> candidates;
+		bool accepted = false;      //!< a candidate passed the geometric check
+		std::size_t keyframe = 0;   //!< the accepted keyframe
+		std::size_t inliers = 0;    //!< its inliers after the refinement
+		mrpt::poses::CPose3D pose;  //!< the relocalised pose (camera optical frame in the world)
+	};
+	PlaceQuery queryPlace(
+		const mrpt::obs::CObservation3DRangeScan& obs, const std::vector<cv::Rect>& personBoxes = {}) const;
+
 	const TOdometryOptions& options() const;
+	/** Keyframes of the local window (bundle adjustment). */
 	std::size_t keyframeCount() const;
+	/** Keyframes kept for relocalisation (at most map_max_keyframes). */
+	std::size_t mapKeyframeCount() const;
 	std::size_t landmarkCount() const;
 	/** Time spent per stage so far (features, matching + PnP, refinement,
-	 *  bundle adjustment), as MRPT's CTimeLogger table. */
+	 *  bundle adjustment, relocalisation), as MRPT's CTimeLogger table. */
 	std::string stageTimesText() const;
 
    private:

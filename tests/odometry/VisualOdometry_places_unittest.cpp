@@ -1,0 +1,75 @@
+// Place recognition of the keyframe map (the bag of binary words and the
+// geometric check a relocalisation makes) on real frames: the Bonn frames
+// find their own keyframes, a frame of another scene is refused.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+
+#include "TestData.h"
+#include "avm/io/RawlogFrameReader.h"
+#include "avm/odometry/VisualOdometry.h"
+
+using namespace avm;
+
+TEST(VisualOdometryPlaces, AFrameFindsItsOwnKeyframeAndAnotherSceneIsRefused)
+{
+	constexpr std::size_t frames = 150;
+	odometry::VisualOdometry vo({});
+	std::map<std::size_t, std::size_t> keyframeOf;  // frame index -> keyframe id
+	std::map<std::size_t, mrpt::poses::CPose3D> poses;
+	{
+		io::RawlogFrameReader reader(test::bonnRawlog());
+		while (auto f = reader.next())
+		{
+			if (f->index >= frames) break;
+			const auto e = vo.process(*f->observation);
+			ASSERT_TRUE(e.tracked) << f->index << ": " << e.status;
+			if (e.keyframe) keyframeOf.emplace(f->index, keyframeOf.size());
+			poses[f->index] = e.pose;
+		}
+	}
+	ASSERT_GE(keyframeOf.size(), 6u) << "the vocabulary is trained on the first 5 keyframes";
+	EXPECT_EQ(vo.mapKeyframeCount(), keyframeOf.size());
+
+	// Every frame, queried again: a keyframe's own frame must find that
+	// keyframe first; any other frame one of the two keyframes around it.
+	std::size_t nearestFirst = 0, queried = 0;
+	double lowestBestScore = 1;
+	io::RawlogFrameReader reader(test::bonnRawlog());
+	while (auto f = reader.next())
+	{
+		if (f->index >= frames) break;
+		const auto q = vo.queryPlace(*f->observation);
+		ASSERT_FALSE(q.candidates.empty()) << f->index;
+		ASSERT_TRUE(q.accepted) << f->index;
+		const auto after = keyframeOf.upper_bound(f->index);
+		const auto atOrBefore = std::prev(after);
+		if (atOrBefore->first == f->index)
+		{
+			EXPECT_EQ(q.candidates.front().first, atOrBefore->second) << f->index;
+			EXPECT_EQ(q.keyframe, atOrBefore->second) << f->index;
+		}
+		const bool around = q.candidates.front().first == atOrBefore->second ||
+							(after != keyframeOf.end() && q.candidates.front().first == after->second);
+		nearestFirst += around;
+		++queried;
+		lowestBestScore = std::min(lowestBestScore, q.candidates.front().second);
+		// The geometric check lands near where tracking put the frame (the
+		// keyframe's pose has moved since, with the window bundle adjustment,
+		// and people walk through frames 60.. unmasked here).
+		EXPECT_LT((q.pose - poses.at(f->index)).translation().norm(), 0.1)
+			<< f->index << " on keyframe " << q.keyframe << " with " << q.inliers << " inliers";
+	}
+	std::cout << nearestFirst << " of " << queried << " frames found a keyframe next to them first; lowest best score "
+			  << lowestBestScore << "\n";
+	EXPECT_GE(nearestFirst, queried * 9 / 10);
+
+	io::RawlogFrameReader other(test::sharedFile("datasets/tests_rgbd.rawlog"));
+	const auto shelf = other.next();
+	ASSERT_TRUE(shelf);
+	const auto q = vo.queryPlace(*shelf->observation);
+	ASSERT_FALSE(q.candidates.empty());
+	std::cout << "another scene: best score " << q.candidates.front().second << ", accepted " << q.accepted << "\n";
+	EXPECT_FALSE(q.accepted) << "keyframe " << q.keyframe << ", " << q.inliers << " inliers";
+}
