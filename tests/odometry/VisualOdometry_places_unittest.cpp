@@ -73,3 +73,39 @@ TEST(VisualOdometryPlaces, AFrameFindsItsOwnKeyframeAndAnotherSceneIsRefused)
 	std::cout << "another scene: best score " << q.candidates.front().second << ", accepted " << q.accepted << "\n";
 	EXPECT_FALSE(q.accepted) << "keyframe " << q.keyframe << ", " << q.inliers << " inliers";
 }
+
+TEST(VisualOdometryPlaces, CarriedToAnotherSceneAndBackRelocalisesInTheOldMap)
+{
+	// 100 Bonn frames, then the camera "sees" another scene long enough to
+	// give up the old local map and start one there, then Bonn again: the
+	// keyframe map brings it back to the Bonn map's frame.
+	odometry::VisualOdometry vo({});
+	mrpt::poses::CPose3D lastPose;
+	io::RawlogFrameReader reader(test::bonnRawlog());
+	auto f = reader.next();
+	for (; f && f->index < 100; f = reader.next())
+	{
+		const auto e = vo.process(*f->observation);
+		ASSERT_TRUE(e.tracked) << f->index << ": " << e.status;
+		lastPose = e.pose;
+	}
+	ASSERT_TRUE(f);
+	io::RawlogFrameReader other(test::sharedFile("datasets/tests_rgbd.rawlog"));
+	const auto shelf = other.next();
+	ASSERT_TRUE(shelf);
+	bool reinitialised = false;
+	for (int i = 0; i <= vo.options().relocalisation_frames + 2 && !reinitialised; ++i)
+	{
+		const auto e = vo.process(*shelf->observation);
+		EXPECT_FALSE(e.tracked) << e.status;
+		reinitialised = e.status.find("re-initialised") != std::string::npos;
+	}
+	ASSERT_TRUE(reinitialised) << "a new local map starts after relocalisation_frames lost frames";
+	const auto back = vo.process(*f->observation);
+	ASSERT_TRUE(back.tracked) << back.status;
+	EXPECT_NE(back.status.find("relocalised on keyframe"), std::string::npos) << back.status;
+	std::cout << "frame " << f->index << ": " << back.status << ", " << back.inliers << " inliers, "
+			  << (back.pose - lastPose).translation().norm() << " m from frame " << f->index - 1 << "\n";
+	EXPECT_LT((back.pose - lastPose).translation().norm(), 0.03);
+	EXPECT_TRUE(vo.process(*reader.next()->observation).tracked);
+}
