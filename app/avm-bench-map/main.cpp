@@ -40,6 +40,7 @@ int main(int argc, char** argv)
 			if (r.size() != 6) throw std::runtime_error("--region needs 6 values (give --region six times)");
 			opt.region = mrpt::math::TBoundingBox({r[0], r[1], r[2]}, {r[3], r[4], r[5]});
 		}
+		avm::io::useImagesFolderOf(opt.rawlog);
 		const bool terminal = ::isatty(STDERR_FILENO);
 		const auto result = avm::maps::runMapBenchmark(opt, [terminal](std::size_t done, std::size_t total) {
 			if (terminal || done == total)

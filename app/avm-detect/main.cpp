@@ -43,6 +43,7 @@ int main(int argc, char** argv)
 		if (argModel.isSet()) opt.model = argModel.getValue().empty() ? "" : std::filesystem::absolute(argModel.getValue()).string();
 		if (opt.threads > 0) cv::setNumThreads(opt.threads);
 		if (argImage.isSet() == argRawlog.isSet()) throw std::runtime_error("give exactly one of --image and --rawlog");
+		if (argRawlog.isSet()) avm::io::useImagesFolderOf(argRawlog.getValue());
 
 		const auto detector = createDetector(opt, argRoot.getValue());
 		std::cerr << "avm-detect: detector: " << detector->description() << "\n";

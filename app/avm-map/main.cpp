@@ -102,6 +102,7 @@ int main(int argc, char** argv)
 		if (resume) checkpointed = avm::pipeline::readCheckpointedRun(argResume.getValue());
 		const std::string iniSource = resume ? avm::pipeline::checkpointFile(argResume.getValue()).string() : argConfig.getValue();
 		const std::string outDir = resume ? argResume.getValue() : argOut.getValue();
+		avm::io::useImagesFolderOf(resume ? checkpointed->rawlog : std::filesystem::path(argRawlog.getValue()));
 
 		mrpt::config::CConfigFileMemory ini(resume ? checkpointed->ini : readIni(argConfig.getValue()));
 		std::vector<Override> overrides;

@@ -58,6 +58,7 @@ int main(int argc, char** argv)
 		else if (argPersons.getValue() != "none")
 			throw std::invalid_argument("--persons must be detector, labels or none, not '" + argPersons.getValue() + "'");
 
+		io::useImagesFolderOf(argRawlog.getValue());
 		const auto run = odometry::runOdometry(argRawlog.getValue(), options, persons, argMax.getValue());
 		io::writeTumTrajectory(argOut.getValue(), run.trajectory(), "avm-odometry camera optical frame in the world");
 		if (argStats.isSet()) run.writeFrameStats(argStats.getValue());

@@ -33,6 +33,7 @@ int main(int argc, char** argv)
 		// OpenCV's thread count is process-wide: one, as ini/default.ini's
 		// [detection] threads, so the runs measure what avm-map does.
 		cv::setNumThreads(1);
+		avm::io::useImagesFolderOf(s.rawlog);
 		mrpt::system::COutputLogger log("avm-paper");
 		log.setMinLoggingLevel(mrpt::system::LVL_INFO);
 		// Every run starts from the base ini: an option error is one of its keys.

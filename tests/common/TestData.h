@@ -11,6 +11,8 @@
 #include <sstream>
 #include <string>
 
+#include "avm/io/ProgramMain.h"
+
 namespace avm::test
 {
 /// The shared data folder: $AVM_SHARED_DIR when set, else ../shared beside the repo.
@@ -29,12 +31,15 @@ inline std::filesystem::path sharedFile(const std::string& relative)
 	return p;
 }
 inline std::filesystem::path bonnDatasetDir() { return sharedFile("datasets/bonn_crowd_sub300"); }
-/// The Bonn sequence converted by avm-tum2rawlog (ctest fixture "bonn_rawlog").
+/// The Bonn sequence converted by avm-tum2rawlog (ctest fixture "bonn_rawlog"),
+/// with MRPT's folder of external images pointed at its images, as the
+/// programs' mains do (io::useImagesFolderOf): nearly every test reads it.
 inline std::filesystem::path bonnRawlog()
 {
 	const std::filesystem::path p = AVM_BONN_RAWLOG;
 	if (!std::filesystem::exists(p))
 		throw std::runtime_error("fixture rawlog missing: " + p.string() + " (run the whole ctest suite)");
+	io::useImagesFolderOf(p);
 	return p;
 }
 /// A fresh, empty folder for one test's outputs.

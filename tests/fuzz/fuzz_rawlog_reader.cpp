@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "FuzzInput.h"
+#include "avm/io/ProgramMain.h"
 #include "avm/io/RawlogFrameReader.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
@@ -10,6 +11,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 	const avm::fuzz::InputFile file(data, size, ".rawlog");
 	try
 	{
+		avm::io::useImagesFolderOf(file.path());
 		avm::io::RawlogFrameReader reader(file.path());
 		reader.setMinLoggingLevel(mrpt::system::LVL_ERROR);
 		for (int frames = 0; frames < 16 && reader.next(); ++frames) {}

@@ -135,6 +135,7 @@ TEST(RawlogFrameReader, OneMissingImageSkipsThatFrameOnly)
 			if (i == 1) fs::remove(dir / "three_Images" / name);
 		}
 	}
+	io::useImagesFolderOf(rawlog);
 	io::RawlogFrameReader reader(rawlog);
 	std::vector<std::size_t> read;
 	while (auto f = reader.next()) read.push_back(f->index);

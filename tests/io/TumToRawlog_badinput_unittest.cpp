@@ -125,6 +125,7 @@ TEST(TumToRawlogBadInput, PlainRawlogWithEmbeddedImagesHasTheSameFrames)
 
 	// One reader at a time: MRPT's folder of external images is process-wide.
 	const auto framesOf = [](const fs::path& rawlog) {
+		io::useImagesFolderOf(rawlog);
 		io::RawlogFrameReader reader(rawlog);
 		std::vector<io::RgbdFrame> out;
 		while (auto f = reader.next()) out.push_back(*f);
@@ -263,6 +264,7 @@ TEST(TumToRawlogBadInput, TrimToGroundTruthLeavesOutTheFramesBeforeIt)
 	EXPECT_NE(r.output.find("skipped:      1\n  frame 0 (" + depthFile(ds, 0) + ", t="), std::string::npos) << r.output;
 	EXPECT_NE(r.output.find("before the ground truth (--trim-to-ground-truth)"), std::string::npos) << r.output;
 
+	io::useImagesFolderOf(out);
 	io::RawlogFrameReader reader(out);
 	std::vector<io::RgbdFrame> frames;
 	while (auto f = reader.next()) frames.push_back(*f);

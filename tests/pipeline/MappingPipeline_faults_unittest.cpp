@@ -173,6 +173,7 @@ TEST(MappingPipelineFaults, NanPosesAndEmptyDepthNeverReachTheMap)
 			"[pipeline]\npose_source=gt\ndetect_every_n=0\npicture_size=0\nmax_frames=" + maxFrames +
 			"\n[map]\nadaptiveOctoMap_count=1\n");
 		pipeline::MappingPipeline p(ini, AVM_SOURCE_DIR);
+		io::useImagesFolderOf(dir / "three.rawlog");
 		const auto summary = p.run(dir / "three.rawlog", dir / ("out" + maxFrames));
 		return std::make_pair(summary, p.map().lowResolutionStats());
 	};

@@ -153,7 +153,7 @@ LabelRawlogSummary labelRawlog(
 	std::size_t every, const std::function<void(double)>& progress)
 {
 	if (every == 0) throw std::invalid_argument("detection interval must be >= 1 frame");
-	// The reader checks the input and points MRPT at its external images.
+	// The reader checks the input.
 	const fs::path inImages = io::RawlogFrameReader(in).imagesDirectory();
 	if (fs::exists(out) && fs::equivalent(in, out))
 		throw std::runtime_error(out.string() + ": the output would overwrite the input rawlog");

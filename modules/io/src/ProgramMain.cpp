@@ -1,8 +1,12 @@
 #include "avm/io/ProgramMain.h"
 
+#include <mrpt/img/CImage.h>
+
 #include <cctype>
 #include <iostream>
 #include <stdexcept>
+
+#include "avm/io/RawlogFrameReader.h"
 
 namespace avm::io
 {
@@ -126,6 +130,11 @@ bool CommandLine::parse(int argc, const char** argv)
 	// Output::failure throws on a bad argument, so false means --help or --version.
 	if (!TCLAP::CmdLine::parse(argc, argv)) throw ActionDone{};
 	return true;
+}
+
+void useImagesFolderOf(const std::filesystem::path& rawlog)
+{
+	mrpt::img::CImage::setImagesPathBase(imagesDirectoryOf(rawlog).string());
 }
 
 int runProgram(

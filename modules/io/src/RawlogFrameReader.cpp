@@ -63,24 +63,37 @@ namespace
 // rounding by other writers.
 constexpr double kSameTimeTolerance = 1e-3;  // [s]
 
-/** The external-images folder of a rawlog, trying the names MRPT's
- *  CRawlog::detectImagesDirectory tries. MRPT 2.5.8's own function drops the
- *  path separator for absolute paths ("/a/bImages"), so it is not used. */
+bool sameTime(const CObservation& a, const CObservation& b)
+{
+	return std::abs(mrpt::Clock::toDouble(a.timestamp) - mrpt::Clock::toDouble(b.timestamp)) <
+		   kSameTimeTolerance;
+}
+
+bool hasExternalImages(const CObservation3DRangeScan& scan)
+{
+	return (scan.hasIntensityImage && scan.intensityImage.isExternallyStored()) ||
+		   (scan.hasRangeImage && scan.rangeImage_isExternallyStored());
+}
+
+/** Whether MRPT's process-wide images folder is `dir` (or a link to it). */
+bool mrptReadsImagesFrom(const fs::path& dir)
+{
+	const fs::path base = mrpt::img::CImage::getImagesPathBase();
+	std::error_code ignored;
+	return base == dir || fs::equivalent(base, dir, ignored);
+}
+}  // namespace
+
 fs::path imagesDirectoryOf(const fs::path& rawlog)
 {
+	// MRPT 2.5.8's CRawlog::detectImagesDirectory drops the path separator
+	// of absolute paths ("/a/bImages").
 	const fs::path dir = rawlog.parent_path();
 	const std::string stem = rawlog.stem().string();
 	for (const std::string& name : {stem + "_Images", stem + "_images", stem + "_IMAGES", std::string("Images")})
 		if (fs::is_directory(dir / name)) return dir / name;
 	return dir / (stem + "_Images");
 }
-
-bool sameTime(const CObservation& a, const CObservation& b)
-{
-	return std::abs(mrpt::Clock::toDouble(a.timestamp) - mrpt::Clock::toDouble(b.timestamp)) <
-		   kSameTimeTolerance;
-}
-}  // namespace
 
 RawlogFrameReader::RawlogFrameReader(const fs::path& rawlog) : RawlogFrameReader(rawlog, true) {}
 
@@ -92,7 +105,6 @@ RawlogFrameReader::RawlogFrameReader(const fs::path& rawlog, bool loadImages)
 	m_file = std::make_unique<PeekableFile>(rawlog);
 	m_archive = std::make_unique<mrpt::serialization::CArchiveStreamBase<PeekableFile>>(*m_file);
 	m_imagesDir = imagesDirectoryOf(rawlog);
-	mrpt::img::CImage::setImagesPathBase(m_imagesDir.string());
 }
 
 RawlogFrameReader::~RawlogFrameReader() = default;
@@ -164,6 +176,12 @@ std::optional<RgbdFrame> RawlogFrameReader::next()
 		lastPose.reset();
 
 		if (!m_loadImages) return frame;
+		// Another rawlog's folder could hold files of the same names.
+		if (hasExternalImages(*scan) && !mrptReadsImagesFrom(m_imagesDir))
+			throw std::logic_error(
+				m_path.string() + ": its external images are in " + m_imagesDir.string() +
+				" but MRPT reads them from " + mrpt::img::CImage::getImagesPathBase() +
+				" (the program must call io::useImagesFolderOf first)");
 		try
 		{
 			scan->load();

@@ -34,8 +34,9 @@ struct LabelRawlogSummary
  *  Throws std::runtime_error naming the file on a missing, corrupt or
  *  truncated input, an output equal to the input, or an `<out stem>_Images`
  *  that exists and is not the input's images folder. progress(fraction 0..1)
- *  after every frame. Like every rawlog reader, sets MRPT's process-wide
- *  external-images folder (CImage::setImagesPathBase) to the input's. */
+ *  after every frame. The input's external images are read from MRPT's
+ *  process-wide images folder, which the program points at the input's
+ *  (io::useImagesFolderOf). */
 LabelRawlogSummary labelRawlog(
 	DetectorBase& detector, const TDetectorOptions& options, const std::filesystem::path& in,
 	const std::filesystem::path& out, std::size_t every = 1, const std::function<void(double)>& progress = {});

@@ -8,6 +8,7 @@
 
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <string>
@@ -45,6 +46,12 @@ class CommandLine : public TCLAP::CmdLine
 	std::unique_ptr<Output> m_output;
 	TCLAP::SwitchArg m_verbose;
 };
+
+/** Points MRPT's process-wide folder of external images
+ *  (CImage::setImagesPathBase) at the rawlog's (imagesDirectoryOf), which
+ *  reading its frames needs. Process-wide state is the program's to set, so
+ *  mains call this, never a library. */
+void useImagesFolderOf(const std::filesystem::path& rawlog);
 
 /** Runs `body` with the program's command line and returns its exit status:
  *  0 after --help or --version, 1 after reporting what it threw. */

@@ -26,8 +26,9 @@ namespace avm::io
 class RawlogFrameReader : public mrpt::system::COutputLogger
 {
    public:
-	/** Opens the rawlog and points MRPT's external-image base at its images
-	 *  folder (`<name>_Images`, `_images`, `_IMAGES` or `Images`, as MRPT names it).
+	/** Opens the rawlog. Its external images are read from MRPT's
+	 *  process-wide images folder, which the program points at this rawlog's
+	 *  (useImagesFolderOf in avm/io/ProgramMain.h) before the first frame.
 	 *  Throws std::runtime_error naming the file if it is missing or unreadable. */
 	explicit RawlogFrameReader(const std::filesystem::path& rawlog);
 	/** loadImages = false: frames come with their external images unloaded
@@ -41,7 +42,8 @@ class RawlogFrameReader : public mrpt::system::COutputLogger
 	 *  images cannot be loaded is skipped with a warning (see skipped()).
 	 *  Throws std::runtime_error naming the file and entry on corrupt or
 	 *  truncated data, and naming the folder when the external images folder
-	 *  is missing altogether. */
+	 *  is missing altogether; std::logic_error when MRPT's images folder is not
+	 *  this rawlog's. */
 	std::optional<RgbdFrame> next();
 
 	/** Frames left out so far, one message each (index, file, reason). */
@@ -66,6 +68,11 @@ class RawlogFrameReader : public mrpt::system::COutputLogger
 	std::size_t m_entries = 0, m_frames = 0;
 	std::vector<std::string> m_skipped;
 };
+
+/** The folder of a rawlog's external images: `<name>_Images`, `_images`,
+ *  `_IMAGES` or `Images` beside it, the names MRPT's
+ *  CRawlog::detectImagesDirectory tries (`<name>_Images` when none exists). */
+std::filesystem::path imagesDirectoryOf(const std::filesystem::path& rawlog);
 
 /** Number of RGB-D frames in a rawlog (reads it through, images not loaded). */
 std::size_t countFrames(const std::filesystem::path& rawlog);

@@ -16,7 +16,7 @@ namespace avm::maps
 {
 struct MapBenchmarkOptions
 {
-	std::filesystem::path rawlog;
+	std::filesystem::path rawlog;  //!< its images folder set by the program (io::useImagesFolderOf)
 	std::size_t maxFrames = 0;	//!< 0 = all frames with ground truth
 	double maxRange = 5.0;	//!< [m] for every map
 	double regionLow = 0.20, regionHigh = 0.05;	 //!< [m] region-policy resolutions

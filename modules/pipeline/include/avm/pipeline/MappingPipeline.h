@@ -155,6 +155,8 @@ class MappingPipeline : public mrpt::system::COutputLogger
 	 *  needed; checked for writing first). `stop` is polled once per frame:
 	 *  when set, the run ends early and saves what was mapped. Throws on bad
 	 *  input (missing or corrupt rawlog, no usable frame), leaving no outputs.
+	 *  External images are read from MRPT's process-wide images folder, which
+	 *  the program points at the rawlog's first (io::useImagesFolderOf).
 	 *  progress(fractionOfFile, framesDone) is called after every frame. */
 	RunSummary run(
 		const std::filesystem::path& rawlog, const std::filesystem::path& outDir,
