@@ -2,6 +2,7 @@
 // The work happens in avm::pipeline::MappingPipeline; this is the shell.
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/io/vector_loadsave.h>
 #include <mrpt/system/progress.h>
 #include <opencv2/core/utility.hpp>
 #include <unistd.h>
@@ -28,11 +29,8 @@ std::atomic<bool> stopRequested{false};
 extern "C" void onSignal(int) { stopRequested = true; }
 std::string readIni(const std::string& file)
 {
-	std::ifstream in(file);
-	if (!in) throw std::runtime_error(file + ": ini file not found");
-	std::stringstream text;
-	text << in.rdbuf();
-	return text.str();
+	if (!std::filesystem::is_regular_file(file)) throw std::runtime_error(file + ": ini file not found");
+	return mrpt::io::file_get_contents(file);
 }
 
 /** One --set SECTION:KEY=VALUE. */

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <gtest/gtest.h>
+#include <mrpt/io/vector_loadsave.h>
 #include <sys/wait.h>
 
 #include <cstdlib>
@@ -66,10 +67,8 @@ inline CommandResult runCommand(const std::string& command, const std::filesyste
 {
 	const auto log = scratch / "command-output.log";
 	const int status = std::system((command + " > '" + log.string() + "' 2>&1").c_str());
-	std::ifstream in(log);
-	std::stringstream text;
-	text << in.rdbuf();
+	const std::string text = mrpt::io::file_get_contents(log.string());
 	std::filesystem::remove(log);
-	return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, text.str()};
+	return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, text};
 }
 }  // namespace avm::test

@@ -40,12 +40,7 @@ inline AppRun runAvmDetect(const std::string& args, const std::filesystem::path&
 	const auto out = dir / "stdout.txt", err = dir / "stderr.txt";
 	const std::string cmd = binary("avm-detect").string() + " " + args + " >" + out.string() + " 2>" + err.string();
 	const int status = std::system(cmd.c_str());
-	auto slurp = [](const std::filesystem::path& p) {
-		std::ifstream f(p);
-		std::stringstream s;
-		s << f.rdbuf();
-		return s.str();
-	};
-	return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
+	return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, mrpt::io::file_get_contents(out.string()),
+		mrpt::io::file_get_contents(err.string())};
 }
 }  // namespace avm::test

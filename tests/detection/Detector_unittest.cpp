@@ -147,8 +147,7 @@ TEST(DetectorErrors, TruncatedModelNamesTheFile)
 	const auto dir = test::scratchDir("det-truncated");
 	const auto cut = dir / "half.onnx";
 	{
-		std::ifstream in(test::sharedFile("models/yolox_nano.onnx"), std::ios::binary);
-		std::string bytes(std::istreambuf_iterator<char>(in), {});
+		const std::string bytes = mrpt::io::file_get_contents(test::sharedFile("models/yolox_nano.onnx").string());
 		std::ofstream(cut, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size() / 2));
 	}
 	expectLoadErrorNaming(cut, "ONNX");

@@ -78,8 +78,7 @@ TEST(RawlogLabels, TruncatedInputIsAnErrorAndLeavesNoOutput)
 	const auto dir = test::scratchDir("det-truncated-rawlog");
 	const auto cut = dir / "cut.rawlog";
 	{
-		std::ifstream in(test::bonnRawlog(), std::ios::binary);
-		std::string bytes(std::istreambuf_iterator<char>(in), {});
+		const std::string bytes = mrpt::io::file_get_contents(test::bonnRawlog().string());
 		std::ofstream(cut, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size() / 3));
 	}
 	const auto o = test::yoloxOptions();

@@ -62,8 +62,7 @@ TEST(RawlogFrameReader, TruncatedRawlogIsReportedNotTakenAsTheEnd)
 	const auto dir = test::scratchDir("truncated-rawlog");
 	const auto cut = dir / "cut.rawlog";
 	{
-		std::ifstream in(test::sharedFile("datasets/tests_rgbd.rawlog"), std::ios::binary);
-		std::string bytes((std::istreambuf_iterator<char>(in)), {});
+		const std::string bytes = mrpt::io::file_get_contents(test::sharedFile("datasets/tests_rgbd.rawlog").string());
 		std::ofstream(cut, std::ios::binary).write(bytes.data(), bytes.size() / 2);
 	}
 	io::RawlogFrameReader reader(cut);

@@ -33,11 +33,7 @@ mrpt::config::CConfigFileMemory defaultIni()
 	return ini;
 }
 
-std::string bytes(const fs::path& file)
-{
-	std::ifstream in(file, std::ios::binary);
-	return std::string(std::istreambuf_iterator<char>(in), {});
-}
+std::string bytes(const fs::path& file) { return mrpt::io::file_get_contents(file.string()); }
 
 const char* const kRunFiles[] = {"trajectory.txt", "detections.txt", "persons.csv", "map_low.bt", "map_high.bt"};
 

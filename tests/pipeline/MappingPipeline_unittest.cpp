@@ -286,14 +286,10 @@ TEST(PipelineReadAhead, SameFramesInTheSameOrderAsReadingInTheLoop)
 		return out;
 	};
 	const auto inLoop = runWith("0"), ahead = runWith("3");
-	const auto bytes = [](const fs::path& file) {
-		std::ifstream in(file, std::ios::binary);
-		return std::string(std::istreambuf_iterator<char>(in), {});
-	};
 	for (const char* name : {"trajectory.txt", "map_low.bt"})
 	{
-		EXPECT_GT(bytes(inLoop / name).size(), 1000u) << name;
-		EXPECT_EQ(bytes(inLoop / name), bytes(ahead / name)) << name;
+		EXPECT_GT(mrpt::io::file_get_contents((inLoop / name).string()).size(), 1000u) << name;
+		EXPECT_EQ(mrpt::io::file_get_contents((inLoop / name).string()), mrpt::io::file_get_contents((ahead / name).string())) << name;
 	}
 }
 
@@ -316,14 +312,10 @@ TEST(PipelineAsyncMapping, SameMapAsInsertingInTheLoop)
 		return out;
 	};
 	const auto inLoop = runWith("false"), async = runWith("true");
-	const auto bytes = [](const fs::path& file) {
-		std::ifstream in(file, std::ios::binary);
-		return std::string(std::istreambuf_iterator<char>(in), {});
-	};
 	for (const char* name : {"map_low.bt", "map_high.bt", "detections.txt", "trajectory.txt"})
 	{
-		EXPECT_GT(bytes(inLoop / name).size(), 100u) << name;
-		EXPECT_EQ(bytes(inLoop / name), bytes(async / name)) << name;
+		EXPECT_GT(mrpt::io::file_get_contents((inLoop / name).string()).size(), 100u) << name;
+		EXPECT_EQ(mrpt::io::file_get_contents((inLoop / name).string()), mrpt::io::file_get_contents((async / name).string())) << name;
 	}
 }
 
@@ -347,13 +339,9 @@ TEST(PipelineDeterminism, TheSameRawlogGivesTheSameRun)
 		return out;
 	};
 	const auto a = runOnce("a"), b = runOnce("b");
-	const auto bytes = [](const fs::path& file) {
-		std::ifstream in(file, std::ios::binary);
-		return std::string(std::istreambuf_iterator<char>(in), {});
-	};
 	for (const char* name : {"trajectory.txt", "detections.txt", "persons.csv", "map_low.bt", "map_high.bt"})
 	{
-		EXPECT_GT(bytes(a / name).size(), 100u) << name;
-		EXPECT_EQ(bytes(a / name), bytes(b / name)) << name;
+		EXPECT_GT(mrpt::io::file_get_contents((a / name).string()).size(), 100u) << name;
+		EXPECT_EQ(mrpt::io::file_get_contents((a / name).string()), mrpt::io::file_get_contents((b / name).string())) << name;
 	}
 }

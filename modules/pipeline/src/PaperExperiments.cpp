@@ -1,6 +1,7 @@
 #include "avm/pipeline/PaperExperiments.h"
 
 #include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/io/vector_loadsave.h>
 #include <mrpt/system/datetime.h>
 #include <unistd.h>
 
@@ -39,15 +40,6 @@ struct Outcome
 	double memoryKiB() const { return (low.memoryBytes + high.memoryBytes) / 1024.0; }
 };
 
-std::string readText(const fs::path& file)
-{
-	std::ifstream in(file);
-	if (!in) throw std::runtime_error(file.string() + ": cannot read");
-	std::stringstream s;
-	s << in.rdbuf();
-	return s.str();
-}
-
 std::string machineDescription()
 {
 	std::ifstream cpu("/proc/cpuinfo");
@@ -65,7 +57,7 @@ class Experiments
 {
    public:
 	Experiments(const PaperExperimentSettings& s, const fs::path& baseIni, mrpt::system::COutputLogger& log)
-		: m_settings(s), m_log(log), m_baseIni(readText(baseIni))
+		: m_settings(s), m_log(log), m_baseIni(mrpt::io::file_get_contents(baseIni.string()))
 	{
 	}
 
