@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <utility>
 
-#include "avm/pipeline/StageTimes.h"
+#include "ProcessUsage.h"
 
 namespace avm::pipeline::detail
 {

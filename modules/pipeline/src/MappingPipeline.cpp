@@ -12,6 +12,7 @@
 #include "Checkpoint.h"
 #include "FrameProcessor.h"
 #include "FrameSequence.h"
+#include "ProcessUsage.h"
 #include "RunOutputs.h"
 #include "avm/detection/Detector.h"
 #include "avm/evaluation/TrajectoryEvaluation.h"
@@ -22,7 +23,6 @@
 #include "avm/maps/CAdaptiveOctoMap.h"
 #include "avm/maps/ReferenceOctoMaps.h"
 #include "avm/odometry/VisualOdometry.h"
-#include "avm/pipeline/StageTimes.h"
 
 namespace avm::pipeline
 {
@@ -105,12 +105,6 @@ namespace
 constexpr const char* kPipelineSection = "pipeline";
 constexpr const char* kOdometrySection = "odometry";
 constexpr const char* kDetectionSection = "detection";
-
-StageReport reportOf(const io::TimingSamples& t)
-{
-	const auto s = t.summary();
-	return {s.meanMs, s.medianMs, s.p95Ms, s.count};
-}
 
 /** The adaptive map's sections: [<map>_adaptiveOctoMap_NN_creationOpts] etc. */
 void warnUnknownMapKeys(
@@ -276,11 +270,11 @@ RunSummary MappingPipeline::Impl::summarise(
 	}
 	summary.peakMemoryMb = peakMemoryMb();
 	const auto& stages = processor.stages();
-	summary.odometry = reportOf(stages.odometry);
-	summary.detection = reportOf(stages.detection);
-	summary.detectionWait = reportOf(stages.detectionWait);
-	summary.map = reportOf(stages.map);
-	summary.mapCpu = reportOf(stages.mapCpu);
+	summary.odometry = stages.odometry.summary();
+	summary.detection = stages.detection.summary();
+	summary.detectionWait = stages.detectionWait.summary();
+	summary.map = stages.map.summary();
+	summary.mapCpu = stages.mapCpu.summary();
 	summary.persons = maps->mapByClass<CAdaptiveOctoMap>()->personTracks().size();
 	if (options.poseSource == PoseSource::VisualOdometry && processor.groundTruth().size() >= 3)
 		summary.ateRmse = evaluation::evaluateTrajectory(trajectory, processor.groundTruth(), {}).ate.rmse;
@@ -434,7 +428,7 @@ RunSummary MappingPipeline::runFrames(
 
 		RunSummary summary = d.summarise(processor, frames, cost);
 		summary.interrupted = (stop && stop->load()) || viewClosed;
-		summary.checkpoint = reportOf(checkpoints.times());
+		summary.checkpoint = checkpoints.times().summary();
 		summary.resumedAfterFrame = resumedAfter;
 		if (reference) summary.reference = reference->compare(map);
 		logFmt(mrpt::system::LVL_INFO, "%zu frames in %.2f s (%.1f fps, real-time factor %.2f)%s\n", summary.frames,

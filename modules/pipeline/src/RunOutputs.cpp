@@ -156,7 +156,7 @@ void writeRegionsAndPersons(JsonWriter& json, const CAdaptiveOctoMap& map)
 	json.endArray();
 }
 
-void writeReference(JsonWriter& json, const TReferenceComparison& c, const StageReport& mapCpu)
+void writeReference(JsonWriter& json, const TReferenceComparison& c, const io::TimingSummary& mapCpu)
 {
 	const auto tree = [&](const char* name, const TReferenceComparison::Tree& t) {
 		json.beginObject(name)

@@ -21,6 +21,7 @@
 #include <optional>
 #include <string>
 
+#include "avm/io/TimingSummary.h"
 #include "avm/maps/ReferenceOctoMaps.h"
 #include "avm/viewer/TViewerOptions.h"
 
@@ -76,12 +77,6 @@ struct TPipelineOptions : public mrpt::config::CLoadableOptions
 	void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
 };
 
-struct StageReport
-{
-	double meanMs = 0, medianMs = 0, p95Ms = 0;
-	std::size_t count = 0;
-};
-
 struct RunSummary
 {
 	std::size_t frames = 0;          //!< frames mapped
@@ -100,14 +95,14 @@ struct RunSummary
 	std::optional<double> stolenCpuShare;
 	/** detection: the detector's own time; detectionWait: how long the loop
 	 *  waited for a detection that was due. */
-	StageReport odometry, detection, detectionWait, map;
+	io::TimingSummary odometry, detection, detectionWait, map;
 	/** CPU time of the map stage (insertion and region updates), on the
 	 *  threads that did it: the work, whatever else ran on the cores. */
-	StageReport mapCpu;
+	io::TimingSummary mapCpu;
 	/** With reference_maps: the adaptive map against single-resolution maps. */
 	std::optional<TReferenceComparison> reference;
 	/** Writing the checkpoints (count, mean ...): their cost. */
-	StageReport checkpoint;
+	io::TimingSummary checkpoint;
 	/** A resumed run: the last frame its checkpoint had processed. */
 	std::optional<std::size_t> resumedAfterFrame;
 };

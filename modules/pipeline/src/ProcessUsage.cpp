@@ -1,4 +1,4 @@
-#include "avm/pipeline/StageTimes.h"
+#include "ProcessUsage.h"
 
 #include <sys/resource.h>
 

@@ -1,6 +1,6 @@
-// What a run measures about itself besides its stages' durations
-// (io::TimingSamples): the process's peak memory and CPU time, and how much
-// of the machine a hypervisor took meanwhile.
+// What the process used, besides its stages' durations (io::TimingSamples):
+// its peak memory and CPU time, and how much of the machine a hypervisor took
+// meanwhile.
 #pragma once
 
 #include <optional>
