@@ -272,9 +272,9 @@ void reproducePaper(const PaperExperimentSettings& s, mrpt::system::COutputLogge
 		   << " | 1.00 | " << fmt("%.1f", ref.high.binaryBytes / 1024.0) << " | 1.00 | " << ref.high.occupiedLeaves
 		   << " | | | | " << fmt("%.1f", ref.high.meanInsertMs) << " | | | |\n";
 		md << "| " << toString(r.poses) << " | single 0.20 m OctoMap | " << fmt("%.1f", ref.low.memoryBytes / 1024.0)
-		   << " | " << fmt("%.2f", double(ref.low.memoryBytes) / double(ref.high.memoryBytes)) << " | "
-		   << fmt("%.1f", ref.low.binaryBytes / 1024.0) << " | "
-		   << fmt("%.2f", double(ref.low.binaryBytes) / double(ref.high.binaryBytes)) << " | " << ref.low.occupiedLeaves
+		   << " | " << fmt("%.2f", ref.memoryShare(ref.low.memoryBytes)) << " | "
+		   << fmt("%.1f", ref.low.binaryBytes / 1024.0) << " | " << fmt("%.2f", ref.binaryShare(ref.low.binaryBytes))
+		   << " | " << ref.low.occupiedLeaves
 		   << " | | | | " << fmt("%.1f", ref.low.meanInsertMs) << " | | | |\n";
 		for (const auto& row : r.regions)
 		{
@@ -282,9 +282,9 @@ void reproducePaper(const PaperExperimentSettings& s, mrpt::system::COutputLogge
 			const auto& o = row.outcome;
 			md << "| " << toString(r.poses) << " | avm, " << row.label << " | "
 			   << fmt("%.1f", c.adaptiveMemoryBytes / 1024.0) << " | "
-			   << fmt("%.2f", double(c.adaptiveMemoryBytes) / double(c.high.memoryBytes)) << " | "
+			   << fmt("%.2f", c.memoryShare(c.adaptiveMemoryBytes)) << " | "
 			   << fmt("%.1f", c.adaptiveBinaryBytes / 1024.0) << " | "
-			   << fmt("%.2f", double(c.adaptiveBinaryBytes) / double(c.high.binaryBytes)) << " | " << o.occupied()
+			   << fmt("%.2f", c.binaryShare(c.adaptiveBinaryBytes)) << " | " << o.occupied()
 			   << " | ";
 			if (o.regionsAtEnd > 0)
 				md << fmt("%.2f", c.insideIoU) << " (" << c.insideAdaptive << " / " << c.insideReference << ") | "
@@ -293,7 +293,7 @@ void reproducePaper(const PaperExperimentSettings& s, mrpt::system::COutputLogge
 				md << "— | — | ";
 			md
 			   << fmt("%.2f", o.summary.mapCpu.meanMs) << " | " << fmt("%.1f", c.high.meanInsertMs) << " | "
-			   << fmt("%.1fx", c.high.meanInsertMs / std::max(o.summary.mapCpu.meanMs, 1e-9)) << " | "
+			   << fmt("%.1fx", c.speedup(o.summary.mapCpu.meanMs)) << " | "
 			   << o.summary.persons << " | " << o.regionsAtEnd << " |\n";
 		}
 	}
@@ -332,13 +332,12 @@ void reproducePaper(const PaperExperimentSettings& s, mrpt::system::COutputLogge
 		const auto verdict = [](bool met, const std::string& value) {
 			return (met ? "met (" : "**not met** (") + value + ")";
 		};
-		const double memory = double(c.adaptiveMemoryBytes) / double(c.high.memoryBytes);
-		const double bt = double(c.adaptiveBinaryBytes) / double(c.high.binaryBytes);
+		const double memory = c.memoryShare(c.adaptiveMemoryBytes), bt = c.binaryShare(c.adaptiveBinaryBytes);
 		md << "| " << toString(r.poses) << " | " << verdict(memory <= 0.25, fmt("%.2f", memory)) << " | "
 		   << verdict(bt <= 0.25, fmt("%.2f", bt)) << " | " << verdict(c.insideIoU >= 0.9, fmt("%.2f", c.insideIoU))
 		   << " | " << verdict(c.outsideIoU >= 0.9, fmt("%.2f", c.outsideIoU)) << " | "
 		   << verdict(ms <= 5.0, fmt("%.2f ms", ms)) << " | "
-		   << verdict(c.high.meanInsertMs >= 4 * ms, fmt("%.1fx", c.high.meanInsertMs / std::max(ms, 1e-9))) << " |\n";
+		   << verdict(c.speedup(ms) >= 4, fmt("%.1fx", c.speedup(ms))) << " |\n";
 	}
 	md << "\nWhy the misses: the people of this sequence stand 1-3 m from the camera, so their regions are a large "
 		  "share of all the space the camera sees, and each region holds all of its space, free and occupied, at 0.05 m. "

@@ -172,15 +172,15 @@ void writeReference(JsonWriter& json, const TReferenceComparison& c, const io::T
 	tree("single_low", c.low);
 	json.value("adaptive_memory_bytes", c.adaptiveMemoryBytes)
 		.value("adaptive_bt_bytes", c.adaptiveBinaryBytes)
-		.value("memory_share_of_single_high", double(c.adaptiveMemoryBytes) / double(c.high.memoryBytes))
-		.value("bt_share_of_single_high", double(c.adaptiveBinaryBytes) / double(c.high.binaryBytes))
+		.value("memory_share_of_single_high", c.memoryShare(c.adaptiveMemoryBytes))
+		.value("bt_share_of_single_high", c.binaryShare(c.adaptiveBinaryBytes))
 		.value("inside_regions_occupied_adaptive", c.insideAdaptive)
 		.value("inside_regions_occupied_single_high", c.insideReference)
 		.value("inside_regions_iou", c.insideIoU)
 		.value("outside_regions_occupied_adaptive", c.outsideAdaptive)
 		.value("outside_regions_occupied_single_low", c.outsideReference)
 		.value("outside_regions_iou", c.outsideIoU)
-		.value("map_cpu_speedup_vs_single_high", c.high.meanInsertMs / std::max(mapCpu.meanMs, 1e-9))
+		.value("map_cpu_speedup_vs_single_high", c.speedup(mapCpu.meanMs))
 		.endObject();
 }
 
