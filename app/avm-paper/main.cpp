@@ -5,7 +5,7 @@
 #include <iostream>
 
 #include "avm/io/ProgramMain.h"
-#include "avm/pipeline/PaperExperiments.h"
+#include "PaperExperiments.h"
 
 int main(int argc, char** argv)
 {
@@ -21,7 +21,7 @@ int main(int argc, char** argv)
 		TCLAP::SwitchArg argNoVo("", "no-odometry", "ground-truth poses only", cmd);
 		cmd.parse(argc, argv);
 
-		avm::pipeline::PaperExperimentSettings s;
+		avm::apps::paper::PaperExperimentSettings s;
 		s.rawlog = argRawlog.getValue();
 		s.baseIni = argIni.getValue();
 		s.regionIni = std::string(AVM_PROJECT_ROOT) + "/ini/default.ini";
@@ -37,7 +37,7 @@ int main(int argc, char** argv)
 		mrpt::system::COutputLogger log("avm-paper");
 		log.setMinLoggingLevel(mrpt::system::LVL_INFO);
 		// Every run starts from the base ini: an option error is one of its keys.
-		avm::io::namingIniFile(s.baseIni.string(), [&] { avm::pipeline::reproducePaper(s, log); });
+		avm::io::namingIniFile(s.baseIni.string(), [&] { avm::apps::paper::reproducePaper(s, log); });
 		std::cout << "results: " << s.results.string() << "\n";
 		return 0;
 	});

@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-namespace avm::pipeline
+namespace avm::apps::paper
 {
 struct PaperExperimentSettings
 {
@@ -36,4 +36,4 @@ struct PaperExperimentSettings
 
 /** Runs every experiment and writes the results. Throws on any failed run. */
 void reproducePaper(const PaperExperimentSettings& settings, mrpt::system::COutputLogger& log);
-}  // namespace avm::pipeline
+}  // namespace avm::apps::paper

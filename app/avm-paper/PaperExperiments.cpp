@@ -1,4 +1,4 @@
-#include "avm/pipeline/PaperExperiments.h"
+#include "PaperExperiments.h"
 
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/io/vector_loadsave.h>
@@ -15,9 +15,12 @@
 #include "avm/maps/CAdaptiveOctoMap.h"
 #include "avm/pipeline/MappingPipeline.h"
 
-namespace avm::pipeline
+namespace avm::apps::paper
 {
 namespace fs = std::filesystem;
+using pipeline::MappingPipeline;
+using pipeline::PoseSource;
+using pipeline::RunSummary;
 
 namespace
 {
@@ -34,6 +37,7 @@ struct Outcome
 	RunSummary summary;
 	CAdaptiveOctoMap::TTreeStats low, high;
 	std::size_t regionsAtEnd = 0;
+	std::vector<persons::PersonTrack> tracks;  //!< persons.csv's lines
 	fs::path dir;
 	std::size_t occupied() const { return low.occupiedLeaves + high.occupiedLeaves; }
 	double btKiB() const { return (low.binaryBytes + high.binaryBytes) / 1024.0; }
@@ -77,6 +81,7 @@ class Experiments
 		out.low = pipeline.map().lowResolutionStats();
 		out.high = pipeline.map().highResolutionStats();
 		out.regionsAtEnd = pipeline.map().highResolutionRegions().size();
+		out.tracks = pipeline.map().personTracks();
 		m_log.logFmt(mrpt::system::LVL_INFO, "%-28s %-2s: %zu frames, occupied low %zu high %zu, %.2f KiB .bt\n",
 			name.c_str(), toString(poses).c_str(), out.summary.frames, out.low.occupiedLeaves,
 			out.high.occupiedLeaves, out.btKiB());
@@ -297,26 +302,14 @@ void reproducePaper(const PaperExperimentSettings& s, mrpt::system::COutputLogge
 			   << o.summary.persons << " | " << o.regionsAtEnd << " |\n";
 		}
 	}
-	// The persons of the default run, from its persons.csv.
 	md << "\n### The persons of the default run (ground-truth poses)\n\n"
 	   << "`persons.csv` of the follow run above: one line per person track.\n\n"
 	   << "| id | first frame | last frame | frames spanned | detections | last position x, y, z [m] |\n"
 	   << "|---:|---:|---:|---:|---:|---|\n";
-	{
-		std::ifstream csv(results.front().regions.front().outcome.dir / "persons.csv");
-		std::string line;
-		std::getline(csv, line);  // header
-		while (std::getline(csv, line))
-		{
-			std::vector<std::string> f;
-			std::stringstream ss(line);
-			for (std::string cell; std::getline(ss, cell, ',');) f.push_back(cell);
-			if (f.size() < 15) continue;
-			md << "| " << f[0] << " | " << f[1] << " | " << f[2] << " | "
-			   << std::stoul(f[2]) - std::stoul(f[1]) + 1 << " | " << f[14] << " | " << f[5] << ", " << f[6] << ", "
-			   << f[7] << " |\n";
-		}
-	}
+	for (const auto& t : results.front().regions.front().outcome.tracks)
+		md << "| " << t.id << " | " << t.firstFrame << " | " << t.lastFrame << " | " << t.lastFrame - t.firstFrame + 1
+		   << " | " << t.sightings << " | " << fmt("%.3f", t.position.x) << ", " << fmt("%.3f", t.position.y) << ", "
+		   << fmt("%.3f", t.position.z) << " |\n";
 	md << "\nIoU cells give (adaptive / single-resolution) occupied voxels. The paper policy row maps everything "
 		  "after the first person in the high tree (Algorithm 1): no regions, so no inside/outside split.\n";
 
@@ -406,4 +399,4 @@ void reproducePaper(const PaperExperimentSettings& s, mrpt::system::COutputLogge
 		if (!out.flush()) throw std::runtime_error(s.results.string() + ": write failed");
 	});
 }
-}  // namespace avm::pipeline
+}  // namespace avm::apps::paper
