@@ -2,6 +2,7 @@
 // front of a wall, seen through a detector-like box that also shows the wall.
 #include <gtest/gtest.h>
 
+#include "avm/persons/PersonLabels.h"
 #include "avm/persons/PersonSighting.h"
 
 using namespace avm::persons;
@@ -99,4 +100,35 @@ TEST(PersonSighting, LabelBlobsAreOnePersonEachOrOneLabelOnePerson)
 	for (const auto& p : persons) sizes += p.size();
 	EXPECT_EQ(sizes, 2u * 40u * 100u + 119u * 100u);
 	EXPECT_TRUE(personPixelsFromLabels(obs, "dog", 100).empty());
+}
+
+// Labels are judged as a detector's box is: pixels without depth count
+// against min_person_depth_fraction, whatever names the person.
+TEST(PersonSighting, ALabelMostlyWithoutDepthGivesNoSighting)
+{
+	auto obs = personBeforeAWall();
+	auto labels = std::make_shared<mrpt::obs::TPixelLabelInfo<1>>();
+	labels->setSize(kRows, kCols);
+	labels->setLabelName(0, "person");
+	labels->setLabelName(1, "person/1");
+	// The person under a label of its own, a blob of wall under the plain
+	// label; only every tenth column of either has depth.
+	for (int v = 100; v < 400; v++)
+	{
+		for (int u = 260; u < 380; u++) labels->setLabel(v, u, 1);
+		for (int u = 20; u < 140; u++) labels->setLabel(v, u, 0);
+		for (int u = 0; u < kCols; u++)
+			if (u % 10 != 0) obs.rangeImage(v, u) = 0;
+	}
+	obs.pixelLabels = labels;
+	const SightingOptions options;
+	const auto persons = personPixelsFromLabels(obs, "person", options.minPixels);
+	EXPECT_EQ(persons.size(), 2u) << "one blob under the plain label, one person under its own";
+	for (const auto& pixels : persons)
+	{
+		EXPECT_EQ(pixels.size(), 120u * 300u);
+		const auto est = estimateSighting(obs, {}, pixels, options);
+		EXPECT_FALSE(est.sighting);
+		EXPECT_NE(est.skipReason.find("min_person_depth_fraction"), std::string::npos) << est.skipReason;
+	}
 }

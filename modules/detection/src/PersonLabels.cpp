@@ -13,28 +13,11 @@ namespace
 {
 using mrpt::obs::TPixelLabelInfoBase;
 
-bool isPersonLabel(const std::string& name)
-{
-	const std::string plain = kPersonLabel;
-	return name == plain || name.rfind(plain + "/", 0) == 0;
-}
-
-template <unsigned BYTES>
-bool labelMatrixSize(const TPixelLabelInfoBase& labels, cv::Size& size)
-{
-	const auto* typed = dynamic_cast<const mrpt::obs::TPixelLabelInfo<BYTES>*>(&labels);
-	if (typed) size = cv::Size(static_cast<int>(typed->pixelLabels.cols()), static_cast<int>(typed->pixelLabels.rows()));
-	return typed != nullptr;
-}
-
-/** Rows and columns of the label matrix (MRPT's base class does not tell). */
+/** Rows and columns of the label matrix. */
 cv::Size labelMatrixSize(const TPixelLabelInfoBase& labels)
 {
-	cv::Size size;
-	if (labelMatrixSize<1>(labels, size) || labelMatrixSize<2>(labels, size) || labelMatrixSize<4>(labels, size) ||
-		labelMatrixSize<8>(labels, size))
-		return size;
-	throw std::runtime_error("pixelLabels: unknown label type of " + std::to_string(labels.BITFIELD_BYTES) + " bytes");
+	const auto size = persons::labelImageSize(labels);
+	return {size.cols, size.rows};
 }
 
 /** Removes every person label (names and bits); returns the free bits. */
@@ -45,7 +28,7 @@ std::vector<uint8_t> clearPersonLabels(TPixelLabelInfoBase& labels, cv::Size siz
 	for (unsigned i = 0; i < bits; ++i)
 	{
 		const auto it = labels.pixelLabelNames.find(i);
-		if (it != labels.pixelLabelNames.end() && !isPersonLabel(it->second)) continue;
+		if (it != labels.pixelLabelNames.end() && !persons::isPersonLabel(it->second)) continue;
 		if (it != labels.pixelLabelNames.end())
 		{
 			for (int r = 0; r < size.height; ++r)
@@ -86,7 +69,7 @@ void writePersonLabels(mrpt::obs::CObservation3DRangeScan& obs, const std::vecto
 								 " label bits are in use, no room for \"person\"");
 	// The plain label first; each person then takes a bit of its own while
 	// there are bits, and the plain label holds the rest.
-	labels.setLabelName(free.front(), kPersonLabel);
+	labels.setLabelName(free.front(), persons::kPersonLabel);
 	std::size_t next = 1;
 	for (const auto& person : personsOnly(detections))
 	{
@@ -94,7 +77,7 @@ void writePersonLabels(mrpt::obs::CObservation3DRangeScan& obs, const std::vecto
 		if (next < free.size())
 		{
 			bit = free[next];
-			labels.setLabelName(bit, std::string(kPersonLabel) + "/" + std::to_string(next));
+			labels.setLabelName(bit, std::string(persons::kPersonLabel) + "/" + std::to_string(next));
 			++next;
 		}
 		for (const auto i : personPixels(person, depthSize))
@@ -104,17 +87,13 @@ void writePersonLabels(mrpt::obs::CObservation3DRangeScan& obs, const std::vecto
 
 cv::Mat personLabelMask(const mrpt::obs::CObservation3DRangeScan& obs)
 {
-	if (!obs.pixelLabels) return {};
-	std::vector<uint8_t> bits;
-	for (const auto& [index, name] : obs.pixelLabels->pixelLabelNames)
-		if (isPersonLabel(name)) bits.push_back(static_cast<uint8_t>(index));
-	if (bits.empty()) return {};
+	const auto labels = persons::readPersonLabels(obs);
+	if (labels.empty()) return {};
 	const cv::Size size = labelMatrixSize(*obs.pixelLabels);
 	cv::Mat mask(size, CV_8U, cv::Scalar(0));
-	for (int r = 0; r < size.height; ++r)
-		for (int c = 0; c < size.width; ++c)
-			for (const auto bit : bits)
-				if (obs.pixelLabels->checkLabel(r, c, bit)) mask.at<uint8_t>(r, c) = 255;
+	for (const auto& l : labels)
+		for (const auto i : l.pixels)
+			mask.at<uint8_t>(static_cast<int>(i) / size.width, static_cast<int>(i) % size.width) = 255;
 	return mask;
 }
 }  // namespace avm::detection

@@ -1,7 +1,5 @@
 #include "avm/persons/PersonSighting.h"
 
-#include <mrpt/obs/TPixelLabelInfo.h>
-
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -144,76 +142,5 @@ PixelSet pixelsOfBox(int u0, int v0, int u1, int v1, int cols, int rows)
 	for (int v = v0; v < v1; ++v)
 		for (int u = u0; u < u1; ++u) out.push_back(static_cast<std::uint32_t>(v * cols + u));
 	return out;
-}
-
-namespace
-{
-/** Rows x cols of the label matrix, whatever its bit width. */
-std::pair<int, int> labelImageSize(const mrpt::obs::TPixelLabelInfoBase& labels)
-{
-	using namespace mrpt::obs;
-	if (auto* l = dynamic_cast<const TPixelLabelInfo<1>*>(&labels)) return {l->pixelLabels.rows(), l->pixelLabels.cols()};
-	if (auto* l = dynamic_cast<const TPixelLabelInfo<2>*>(&labels)) return {l->pixelLabels.rows(), l->pixelLabels.cols()};
-	if (auto* l = dynamic_cast<const TPixelLabelInfo<4>*>(&labels)) return {l->pixelLabels.rows(), l->pixelLabels.cols()};
-	if (auto* l = dynamic_cast<const TPixelLabelInfo<8>*>(&labels)) return {l->pixelLabels.rows(), l->pixelLabels.cols()};
-	return {0, 0};
-}
-}  // namespace
-
-std::vector<PixelSet> personPixelsFromLabels(
-	const mrpt::obs::CObservation3DRangeScan& obs, const std::string& label, std::size_t minPixels)
-{
-	std::vector<PixelSet> persons;
-	if (!obs.hasPixelLabels() || !obs.hasRangeImage) return persons;
-	const auto& labels = *obs.pixelLabels;
-	const int rows = static_cast<int>(obs.rangeImage.rows()), cols = static_cast<int>(obs.rangeImage.cols());
-	if (labelImageSize(labels) != std::make_pair(rows, cols)) return persons;
-
-	std::vector<std::uint8_t> seen(static_cast<std::size_t>(rows) * cols);
-	PixelSet stack;
-	for (const auto& [labelIndex, name] : labels.pixelLabelNames)
-	{
-		const bool onePerson = name.rfind(label + "/", 0) == 0;
-		if (name != label && !onePerson) continue;
-		const auto bit = static_cast<uint8_t>(labelIndex);
-		auto usable = [&](int r, int c) { return obs.rangeImage(r, c) != 0 && labels.checkLabel(r, c, bit); };
-		if (onePerson)
-		{
-			PixelSet all;
-			for (int r = 0; r < rows; r++)
-				for (int c = 0; c < cols; c++)
-					if (usable(r, c)) all.push_back(static_cast<std::uint32_t>(r * cols + c));
-			if (all.size() >= minPixels) persons.push_back(std::move(all));
-			continue;
-		}
-		std::fill(seen.begin(), seen.end(), 0);
-		for (int r0 = 0; r0 < rows; r0++)
-			for (int c0 = 0; c0 < cols; c0++)
-			{
-				const auto start = static_cast<std::uint32_t>(r0 * cols + c0);
-				if (seen[start] || !usable(r0, c0)) continue;
-				PixelSet blob;
-				stack.assign(1, start);
-				seen[start] = 1;
-				while (!stack.empty())
-				{
-					const auto i = stack.back();
-					stack.pop_back();
-					blob.push_back(i);
-					const int r = static_cast<int>(i / cols), c = static_cast<int>(i % cols);
-					const int nb[4][2] = {{r - 1, c}, {r + 1, c}, {r, c - 1}, {r, c + 1}};
-					for (const auto& [nr, nc] : nb)
-					{
-						if (nr < 0 || nc < 0 || nr >= rows || nc >= cols) continue;
-						const auto j = static_cast<std::uint32_t>(nr * cols + nc);
-						if (seen[j] || !usable(nr, nc)) continue;
-						seen[j] = 1;
-						stack.push_back(j);
-					}
-				}
-				if (blob.size() >= minPixels) persons.push_back(std::move(blob));
-			}
-	}
-	return persons;
 }
 }  // namespace avm::persons

@@ -8,8 +8,7 @@
 // same estimator avm-map uses on detector boxes. A label named plain "person"
 // is always written (empty unless a frame has more persons than free label
 // bits, then it holds the rest), so "ran, found nobody" is told apart from
-// "not labelled"; a labeller of another kind may put any number of people
-// under "person", and the map then takes each blob of it as one person.
+// "not labelled". The labels are read back by avm/persons/PersonLabels.h.
 #pragma once
 
 #include <mrpt/obs/CObservation3DRangeScan.h>
@@ -19,13 +18,10 @@
 #include <vector>
 
 #include "avm/detection/Detection.h"
-#include "avm/persons/PersonSighting.h"
+#include "avm/persons/PersonLabels.h"
 
 namespace avm::detection
 {
-/** The label name the map looks for (insertOpts person_label). */
-inline constexpr const char* kPersonLabel = "person";
-
 /** The pixels of a detection's box (whole pixels covering it, clipped). */
 persons::PixelSet personPixels(const Detection& person, cv::Size image);
 

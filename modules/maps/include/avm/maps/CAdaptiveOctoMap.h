@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "avm/persons/PersonLabels.h"
 #include "avm/persons/PersonSighting.h"
 #include "avm/persons/PersonTracker.h"
 
@@ -187,7 +188,7 @@ class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
 		 *  no sighting of its person. */
 		double regionEndAfterSeconds = 1.5;
 		/** Label name of the pixels that are persons (labelled rawlogs). */
-		std::string personLabel = "person";
+		std::string personLabel = persons::kPersonLabel;
 		persons::SightingOptions sighting;
 		persons::TrackerOptions tracking;
 		/** paper policy: switch at this insertion index (-1 = off). */

@@ -64,13 +64,4 @@ SightingEstimate estimateSighting(
 /** The pixels of an axis-aligned pixel box [u0, u1) x [v0, v1), clipped to
  *  the image: a detector's box. */
 PixelSet pixelsOfBox(int u0, int v0, int u1, int v1, int cols, int rows);
-
-/** The persons that `obs`'s pixel labels show, each as its labelled pixels
- *  with depth (at least `minPixels` of them): a label named `label + "/" + k`
- *  (avm-detect writes "person/1", "person/2", ...) is one person, whatever
- *  its shape, so touching people stay apart; a label named `label` may hold
- *  any number of people (a segmentation's class), and each 4-connected blob
- *  of it is one person. */
-std::vector<PixelSet> personPixelsFromLabels(
-	const mrpt::obs::CObservation3DRangeScan& obs, const std::string& label, std::size_t minPixels);
 }  // namespace avm::persons
