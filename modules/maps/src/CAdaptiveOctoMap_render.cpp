@@ -8,8 +8,10 @@
 
 #include "ResolutionPolicy.h"
 #include "avm/maps/CAdaptiveOctoMap.h"
+#include "avm/maps/MapColours.h"
 
 using namespace avm;
+using namespace avm::maps;
 
 namespace
 {
@@ -22,9 +24,6 @@ enum VoxelSet : std::size_t
 	HighFree,
 	VoxelSetCount
 };
-const mrpt::img::TColor kLowColour(70, 110, 200), kHighColour(235, 90, 30);
-const mrpt::img::TColor kLowFreeColour(150, 170, 220, 40), kHighFreeColour(250, 190, 150, 40);
-const mrpt::img::TColor kRegionColour(40, 200, 60);
 }  // namespace
 
 void CAdaptiveOctoMap::getVisualizationInto(mrpt::opengl::CSetOfObjects& outObj) const

@@ -21,6 +21,7 @@
 
 #include "ScreenGrab.h"
 #include "avm/io/RgbdFrame.h"
+#include "avm/maps/MapColours.h"
 
 namespace avm::viewer
 {
@@ -28,11 +29,14 @@ namespace
 {
 using Clock = std::chrono::steady_clock;
 
-// The colours of map.3Dscene (modules/maps/src/CAdaptiveOctoMap_render.cpp)
-// and, for the trajectory and persons, of map_top.png (MapPictures.cpp).
-const mrpt::img::TColor kLowColour(70, 110, 200), kHighColour(235, 90, 30);
-const mrpt::img::TColor kLowFreeColour(150, 170, 220, 40), kHighFreeColour(250, 190, 150, 40);
-const mrpt::img::TColor kRegionColour(40, 200, 60), kTrajectoryColour(40, 160, 40), kPersonColour(160, 0, 160);
+// The trees and regions as in map.3Dscene (avm/maps/MapColours.h); the
+// trajectory and persons as in map_top.png (MapPictures.cpp).
+using maps::kHighColour;
+using maps::kHighFreeColour;
+using maps::kLowColour;
+using maps::kLowFreeColour;
+using maps::kRegionColour;
+const mrpt::img::TColor kTrajectoryColour(40, 160, 40), kPersonColour(160, 0, 160);
 const mrpt::img::TColor kCameraColour(20, 20, 20), kGridColour(190, 190, 190);
 const mrpt::img::TColorf kBackground(0.97f, 0.97f, 0.97f);
 const mrpt::img::TColor kFeatureColour(0, 200, 0), kMaskedFeatureColour(255, 0, 0);
