@@ -1,7 +1,5 @@
 #include "avm/detection/RawlogDetection.h"
 
-#include <mrpt/img/CImage.h>
-#include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/obs/CSensoryFrame.h>
@@ -15,6 +13,7 @@
 
 #include "avm/detection/PersonLabels.h"
 #include "avm/io/AtomicFile.h"
+#include "avm/io/RawlogEntryReader.h"
 #include "avm/io/RawlogFrameReader.h"
 #include "avm/io/RgbdFrame.h"
 
@@ -44,29 +43,8 @@ bool linkImagesFolder(const fs::path& target, const fs::path& link)
  *  missing, corrupt or truncated rawlog. */
 void forEachEntry(const fs::path& rawlog, const std::function<void(mrpt::serialization::CSerializable&)>& fn)
 {
-	mrpt::io::CFileGZInputStream file;
-	if (!file.open(rawlog.string())) throw std::runtime_error(rawlog.string() + ": cannot open rawlog");
-	auto reader = mrpt::serialization::archiveFrom(file);
-	for (std::size_t entry = 0;; ++entry)
-	{
-		// A read that fails having consumed nothing is the end of the file;
-		// one that fails part way is a damaged file.
-		const auto before = file.getPosition();
-		mrpt::serialization::CSerializable::Ptr obj;
-		try
-		{
-			obj = reader.ReadObject();
-		}
-		catch (const std::exception& e)
-		{
-			if (file.getPosition() == before && file.checkEOF()) return;
-			throw std::runtime_error(
-				rawlog.string() + ": corrupt or truncated rawlog at entry " + std::to_string(entry) + " (" +
-				std::string(e.what()).substr(0, 300) + ")");
-		}
-		if (!obj) throw std::runtime_error(rawlog.string() + ": empty object at entry " + std::to_string(entry));
-		fn(*obj);
-	}
+	io::RawlogEntryReader entries(rawlog);
+	while (const auto obj = entries.next()) fn(*obj);
 }
 
 /** The RGB-D observations of a rawlog entry (itself, or inside a sensory frame). */

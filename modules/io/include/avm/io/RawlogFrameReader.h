@@ -14,12 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "avm/io/RawlogEntryReader.h"
 #include "avm/io/RgbdFrame.h"
-
-namespace mrpt::serialization
-{
-class CArchive;
-}
 
 namespace avm::io
 {
@@ -51,7 +47,7 @@ class RawlogFrameReader : public mrpt::system::COutputLogger
 	const std::filesystem::path& path() const { return m_path; }
 	const std::filesystem::path& imagesDirectory() const { return m_imagesDir; }
 	/** Fraction of the file read so far, 0..1 (by compressed bytes). */
-	double progress() const;
+	double progress() const { return m_entries.progress(); }
 
    private:
 	/** Next observation of the stream, flattening sensory frames. */
@@ -60,12 +56,10 @@ class RawlogFrameReader : public mrpt::system::COutputLogger
 	bool readEntry();
 
 	std::filesystem::path m_path, m_imagesDir;
-	class PeekableFile;
-	std::unique_ptr<PeekableFile> m_file;
-	std::unique_ptr<mrpt::serialization::CArchive> m_archive;
+	RawlogEntryReader m_entries;
 	std::deque<mrpt::obs::CObservation::Ptr> m_pending;
 	bool m_loadImages = true;
-	std::size_t m_entries = 0, m_frames = 0;
+	std::size_t m_frames = 0;
 	std::vector<std::string> m_skipped;
 };
 
