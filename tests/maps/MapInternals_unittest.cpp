@@ -594,3 +594,38 @@ TEST(TreeOps, SetNodeValuesGivesOctomapsTreeKeyByKey)
 		}
 	}
 }
+
+// A surface the sketch remembers comes back into the high tree occupied, but
+// only just: a person who walked through left bits in the sketch, and the
+// first look through the voxel at high resolution must clear it, as it would
+// clear a voxel of a single fine map hit once.
+TEST(RegionSpace, ASketchedSurfaceEntersTheHighTreeJustOccupied)
+{
+	octomap::OcTree low(0.2), high(0.05);
+	SurfaceSketch sketch(4);
+	const auto lowOctKey = low.coordToKey(0.1, 0.1, 0.1);
+	for (int i = 0; i < 10; i++) low.updateNode(lowOctKey, true);  // seen often: clamped occupied
+	const auto surfaceKey = high.coordToKey(0.125, 0.025, 0.075);
+	sketch.markHighVoxel(packKey(surfaceKey));
+	refineIntoHighTree(low, high, packKey(lowOctKey), &sketch);
+
+	EXPECT_EQ(low.search(lowOctKey), nullptr) << "the low voxel left the low tree";
+	EXPECT_EQ(high.getNumLeafNodes(), 1u) << "only the sketched voxel is known";
+	const auto* node = high.search(surfaceKey);
+	ASSERT_NE(node, nullptr);
+	EXPECT_TRUE(high.isNodeOccupied(node));
+	high.updateNode(surfaceKey, false);
+	EXPECT_FALSE(high.isNodeOccupied(high.search(surfaceKey))) << "one miss frees it";
+}
+
+// Without a sketch the whole low voxel comes down with its own confidence.
+TEST(RegionSpace, AnOccupiedLowVoxelWithoutSketchKeepsItsConfidence)
+{
+	octomap::OcTree low(0.2), high(0.05);
+	const auto lowOctKey = low.coordToKey(0.1, 0.1, 0.1);
+	for (int i = 0; i < 10; i++) low.updateNode(lowOctKey, true);
+	refineIntoHighTree(low, high, packKey(lowOctKey), nullptr);
+	const auto* node = high.search(high.coordToKey(0.125, 0.025, 0.075));
+	ASSERT_NE(node, nullptr);
+	EXPECT_FLOAT_EQ(node->getLogOdds(), high.getClampingThresMaxLog());
+}

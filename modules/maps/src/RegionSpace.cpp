@@ -12,6 +12,9 @@ namespace avm::detail
 {
 namespace
 {
+/** [log-odds] above the occupancy threshold: occupied, as weakly as octomap can tell. */
+constexpr float kJustOccupied = 0.01f;
+
 KeyRange highKeysOf(const octomap::OcTreeKey& low, unsigned ratio)
 {
 	KeyRange r{};
@@ -50,7 +53,12 @@ void refineIntoHighTree(octomap::OcTree& low, octomap::OcTree& high, std::uint64
 	const auto* node = low.search(key);
 	if (!node) return;
 	const bool occupied = low.isNodeOccupied(node);
-	const float value = carried(node->getLogOdds(), occupied, high);
+	float value = carried(node->getLogOdds(), occupied, high);
+	// A sketch bit says a surface was there at some time, not how often, nor
+	// whether it has gone since (a person walking through leaves bits behind):
+	// the voxel comes back just occupied, so that the first ray through it at
+	// high resolution frees it, as it would in a single fine map.
+	if (occupied && surface != 0) value = std::min(value, high.getOccupancyThresLog() + kJustOccupied);
 	const auto range = highKeysOf(key, sketch ? sketch->ratio() : ratioOf(low, high));
 	unsigned bit = 0;
 	std::vector<octomap::OcTreeKey> unknown;

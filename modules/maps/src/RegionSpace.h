@@ -18,7 +18,9 @@ namespace avm::detail
  *  (clamped to the high tree's limits, occupied stays occupied) goes to the
  *  high voxels `high` does not know yet: to all of them when the low voxel is
  *  free or the sketch has nothing of it, else only to those the sketch marks
- *  as surface (the others stay unknown). `sketch` may be null. */
+ *  as surface (the others stay unknown), and then no more than just above the
+ *  occupancy threshold: one miss at high resolution frees them. `sketch` may
+ *  be null. */
 void refineIntoHighTree(octomap::OcTree& low, octomap::OcTree& high, std::uint64_t lowKey, SurfaceSketch* sketch);
 
 /** The high voxels inside low voxel `lowKey` fold into it, as octomap merges
