@@ -71,6 +71,10 @@ T parseIniValue(const std::string& section, const std::string& key, const std::s
 	{
 		if (text.empty()) reject(section, key, "\"\"", "empty value, a number needed");
 		std::errc error{};
+		// A plain whole number, the usual integer, in one exact parse.
+		if constexpr (std::is_integral_v<T>)
+			if (const auto v = whole<T>(text, error)) return *v;
+		const bool beyondT = error == std::errc::result_out_of_range;
 		const auto real = whole<double>(text, error);
 		if (error == std::errc::result_out_of_range) reject(section, key, text, "out of range of a number");
 		if (!real || !std::isfinite(*real)) reject(section, key, text, "not a number");
@@ -78,14 +82,11 @@ T parseIniValue(const std::string& section, const std::string& key, const std::s
 			return static_cast<T>(*real);
 		else
 		{
+			// Anything else whole is written as a real number (1e3).
 			if (*real != std::floor(*real)) reject(section, key, text, "not a whole number");
-			// 1e3 is a whole number too; from_chars<T> gives exact range checks.
-			auto v = whole<T>(text, error);
-			if (!v && error != std::errc::result_out_of_range && *real >= double(std::numeric_limits<T>::min()) &&
-				*real <= double(std::numeric_limits<T>::max()))
-				v = static_cast<T>(*real);
-			if (!v) reject(section, key, text, "out of range (" + rangeOf<T>() + ")");
-			return *v;
+			if (beyondT || *real < double(std::numeric_limits<T>::min()) || *real > double(std::numeric_limits<T>::max()))
+				reject(section, key, text, "out of range (" + rangeOf<T>() + ")");
+			return static_cast<T>(*real);
 		}
 	}
 }
