@@ -30,6 +30,17 @@ mrpt::obs::CObservation3DRangeScan personBeforeAWall()
 			obs.rangeImage(v, u) = (u >= 260 && u < 380 && v >= 100 && v < 400) ? 2000 : 4000;
 	return obs;
 }
+
+/** Empty 8-bit labels of the depth image's size, named as avm-detect names
+ *  them: bit 0 "person" (any number of persons), bit 1 "person/1" (one). */
+std::shared_ptr<mrpt::obs::TPixelLabelInfo<1>> personLabels()
+{
+	auto labels = std::make_shared<mrpt::obs::TPixelLabelInfo<1>>();
+	labels->setSize(kRows, kCols);
+	labels->setLabelName(0, "person");
+	labels->setLabelName(1, "person/1");
+	return labels;
+}
 }  // namespace
 
 TEST(PersonSighting, ThePersonNotTheWallBehindIt)
@@ -81,10 +92,7 @@ TEST(PersonSighting, TooFewPixelsOrTooLittleDepthGiveNoSighting)
 TEST(PersonSighting, LabelBlobsAreOnePersonEachOrOneLabelOnePerson)
 {
 	auto obs = personBeforeAWall();
-	auto labels = std::make_shared<mrpt::obs::TPixelLabelInfo<1>>();
-	labels->setSize(kRows, kCols);
-	labels->setLabelName(0, "person");
-	labels->setLabelName(1, "person/1");
+	auto labels = personLabels();
 	// Two blobs under the plain label, and one person whose own label is split.
 	for (int v = 100; v < 200; v++)
 	{
@@ -107,10 +115,7 @@ TEST(PersonSighting, LabelBlobsAreOnePersonEachOrOneLabelOnePerson)
 TEST(PersonSighting, ALabelMostlyWithoutDepthGivesNoSighting)
 {
 	auto obs = personBeforeAWall();
-	auto labels = std::make_shared<mrpt::obs::TPixelLabelInfo<1>>();
-	labels->setSize(kRows, kCols);
-	labels->setLabelName(0, "person");
-	labels->setLabelName(1, "person/1");
+	auto labels = personLabels();
 	// The person under a label of its own, a blob of wall under the plain
 	// label; only every tenth column of either has depth.
 	for (int v = 100; v < 400; v++)
