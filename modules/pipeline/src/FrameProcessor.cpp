@@ -37,11 +37,6 @@ FrameProcessor::~FrameProcessor() = default;
 
 bool FrameProcessor::process(const io::RgbdFrame& frame)
 {
-	if (!m_framesAtClockStart)
-	{
-		m_framesAtClockStart = m_counts.frames;
-		m_runClock.Tic();
-	}
 	m_lastFrame = frame.index;
 	startDetection(frame);
 	applyDueDetections(frame.index);
@@ -80,8 +75,8 @@ viewer::MapSnapshot FrameProcessor::snapshot(const io::RgbdFrame& frame, const m
 			it->person.score});
 	}
 	s.status.frame = frame.index;
-	if (const double seconds = m_runClock.Tac(); m_counts.frames > *m_framesAtClockStart && seconds > 0)
-		s.status.fps = double(m_counts.frames - *m_framesAtClockStart) / seconds;
+	if (m_counts.frames > m_framesWhenShown)
+		s.status.fps = double(m_counts.frames - m_framesWhenShown) / m_shownFor.Tac();
 	for (const auto& p : m_lastEstimate.features) s.features.emplace_back(p.x, p.y);
 	for (const auto& p : m_lastEstimate.maskedFeatures) s.maskedFeatures.emplace_back(p.x, p.y);
 	s.status.stageMs = {{"odometry", m_stages.odometry.meanMs()}, {"detection", m_stages.detection.meanMs()},

@@ -77,8 +77,15 @@ class FrameProcessor
 	 *  due and their persons. */
 	void finish();
 	/** Live view: a snapshot of the map goes to `view` whenever it is due,
-	 *  taken between two insertions (none is in flight then). */
-	void showOn(viewer::MapView* view) { m_view = view; }
+	 *  taken between two insertions (none is in flight then). After
+	 *  loadState(): the view's fps counts the frames from here on, as a
+	 *  resumed run's counts start at its checkpoint. */
+	void showOn(viewer::MapView* view)
+	{
+		m_view = view;
+		m_framesWhenShown = m_counts.frames;
+		m_shownFor.Tic();
+	}
 
 	// Checkpoints (src/Checkpoint.h) are taken between two frames.
 	/** Once the persons of every applied detection are in the map: after a
@@ -168,10 +175,8 @@ class FrameProcessor
 	MapWork m_personWork;  // person updates since the last insertion: counted in the next one
 	viewer::MapView* m_view = nullptr;
 	odometry::OdometryEstimate m_lastEstimate;  // its features, for the view
-	// The view's fps: frames processed since this process's first frame (a
-	// resumed run's counts start at its checkpoint).
-	mrpt::system::CTicTac m_runClock;
-	std::optional<std::size_t> m_framesAtClockStart;
+	std::size_t m_framesWhenShown = 0;             // the view's fps: frames since showOn()
+	mrpt::system::CTicTac m_shownFor;
 	std::optional<std::size_t> m_lastFrame;           // the last frame given to process()
 	std::set<std::size_t> m_detectionsToRestart;     // after loadState: frames whose detection was pending
 
