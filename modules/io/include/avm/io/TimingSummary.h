@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstddef>
+#include <numeric>
 #include <utility>
 #include <vector>
 
@@ -26,24 +27,20 @@ class TimingSamples
    public:
 	TimingSamples() = default;
 	/** Samples collected before (a run resumed from its checkpoint). */
-	explicit TimingSamples(std::vector<double> milliseconds) : m_samples(std::move(milliseconds))
-	{
-		for (const double ms : m_samples) m_totalMs += ms;
-	}
+	explicit TimingSamples(std::vector<double> milliseconds) : m_samples(std::move(milliseconds)) {}
 
-	void add(double milliseconds)
-	{
-		m_samples.push_back(milliseconds);
-		m_totalMs += milliseconds;
-	}
+	void add(double milliseconds) { m_samples.push_back(milliseconds); }
 	/** Sorts a copy of the samples: for the end of a run. */
 	TimingSummary summary() const { return summariseTimes(m_samples); }
 	/** [ms] The mean so far without sorting anything: for a live display. */
-	double meanMs() const { return m_samples.empty() ? 0.0 : m_totalMs / double(m_samples.size()); }
+	double meanMs() const
+	{
+		const double totalMs = std::accumulate(m_samples.begin(), m_samples.end(), 0.0);
+		return m_samples.empty() ? 0.0 : totalMs / double(m_samples.size());
+	}
 	const std::vector<double>& samples() const { return m_samples; }
 
    private:
 	std::vector<double> m_samples;
-	double m_totalMs = 0;
 };
 }  // namespace avm::io
