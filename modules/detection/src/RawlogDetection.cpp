@@ -131,8 +131,10 @@ LabelRawlogSummary labelRawlog(
 	std::size_t every, const std::function<void(double)>& progress)
 {
 	if (every == 0) throw std::invalid_argument("detection interval must be >= 1 frame");
-	// The reader checks the input.
-	const fs::path inImages = io::RawlogFrameReader(in).imagesDirectory();
+	// A first pass finds a missing or damaged input before anything is
+	// written, and counts the frames for the progress bar.
+	std::size_t total = 0;
+	forEachEntry(in, [&](mrpt::serialization::CSerializable& obj) { total += rgbdObservations(obj).size(); });
 	if (fs::exists(out) && fs::equivalent(in, out))
 		throw std::runtime_error(out.string() + ": the output would overwrite the input rawlog");
 	if (!out.parent_path().empty()) fs::create_directories(out.parent_path());
@@ -140,6 +142,7 @@ LabelRawlogSummary labelRawlog(
 	LabelRawlogSummary summary;
 	summary.rawlog = out;
 	summary.detectionsFile = out.parent_path() / (out.stem().string() + "_detections.txt");
+	const fs::path inImages = io::imagesDirectoryOf(in);
 	const fs::path outImages = out.parent_path() / (out.stem().string() + "_Images");
 	const bool linked = fs::is_directory(inImages) && linkImagesFolder(inImages, outImages);
 	if (fs::is_directory(inImages)) summary.imagesDir = outImages;
@@ -147,10 +150,6 @@ LabelRawlogSummary labelRawlog(
 	LabellingPass pass(detector, options, every, summary);
 	try
 	{
-		// A first pass counts the frames for the progress bar and finds a
-		// damaged input before anything is written.
-		std::size_t total = 0;
-		forEachEntry(in, [&](mrpt::serialization::CSerializable& obj) { total += rgbdObservations(obj).size(); });
 		io::writeFileAtomically(out, [&](const fs::path& tmp) {
 			mrpt::io::CFileGZOutputStream outFile(tmp.string());
 			auto writer = mrpt::serialization::archiveFrom(outFile);
