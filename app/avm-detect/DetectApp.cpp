@@ -108,12 +108,7 @@ DetectorBenchmark benchmarkDetector(detection::DetectorBase& detector, const std
 		b.persons += persons.size();
 		if (!persons.empty()) ++b.framesWithPerson;
 	}
-	const auto s = ms.summary();
-	b.frames = s.count;
-	b.meanMs = s.meanMs;
-	b.medianMs = s.medianMs;
-	b.p95Ms = s.p95Ms;
-	b.maxMs = s.maxMs;
+	b.times = ms.summary();
 	return b;
 }
 
@@ -126,8 +121,8 @@ std::string benchmarkTable(const std::vector<DetectorBenchmark>& rows)
 	{
 		char line[256];
 		std::snprintf(
-			line, sizeof(line), "| %d | %zu | %zu | %zu | %.1f | %.1f | %.1f | %.1f |\n", b.threads, b.frames,
-			b.framesWithPerson, b.persons, b.meanMs, b.medianMs, b.p95Ms, b.maxMs);
+			line, sizeof(line), "| %d | %zu | %zu | %zu | %.1f | %.1f | %.1f | %.1f |\n", b.threads, b.times.count,
+			b.framesWithPerson, b.persons, b.times.meanMs, b.times.medianMs, b.times.p95Ms, b.times.maxMs);
 		s += line;
 	}
 	return s;

@@ -12,6 +12,7 @@
 
 #include "avm/detection/Detection.h"
 #include "avm/detection/RawlogDetection.h"
+#include "avm/io/TimingSummary.h"
 
 namespace avm::apps::detect
 {
@@ -34,8 +35,8 @@ std::vector<cv::Mat> loadColourImages(const std::filesystem::path& rawlog, std::
 struct DetectorBenchmark
 {
 	int threads = 0;  //!< OpenCV threads the program had set
-	std::size_t frames = 0, framesWithPerson = 0, persons = 0;
-	double meanMs = 0, medianMs = 0, p95Ms = 0, maxMs = 0;  //!< detect() wall time per frame [ms]
+	std::size_t framesWithPerson = 0, persons = 0;
+	io::TimingSummary times;  //!< of detect(), one sample a frame
 };
 
 /** Times detector.detect() on each image, after one warm-up call, with the
