@@ -56,6 +56,23 @@ inline long gridKeyOf(double alignedCoordinate, double resolution)
 	return std::lround(alignedCoordinate / resolution) + kKeyOffset;
 }
 
+/** The packed key of the voxel holding `packed` in a grid `ratio` times
+ *  coarser. Both grids put coordinate 0 on a voxel border, so on each axis it
+ *  is floor((k - offset) / ratio) + offset. */
+inline std::uint64_t coarserKeyOf(std::uint64_t packed, unsigned ratio)
+{
+	const auto k = unpackKey(packed);
+	// Biased by a multiple of `ratio` to stay non-negative for the division;
+	// a power of two (the usual ratio) shifts instead.
+	const unsigned bias = static_cast<unsigned>(kKeyOffset) * (ratio - 1);
+	const bool pow2 = (ratio & (ratio - 1)) == 0;
+	const unsigned shift = static_cast<unsigned>(__builtin_ctz(ratio));
+	auto coarse = [&](unsigned v) {
+		return static_cast<octomap::key_type>(pow2 ? (v + bias) >> shift : (v + bias) / ratio);
+	};
+	return packKey(octomap::OcTreeKey(coarse(k[0]), coarse(k[1]), coarse(k[2])));
+}
+
 /** A box of finest-level keys, half-open: [lo, hi) on each axis. */
 struct KeyRange
 {

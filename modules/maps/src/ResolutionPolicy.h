@@ -54,16 +54,7 @@ struct RegionBoxes
 	 *  whole low voxels, so this is whether its low voxel does. */
 	bool covers(std::uint64_t packed, unsigned ratio) const
 	{
-		if (ratio == 1) return covered.contains(packed);
-		const auto k = unpackKey(packed);
-		// floor((k - offset) / ratio) + offset, kept non-negative for the
-		// division; a power of two (the usual ratio) shifts instead.
-		const unsigned bias = static_cast<unsigned>(kKeyOffset) * (ratio - 1);
-		const bool pow2 = (ratio & (ratio - 1)) == 0;
-		const unsigned shift = static_cast<unsigned>(__builtin_ctz(ratio));
-		auto low = [&](unsigned v) { return pow2 ? (v + bias) >> shift : (v + bias) / ratio; };
-		return covered.contains(packKey(octomap::OcTreeKey(static_cast<octomap::key_type>(low(k[0])),
-			static_cast<octomap::key_type>(low(k[1])), static_cast<octomap::key_type>(low(k[2])))));
+		return covered.contains(ratio == 1 ? packed : coarserKeyOf(packed, ratio));
 	}
 };
 

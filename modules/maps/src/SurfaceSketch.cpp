@@ -13,15 +13,7 @@ namespace
 int floorDiv(int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
 }  // namespace
 
-std::uint64_t SurfaceSketch::lowKeyOf(std::uint64_t highKey) const
-{
-	const auto h = unpackKey(highKey);
-	const int r = static_cast<int>(m_ratio);
-	octomap::OcTreeKey low;
-	for (int i = 0; i < 3; i++)
-		low[i] = static_cast<octomap::key_type>(floorDiv(static_cast<int>(h[i]) - kKeyOffset, r) + kKeyOffset);
-	return packKey(low);
-}
+std::uint64_t SurfaceSketch::lowKeyOf(std::uint64_t highKey) const { return coarserKeyOf(highKey, m_ratio); }
 
 unsigned SurfaceSketch::bitOf(std::uint64_t highKey) const
 {
