@@ -91,22 +91,28 @@ struct KeyRange
 			if (k[i] < lo[i] || k[i] + span > hi[i]) return false;
 		return true;
 	}
+	bool empty() const { return lo[0] >= hi[0] || lo[1] >= hi[1] || lo[2] >= hi[2]; }
+	/** Calls `visit(key)` for every key inside, in x, y, z order. */
+	template <typename Visit>
+	void forEachKey(Visit&& visit) const
+	{
+		for (unsigned x = lo[0]; x < hi[0]; x++)
+			for (unsigned y = lo[1]; y < hi[1]; y++)
+				for (unsigned z = lo[2]; z < hi[2]; z++) visit(octomap::OcTreeKey(x, y, z));
+	}
 	/** Calls `visit(key)` for every key of the cube of `span` keys per axis
 	 *  starting at `k` that lies inside, in x, y, z order: the part of a
 	 *  pruned leaf inside the range, without walking the rest of it. */
 	template <typename Visit>
 	void forEachKeyOfCube(const octomap::OcTreeKey& k, unsigned span, Visit&& visit) const
 	{
-		unsigned from[3], to[3];
+		KeyRange part;
 		for (int i = 0; i < 3; i++)
 		{
-			from[i] = std::max<unsigned>(k[i], lo[i]);
-			to[i] = std::min<unsigned>(k[i] + span, hi[i]);
-			if (from[i] >= to[i]) return;
+			part.lo[i] = std::max<unsigned>(k[i], lo[i]);
+			part.hi[i] = std::min<unsigned>(k[i] + span, hi[i]);
 		}
-		for (unsigned x = from[0]; x < to[0]; x++)
-			for (unsigned y = from[1]; y < to[1]; y++)
-				for (unsigned z = from[2]; z < to[2]; z++) visit(octomap::OcTreeKey(x, y, z));
+		if (!part.empty()) part.forEachKey(visit);
 	}
 	/** The single voxel `k`. */
 	static KeyRange of(const octomap::OcTreeKey& k)

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <iterator>
 #include <stdexcept>
+#include <utility>
 
 #include "OcTreeKeys.h"
 
@@ -214,66 +215,62 @@ void ResolutionPolicy::regionsChanged()
 	m_space.boxes.clear();
 	for (const auto& r : m_regions)
 		for (const auto& box : r.boxes) m_space.boxes.push_back({box});
-	if (m_treesCaughtUp)
-	{
-		// What the trees hold is what was covered: kept, not copied.
-		m_coveredApplied.swap(m_covered);
-		m_treesCaughtUp = false;
-	}
 	m_coveredStale = true;
+	m_treesCaughtUp = false;
 }
 
 void ResolutionPolicy::updateCovered()
 {
 	if (!m_coveredStale) return;
 	m_coveredStale = false;
-	struct Span
-	{
-		std::int64_t lo[3], hi[3];
+	std::vector<KeyRange> spans;
+	constexpr unsigned kEnd = 2 * kKeyOffset;
+	// Beyond the tree nothing can be mapped: nothing to cover.
+	auto key = [this](double v) {
+		return static_cast<unsigned>(std::clamp<long>(gridKeyOf(v, m_lowResolution), 0, kEnd));
 	};
-	std::vector<Span> spans;
-	std::int64_t lo[3] = {2 * kKeyOffset, 2 * kKeyOffset, 2 * kKeyOffset}, hi[3] = {0, 0, 0};
+	KeyRange all{{kEnd, kEnd, kEnd}, {0, 0, 0}};
 	for (const auto& b : m_space.boxes)
 	{
-		Span s;
+		KeyRange s;
 		for (int i = 0; i < 3; i++)
 		{
-			// Beyond the tree nothing can be mapped: nothing to cover.
-			s.lo[i] = std::clamp<std::int64_t>(gridKeyOf(b.box.min[i], m_lowResolution), 0, 2 * kKeyOffset);
-			s.hi[i] = std::clamp<std::int64_t>(gridKeyOf(b.box.max[i], m_lowResolution), 0, 2 * kKeyOffset);
-			lo[i] = std::min(lo[i], s.lo[i]);
-			hi[i] = std::max(hi[i], s.hi[i]);
+			s.lo[i] = key(b.box.min[i]);
+			s.hi[i] = key(b.box.max[i]);
+			all.lo[i] = std::min(all.lo[i], s.lo[i]);
+			all.hi[i] = std::max(all.hi[i], s.hi[i]);
 		}
 		spans.push_back(s);
 	}
-	auto key = [](std::int64_t x, std::int64_t y, std::int64_t z) {
-		return octomap::OcTreeKey(
-			static_cast<octomap::key_type>(x), static_cast<octomap::key_type>(y), static_cast<octomap::key_type>(z));
-	};
 	auto& covered = m_space.covered;
-	if (spans.empty() || lo[0] >= hi[0] || lo[1] >= hi[1] || lo[2] >= hi[2])
-		covered.reset(key(0, 0, 0), key(0, 0, 0));
+	if (all.empty())
+		covered.reset(octomap::OcTreeKey(0, 0, 0), octomap::OcTreeKey(0, 0, 0));
 	else
-		covered.reset(key(lo[0], lo[1], lo[2]), key(hi[0] - 1, hi[1] - 1, hi[2] - 1));
+		covered.reset(all.first(), all.last());
 	// The set drops the voxels that overlapping boxes share.
-	for (const auto& s : spans)
-		for (auto x = s.lo[0]; x < s.hi[0]; x++)
-			for (auto y = s.lo[1]; y < s.hi[1]; y++)
-				for (auto z = s.lo[2]; z < s.hi[2]; z++) covered.insert(packKey(key(x, y, z)));
-	m_covered.assign(covered.keys().begin(), covered.keys().end());
+	for (const auto& s : spans) s.forEachKey([&](const octomap::OcTreeKey& k) { covered.insert(packKey(k)); });
+}
+
+std::vector<std::uint64_t> ResolutionPolicy::coveredInKeyOrder()
+{
+	updateCovered();
+	const auto& keys = m_space.covered.keys();
+	std::vector<std::uint64_t> sorted(keys.begin(), keys.end());
 	// One box's voxels come in key order already.
-	if (spans.size() > 1) std::sort(m_covered.begin(), m_covered.end());
+	if (m_space.boxes.size() > 1) std::sort(sorted.begin(), sorted.end());
+	return sorted;
 }
 
 SpaceChange ResolutionPolicy::takeSpaceChange()
 {
-	updateCovered();
 	SpaceChange c;
 	if (m_treesCaughtUp) return c;
-	std::set_difference(m_covered.begin(), m_covered.end(), m_coveredApplied.begin(), m_coveredApplied.end(),
+	auto covered = coveredInKeyOrder();
+	std::set_difference(covered.begin(), covered.end(), m_coveredApplied.begin(), m_coveredApplied.end(),
 		std::back_inserter(c.entered));
-	std::set_difference(m_coveredApplied.begin(), m_coveredApplied.end(), m_covered.begin(), m_covered.end(),
+	std::set_difference(m_coveredApplied.begin(), m_coveredApplied.end(), covered.begin(), covered.end(),
 		std::back_inserter(c.left));
+	m_coveredApplied = std::move(covered);
 	m_treesCaughtUp = true;
 	return c;
 }
@@ -308,8 +305,8 @@ void ResolutionPolicy::serializeFrom(mrpt::serialization::CArchive& in)
 		}
 	}
 	regionsChanged();
-	updateCovered();
 	// The serialized trees already hold the space as it is.
+	m_coveredApplied = coveredInKeyOrder();
 	m_treesCaughtUp = true;
 }
 }  // namespace avm::detail

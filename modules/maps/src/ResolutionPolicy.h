@@ -120,6 +120,8 @@ class ResolutionPolicy
 	void regionsChanged();
 	/** Rebuilds the covered voxels if the regions changed since. */
 	void updateCovered();
+	/** The covered voxels, up to date, as sorted packed keys. */
+	std::vector<std::uint64_t> coveredInKeyOrder();
 	mrpt::math::TBoundingBox alignedToGrid(const mrpt::math::TBoundingBox& b) const;
 	void requireValid(const mrpt::math::TBoundingBox& box) const;
 
@@ -127,10 +129,11 @@ class ResolutionPolicy
 	double m_lowResolution;
 	std::optional<std::size_t> m_switchIndex;
 	std::vector<THighResolutionRegion> m_regions;
+	/** m_space.covered is rebuilt lazily: stale while m_coveredStale. */
 	RegionBoxes m_space;
-	/** Low keys covered now (sorted; stale while m_coveredStale), and, unless
-	 *  m_treesCaughtUp (the trees hold m_covered), what the trees hold. */
-	std::vector<std::uint64_t> m_covered, m_coveredApplied;
+	/** The low keys the trees hold as high-resolution space (sorted); they
+	 *  hold m_space's while m_treesCaughtUp. */
+	std::vector<std::uint64_t> m_coveredApplied;
 	bool m_coveredStale = false, m_treesCaughtUp = true;
 };
 }  // namespace avm::detail
