@@ -76,15 +76,11 @@ void setNodeValues(octomap::OcTree& tree, const std::vector<octomap::OcTreeKey>&
 			}
 		return a[axis] < b[axis];
 	});
-	for (unsigned depth = tree.getTreeDepth(); depth-- > 0;)
+	auto pruneOrUpdate = [&tree](octomap::OcTreeNode* node) {
+		if (!tree.pruneNode(node)) node->updateOccupancyChildren();
+	};
+	for (unsigned depth = tree.getTreeDepth() - 1; depth > 0; depth--)
 	{
-		if (depth == 0)
-		{
-			// octomap's search reads depth 0 as the full depth.
-			auto* root = tree.getRoot();
-			if (!tree.pruneNode(root)) root->updateOccupancyChildren();
-			break;
-		}
 		bool first = true;
 		octomap::OcTreeKey previous;
 		for (const auto& k : zOrder)
@@ -95,10 +91,11 @@ void setNodeValues(octomap::OcTree& tree, const std::vector<octomap::OcTreeKey>&
 			previous = atDepth;
 			// Deeper nodes are done and nothing above is pruned yet: the
 			// search ends at the node itself.
-			auto* node = tree.search(atDepth, depth);
-			if (!tree.pruneNode(node)) node->updateOccupancyChildren();
+			pruneOrUpdate(tree.search(atDepth, depth));
 		}
 	}
+	// Not in the loop: octomap's search reads depth 0 as the full depth.
+	pruneOrUpdate(tree.getRoot());
 }
 
 void eraseKeyRange(octomap::OcTree& tree, const KeyRange& range)
