@@ -43,6 +43,8 @@ inline std::filesystem::path bonnRawlog()
 	io::useImagesFolderOf(p);
 	return p;
 }
+/// A whole file, byte for byte: for comparing two runs' outputs.
+inline std::string fileBytes(const std::filesystem::path& file) { return mrpt::io::file_get_contents(file.string()); }
 /// A fresh, empty folder for one test's outputs.
 inline std::filesystem::path scratchDir(const std::string& name)
 {

@@ -33,8 +33,6 @@ mrpt::config::CConfigFileMemory defaultIni()
 	return ini;
 }
 
-std::string bytes(const fs::path& file) { return mrpt::io::file_get_contents(file.string()); }
-
 const char* const kRunFiles[] = {"trajectory.txt", "detections.txt", "persons.csv", "map_low.bt", "map_high.bt"};
 
 /** All of the map's state (trees, regions, person tracks, surface sketch). */
@@ -81,8 +79,8 @@ TEST(PipelineCheckpoint, AResumedRunEndsLikeARunThatWasNeverStopped)
 	EXPECT_FALSE(resumed.interrupted);
 	for (const char* name : kRunFiles)
 	{
-		EXPECT_GT(bytes(uninterrupted / name).size(), 100u) << name;
-		EXPECT_EQ(bytes(uninterrupted / name), bytes(stopped / name)) << name;
+		EXPECT_GT(test::fileBytes(uninterrupted / name).size(), 100u) << name;
+		EXPECT_EQ(test::fileBytes(uninterrupted / name), test::fileBytes(stopped / name)) << name;
 	}
 }
 
@@ -108,7 +106,7 @@ TEST(PipelineCheckpoint, AMissingOrDamagedCheckpointIsNamedAndNothingIsWritten)
 	const auto run = dir / "run";
 	pipeline::MappingPipeline(ini, AVM_SOURCE_DIR).run(test::bonnRawlog(), run);
 	const auto file = pipeline::checkpointFile(run);
-	const std::string whole = bytes(file);
+	const std::string whole = test::fileBytes(file);
 	ASSERT_GT(whole.size(), 1000u);
 	fs::remove(run / "trajectory.txt");
 	std::ofstream(file, std::ios::binary | std::ios::trunc) << whole.substr(0, whole.size() / 2);
@@ -174,5 +172,6 @@ TEST(PipelineCheckpoint, AResumedMapIsTheUninterruptedMapAfterEveryFrame)
 	EXPECT_EQ(compared, kFrames - kStopAfter);
 	EXPECT_FALSE(firstDifference) << "the resumed map differs from the uninterrupted one after " << *firstDifference
 								  << " frames";
-	for (const char* name : kRunFiles) EXPECT_TRUE(bytes(dir / "uninterrupted" / name) == bytes(stopped / name)) << name;
+	for (const char* name : kRunFiles)
+		EXPECT_TRUE(test::fileBytes(dir / "uninterrupted" / name) == test::fileBytes(stopped / name)) << name;
 }

@@ -288,8 +288,8 @@ TEST(PipelineReadAhead, SameFramesInTheSameOrderAsReadingInTheLoop)
 	const auto inLoop = runWith("0"), ahead = runWith("3");
 	for (const char* name : {"trajectory.txt", "map_low.bt"})
 	{
-		EXPECT_GT(mrpt::io::file_get_contents((inLoop / name).string()).size(), 1000u) << name;
-		EXPECT_EQ(mrpt::io::file_get_contents((inLoop / name).string()), mrpt::io::file_get_contents((ahead / name).string())) << name;
+		EXPECT_GT(test::fileBytes(inLoop / name).size(), 1000u) << name;
+		EXPECT_EQ(test::fileBytes(inLoop / name), test::fileBytes(ahead / name)) << name;
 	}
 }
 
@@ -314,8 +314,8 @@ TEST(PipelineAsyncMapping, SameMapAsInsertingInTheLoop)
 	const auto inLoop = runWith("false"), async = runWith("true");
 	for (const char* name : {"map_low.bt", "map_high.bt", "detections.txt", "trajectory.txt"})
 	{
-		EXPECT_GT(mrpt::io::file_get_contents((inLoop / name).string()).size(), 100u) << name;
-		EXPECT_EQ(mrpt::io::file_get_contents((inLoop / name).string()), mrpt::io::file_get_contents((async / name).string())) << name;
+		EXPECT_GT(test::fileBytes(inLoop / name).size(), 100u) << name;
+		EXPECT_EQ(test::fileBytes(inLoop / name), test::fileBytes(async / name)) << name;
 	}
 }
 
@@ -341,7 +341,7 @@ TEST(PipelineDeterminism, TheSameRawlogGivesTheSameRun)
 	const auto a = runOnce("a"), b = runOnce("b");
 	for (const char* name : {"trajectory.txt", "detections.txt", "persons.csv", "map_low.bt", "map_high.bt"})
 	{
-		EXPECT_GT(mrpt::io::file_get_contents((a / name).string()).size(), 100u) << name;
-		EXPECT_EQ(mrpt::io::file_get_contents((a / name).string()), mrpt::io::file_get_contents((b / name).string())) << name;
+		EXPECT_GT(test::fileBytes(a / name).size(), 100u) << name;
+		EXPECT_EQ(test::fileBytes(a / name), test::fileBytes(b / name)) << name;
 	}
 }
