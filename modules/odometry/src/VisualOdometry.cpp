@@ -106,9 +106,10 @@ struct VisualOdometry::Impl
 	int lostFrames = 0, lostFramesWithFeatures = 0;
 	mrpt::system::CTimeLogger stageTimer{true, "avm odometry stages"};
 	bool reportFeatures = false;
-	std::vector<cv::Point2f> lastFeatures, lastMaskedFeatures;  // when reportFeatures
 
 	OdometryEstimate process(const mrpt::obs::CObservation3DRangeScan& obs, const std::vector<cv::Rect>& boxes);
+	/** The frame's pose from its features: tracked, initialised, relocalised or bridged. */
+	OdometryEstimate track(const FrameFeatures& f);
 	VisualOdometry::PlaceQuery queryPlace(
 		const mrpt::obs::CObservation3DRangeScan& obs, const std::vector<cv::Rect>& boxes) const;
 	/** A keyframe at T from the frame's matched inliers and new landmarks for
@@ -256,17 +257,23 @@ OdometryEstimate VisualOdometry::Impl::process(
 	const mrpt::obs::CObservation3DRangeScan& obs, const std::vector<cv::Rect>& boxes)
 {
 	const auto [grey, depth, K] = imagesOf(obs);
+	std::vector<cv::KeyPoint> masked;
 	const auto f = [&] {
 		mrpt::system::CTimeLoggerEntry t(stageTimer, "1 features");
-		return frontend.extract(grey, depth, K, options.mask_people ? boxes : std::vector<cv::Rect>{});
+		return frontend.extract(
+			grey, depth, K, options.mask_people ? boxes : std::vector<cv::Rect>{}, reportFeatures ? &masked : nullptr);
 	}();
+	auto e = track(f);
 	if (reportFeatures)
 	{
-		cv::KeyPoint::convert(f.keypoints, lastFeatures);
-		cv::KeyPoint::convert(
-			frontend.maskedKeypoints(grey, depth, options.mask_people ? boxes : std::vector<cv::Rect>{}),
-			lastMaskedFeatures);
+		cv::KeyPoint::convert(f.keypoints, e.features);
+		cv::KeyPoint::convert(masked, e.maskedFeatures);
 	}
+	return e;
+}
+
+OdometryEstimate VisualOdometry::Impl::track(const FrameFeatures& f)
+{
 	if (window.empty())
 	{
 		if (int(f.keypoints.size()) < options.min_inliers)
@@ -301,7 +308,7 @@ OdometryEstimate VisualOdometry::Impl::process(
 	Eigen::Isometry3d T = pnp->T_cw;
 	{
 		mrpt::system::CTimeLoggerEntry t(stageTimer, "3 pose refinement");
-		backend.refinePose(T, observationsOf(f, pnp->inliers), landmarks, K);
+		backend.refinePose(T, observationsOf(f, pnp->inliers), landmarks, f.K);
 	}
 
 	// Inliers at the refined pose among all matches.
@@ -510,13 +517,7 @@ VisualOdometry& VisualOdometry::operator=(VisualOdometry&&) noexcept = default;
 OdometryEstimate VisualOdometry::process(
 	const mrpt::obs::CObservation3DRangeScan& obs, const std::vector<cv::Rect>& personBoxes)
 {
-	auto e = m_impl->process(obs, personBoxes);
-	if (m_impl->reportFeatures)
-	{
-		e.features = std::move(m_impl->lastFeatures);
-		e.maskedFeatures = std::move(m_impl->lastMaskedFeatures);
-	}
-	return e;
+	return m_impl->process(obs, personBoxes);
 }
 void VisualOdometry::reportFeatures(bool on) { m_impl->reportFeatures = on; }
 void VisualOdometry::saveState(mrpt::serialization::CArchive& out) const { m_impl->saveState(out); }

@@ -88,29 +88,25 @@ cv::Mat FeatureFrontend::personMask(const cv::Mat& depth, const std::vector<cv::
 	return mask;
 }
 
-std::vector<cv::KeyPoint> FeatureFrontend::maskedKeypoints(
-	const cv::Mat& grey, const cv::Mat& depth, const std::vector<cv::Rect>& excluded) const
-{
-	std::vector<cv::KeyPoint> masked;
-	if (excluded.empty()) return masked;
-	cv::Mat mask = personMask(depth, excluded);
-	mask.setTo(0, depth <= 0);
-	m_orb->detect(grey, masked, mask);
-	return masked;
-}
-
 FrameFeatures FeatureFrontend::extract(
-	const cv::Mat& grey, const cv::Mat& depth, const Intrinsics& K, const std::vector<cv::Rect>& excluded) const
+	const cv::Mat& grey, const cv::Mat& depth, const Intrinsics& K, const std::vector<cv::Rect>& excluded,
+	std::vector<cv::KeyPoint>* masked) const
 {
 	const auto& o = m_options;
 	FrameFeatures f;
 	f.K = K;
 	f.imageSize = grey.size();
 
+	const cv::Mat people = personMask(depth, excluded);
 	cv::Mat mask = depth > 0;
-	mask.setTo(0, personMask(depth, excluded));
+	mask.setTo(0, people);
 	std::vector<cv::KeyPoint> detected;
 	m_orb->detect(grey, detected, mask);
+	if (masked)
+	{
+		masked->clear();
+		if (!excluded.empty()) m_orb->detect(grey, *masked, people & (depth > 0));
+	}
 
 	// Bucketing: the strongest features of every grid cell first, so texture-rich
 	// corners do not take the whole budget; the rest of the budget by strength.

@@ -22,15 +22,13 @@ class FeatureFrontend
 	explicit FeatureFrontend(const TOdometryOptions& options);
 
 	/** Features of a grey image with their depth (metres, CV_32F). Pixels in
-	 *  `excluded` boxes, without depth, or on a depth edge give none. */
+	 *  `excluded` boxes, without depth, or on a depth edge give none. With
+	 *  `masked`, also the keypoints the boxes took away: those ORB finds on
+	 *  the masked pixels with depth. That is for the live view only (a second
+	 *  detection on the same person mask); the features are the same either way. */
 	FrameFeatures extract(
-		const cv::Mat& grey, const cv::Mat& depth, const Intrinsics& K, const std::vector<cv::Rect>& excluded) const;
-
-	/** The features that the person boxes `excluded` took away from extract():
-	 *  those ORB finds on the masked pixels with depth. For the live view only
-	 *  (a second detection), never used for tracking. */
-	std::vector<cv::KeyPoint> maskedKeypoints(
-		const cv::Mat& grey, const cv::Mat& depth, const std::vector<cv::Rect>& excluded) const;
+		const cv::Mat& grey, const cv::Mat& depth, const Intrinsics& K, const std::vector<cv::Rect>& excluded,
+		std::vector<cv::KeyPoint>* masked = nullptr) const;
 
 	/** Each landmark projected with T_cw, matched to the best feature within
 	 *  search_radius (distance and ratio tests; one landmark per feature). */
