@@ -116,6 +116,8 @@ struct VisualOdometry::Impl
 	 *  the unmatched features; runs the window bundle adjustment. */
 	void addKeyframe(const FrameFeatures& f, const std::vector<Match>& inliers, const Eigen::Isometry3d& T);
 	void forgetUnobservedLandmarks();
+	/** Drops the local map and starts a new one with this frame as its keyframe at T; the loss is over. */
+	void restartLocalMap(const FrameFeatures& f, const Eigen::Isometry3d& T);
 	OdometryEstimate lost(const FrameFeatures& f, const std::string& why);
 
 	struct Relocalisation
@@ -154,12 +156,9 @@ OdometryEstimate VisualOdometry::Impl::lost(const FrameFeatures& f, const std::s
 			// Back in the old map's frame: a new local map starts at the
 			// relocalised pose. The motion across the gap is unknown.
 			const std::string after = std::to_string(lostFrames);
-			window.clear();
-			landmarks.clear();
-			addKeyframe(f, {}, r->T_cw);
+			restartLocalMap(f, r->T_cw);
 			T_cw = window.back().T_cw;
 			velocity = Eigen::Isometry3d::Identity();
-			lostFrames = lostFramesWithFeatures = 0;
 			e.tracked = e.keyframe = true;
 			e.inliers = r->inliers.size();
 			e.reprojectionRmse = r->rmse;
@@ -177,15 +176,20 @@ OdometryEstimate VisualOdometry::Impl::lost(const FrameFeatures& f, const std::s
 	// drifted by the bridge; the keyframe map keeps the old keyframes).
 	if (trackable && lostFramesWithFeatures > options.relocalisation_frames)
 	{
-		window.clear();
-		landmarks.clear();
-		addKeyframe(f, {}, T_cw);
-		lostFrames = lostFramesWithFeatures = 0;
+		restartLocalMap(f, T_cw);
 		e.keyframe = true;
 		e.status += "; re-initialised";
 	}
 	e.pose = toPose(T_cw.inverse());
 	return e;
+}
+
+void VisualOdometry::Impl::restartLocalMap(const FrameFeatures& f, const Eigen::Isometry3d& T)
+{
+	window.clear();
+	landmarks.clear();
+	addKeyframe(f, {}, T);
+	lostFrames = lostFramesWithFeatures = 0;
 }
 
 std::vector<Observation> VisualOdometry::Impl::observationsOf(const FrameFeatures& f, const std::vector<Match>& matches) const
