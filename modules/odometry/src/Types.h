@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
+#include <opencv2/core/hal/hal.hpp>
 
 #include <array>
 #include <cstdint>
@@ -38,6 +39,19 @@ inline double reprojectionError(
 /** 256 bits, as ORB computes them. */
 using OrbDescriptor = std::array<std::uint8_t, 32>;
 
+inline int hamming(const std::uint8_t* a, const std::uint8_t* b)
+{
+	return cv::hal::normHamming(a, b, int(OrbDescriptor().size()));
+}
+
+/** Row `row` of a descriptor matrix (CV_8U, 32 bytes a row). */
+inline OrbDescriptor descriptorRow(const cv::Mat& descriptors, int row)
+{
+	OrbDescriptor d;
+	std::memcpy(d.data(), descriptors.ptr(row), d.size());
+	return d;
+}
+
 /** Features of one frame; every one has a valid depth. */
 struct FrameFeatures
 {
@@ -48,12 +62,7 @@ struct FrameFeatures
 	cv::Size imageSize;
 
 	const std::uint8_t* descriptorData(int i) const { return descriptors.ptr<std::uint8_t>(i); }
-	OrbDescriptor descriptor(int i) const
-	{
-		OrbDescriptor d;
-		std::memcpy(d.data(), descriptorData(i), d.size());
-		return d;
-	}
+	OrbDescriptor descriptor(int i) const { return descriptorRow(descriptors, i); }
 };
 
 struct Landmark

@@ -9,7 +9,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <deque>
 #include <optional>
 #include <stdexcept>
@@ -234,11 +233,7 @@ std::optional<VisualOdometry::Impl::Relocalisation> VisualOdometry::Impl::reloca
 		LandmarkMap points;
 		const Eigen::Isometry3d T_wc = kf.T_cw.inverse();
 		for (int i = 0; i < kf.descriptors.rows; ++i)
-		{
-			Landmark& lm = points[i];
-			lm.position = T_wc * kf.points[i];
-			std::memcpy(lm.descriptor.data(), kf.descriptors.ptr(i), lm.descriptor.size());
-		}
+			points[i] = Landmark{T_wc * kf.points[i], descriptorRow(kf.descriptors, i)};
 		const auto matches = frontend.matchByDescriptor(f, points);
 		if (int(matches.size()) < options.relocalisation_min_inliers) continue;
 		const auto pnp = frontend.solvePnp(f, points, matches, kf.T_cw);

@@ -2,7 +2,6 @@
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
-#include <opencv2/core/hal/hal.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -50,8 +49,6 @@ std::optional<float> personBackgroundDepth(const cv::Mat& depth, const cv::Rect&
 	std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
 	return values[values.size() / 2] + float(band);
 }
-
-int hamming(const std::uint8_t* a, const OrbDescriptor& b) { return cv::hal::normHamming(a, b.data(), int(b.size())); }
 }  // namespace
 
 FeatureFrontend::FeatureFrontend(const TOdometryOptions& options)
@@ -179,7 +176,7 @@ std::vector<Match> FeatureFrontend::matchByProjection(
 				{
 					const auto& p = frame.keypoints[i].pt;
 					if ((p.x - u) * (p.x - u) + (p.y - v) * (p.y - v) > r2) continue;
-					const int d = hamming(frame.descriptorData(i), lm.descriptor);
+					const int d = hamming(frame.descriptorData(i), lm.descriptor.data());
 					if (d < d1)
 					{
 						d2 = d1;

@@ -1,7 +1,5 @@
 #include "BinaryVocabulary.h"
 
-#include <opencv2/core/hal/hal.hpp>
-
 #include <algorithm>
 #include <climits>
 #include <cmath>
@@ -14,8 +12,6 @@ namespace avm::odometry::detail
 {
 namespace
 {
-int hamming(const std::uint8_t* a, const std::uint8_t* b) { return cv::hal::normHamming(a, b, 32); }
-
 /** Index of the centre nearest to d (the first of equally near ones). */
 int nearest(const std::uint8_t* d, const std::vector<OrbDescriptor>& centres)
 {

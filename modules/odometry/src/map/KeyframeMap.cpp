@@ -27,12 +27,7 @@ void KeyframeMap::add(int id, MapKeyframe kf)
 	{
 		std::vector<OrbDescriptor> training;
 		for (const auto& [kid, k] : m_keyframes)
-			for (int r = 0; r < k.descriptors.rows; ++r)
-			{
-				OrbDescriptor d;
-				std::memcpy(d.data(), k.descriptors.ptr(r), d.size());
-				training.push_back(d);
-			}
+			for (int r = 0; r < k.descriptors.rows; ++r) training.push_back(descriptorRow(k.descriptors, r));
 		m_vocabulary.train(training, vocabularyBranching, vocabularyDepth);
 		m_inverted.assign(m_vocabulary.wordCount(), {});
 		for (auto& [kid, k] : m_keyframes) index(kid, k);
