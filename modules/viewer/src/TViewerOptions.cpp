@@ -2,29 +2,29 @@
 
 #include <mrpt/config/CConfigFileBase.h>
 
-#include <cmath>
-
-#include "avm/io/ErrorMessage.h"
-#include "avm/io/IniOptions.h"
+#include "avm/io/IniKeys.h"
 
 namespace avm::viewer
 {
+io::IniKeys<TViewerOptions> TViewerOptions::iniKeys()
+{
+	io::IniKeys<TViewerOptions> keys;
+	keys.number("gui", &TViewerOptions::enabled, "",
+			"open the live 3D view (MRPT windows; avm-map --gui sets it); closing it ends the run as Ctrl-C does")
+		.number("gui_fps", &TViewerOptions::fps, "Hz", "most redraws, and map snapshots, a second with gui = true",
+			{[](double v) { return v > 0 && v <= 60; }, "out of range (0, 60]"});
+	return keys;
+}
+
 void TViewerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section)
 {
-	enabled = io::readIniValue(source, section, "gui", enabled);
-	fps = io::readIniValue(source, section, "gui_fps", fps);
-	validate(section);
+	iniKeys().load(*this, source, section);
 }
 
 void TViewerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& target, const std::string& section) const
 {
-	target.write(section, "gui", enabled);
-	target.write(section, "gui_fps", fps);
+	iniKeys().save(*this, target, section);
 }
 
-void TViewerOptions::validate(const std::string& section) const
-{
-	if (!(std::isfinite(fps) && fps > 0 && fps <= 60))
-		throw io::iniValueError(section, "gui_fps", fps, "out of range (0, 60]");
-}
+void TViewerOptions::validate(const std::string& section) const { iniKeys().validate(*this, section); }
 }  // namespace avm::viewer

@@ -5,6 +5,12 @@
 
 #include <string>
 
+namespace avm::io
+{
+template <class Options>
+class IniKeys;  // avm/io/IniKeys.h
+}
+
 namespace avm::viewer
 {
 /** Keys `gui` and `gui_fps` of a section (avm-map: [pipeline]). */
@@ -18,6 +24,8 @@ struct TViewerOptions : public mrpt::config::CLoadableOptions
 	std::string title = "avm";	//!< window title (and its prefix for the image window)
 	/** @} */
 
+	/** The loaded keys: name, member, unit, description, check. */
+	static io::IniKeys<TViewerOptions> iniKeys();
 	/** Throws std::invalid_argument "[section] key = value: why" on a value
 	 *  that is not a bool / number or out of range. */
 	void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
