@@ -17,6 +17,7 @@
 #include "avm/detection/Detector.h"
 #include "avm/evaluation/TrajectoryEvaluation.h"
 #include "avm/io/ErrorMessage.h"
+#include "avm/io/IniKeys.h"
 #include "avm/io/IniOptions.h"
 #include "avm/io/RawlogFrameReader.h"
 #include "avm/io/TimingSummary.h"
@@ -37,67 +38,55 @@ PoseSource poseSourceFromString(const std::string& name)
 
 std::string toString(PoseSource source) { return source == PoseSource::GroundTruth ? "gt" : "vo"; }
 
+io::IniKeys<TPipelineOptions> TPipelineOptions::iniKeys()
+{
+	using O = TPipelineOptions;
+	io::IniKeys<O> keys;
+	keys.choice("pose_source", &O::poseSource, poseSourceFromString, [](PoseSource p) { return toString(p); },
+			"vo (visual odometry) | gt (the rawlog's ground truth)", "must be vo or gt")
+		.number<int>("detect_every_n", &O::detectEveryN, "", "run the detector on every N-th frame; 0 = no detection",
+			{[](int v) { return v >= 0; }, "must be >= 0 (0 = no detection)"})
+		.number("async_detection", &O::asyncDetection, "",
+			"detector on a worker thread beside odometry and mapping; same run either way")
+		.number<int>("detection_lag_frames", &O::detectionLagFrames, "frames",
+			"a detection started at frame k is applied (odometry masks, persons, regions) at frame k + this, the loop "
+			"waiting for it if late: the same rawlog always gives the same run",
+			{[](int v) { return v >= 0 && v <= 30; }, "must be 0..30 frames"})
+		.number("async_mapping", &O::asyncMapping, "",
+			"a frame's map insertion on a worker thread while odometry processes the next; same map either way")
+		.number("start_at_ground_truth", &O::startAtGroundTruth, "",
+			"odometry starts at the first frame's ground truth, if any")
+		.number<std::int64_t>("max_frames", &O::maxFrames, "", "frames to map; 0 = all",
+			{[](std::int64_t v) { return v >= 0; }, "must be >= 0 (0 = all)"})
+		.number<int>("read_ahead_frames", &O::readAheadFrames, "",
+			"frames read and decoded ahead on a reader thread; 0 = read on the main loop's thread",
+			{[](int v) { return v >= 0 && v <= 100; }, "must be 0..100 (0 = no reader thread)"})
+		.number<int>("repeat", &O::repeat, "",
+			"read the rawlog this many times as one sequence, indices and times continued (long runs)",
+			{[](int v) { return v >= 1; }, "must be >= 1"})
+		.number("picture_size", &O::pictureSize, "px", "width of map_top.png / map_perspective.png; 0 = none",
+			{[](int v) { return v == 0 || (v >= 200 && v <= 8000); }, "must be 0 (none) or 200..8000 px"})
+		.include(&O::viewer, viewer::TViewerOptions::iniKeys())
+		.text("map_section", &O::mapSection, "section with the MRPT map definition",
+			{[](const std::string& v) { return !v.empty(); }, "must name the map definition section"})
+		.number("checkpoint_interval_s", &O::checkpointIntervalSeconds, "s",
+			"run time between two checkpoints (OUTDIR/checkpoint.bin, what avm-map --resume OUTDIR continues from; "
+			"also one before the first frame and one after the last); 0 = none",
+			{[](double v) { return v >= 0 && v <= 86400; }, "must be 0 (no checkpoints) .. 86400 s"})
+		.number("reference_maps", &O::referenceMaps, "",
+			"also build single-resolution OctoMaps (octomap's own insertion, both resolutions) from the same frames "
+			"and poses and compare (stats.json \"reference\"): a measurement mode, slow");
+	return keys;
+}
+
 void TPipelineOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& s)
 {
-	// io's readers: "abc" is "not a number", not a 0 the range checks report.
-	const auto read = [&](const char* key, auto def) { return io::readIniValue(cfg, s, key, def); };
-	const std::string source = cfg.read_string(s, "pose_source", toString(poseSource));
-	try
-	{
-		poseSource = poseSourceFromString(source);
-	}
-	catch (const std::invalid_argument&)
-	{
-		throw io::iniValueError(s, "pose_source", source, "must be vo or gt");
-	}
-	const int every = read("detect_every_n", static_cast<int>(detectEveryN));
-	if (every < 0) throw io::iniValueError(s, "detect_every_n", every, "must be >= 0 (0 = no detection)");
-	detectEveryN = static_cast<unsigned>(every);
-	asyncDetection = read("async_detection", asyncDetection);
-	const int lag = read("detection_lag_frames", static_cast<int>(detectionLagFrames));
-	if (lag < 0 || lag > 30) throw io::iniValueError(s, "detection_lag_frames", lag, "must be 0..30 frames");
-	detectionLagFrames = static_cast<unsigned>(lag);
-	asyncMapping = read("async_mapping", asyncMapping);
-	startAtGroundTruth = read("start_at_ground_truth", startAtGroundTruth);
-	const auto frames = read("max_frames", static_cast<std::int64_t>(maxFrames));
-	if (frames < 0) throw io::iniValueError(s, "max_frames", frames, "must be >= 0 (0 = all)");
-	maxFrames = static_cast<std::size_t>(frames);
-	pictureSize = read("picture_size", pictureSize);
-	if (pictureSize != 0 && (pictureSize < 200 || pictureSize > 8000))
-		throw io::iniValueError(s, "picture_size", pictureSize, "must be 0 (none) or 200..8000 px");
-	const int replays = read("repeat", static_cast<int>(repeat));
-	if (replays < 1) throw io::iniValueError(s, "repeat", replays, "must be >= 1");
-	repeat = static_cast<unsigned>(replays);
-	const int ahead = read("read_ahead_frames", static_cast<int>(readAheadFrames));
-	if (ahead < 0 || ahead > 100)
-		throw io::iniValueError(s, "read_ahead_frames", ahead, "must be 0..100 (0 = no reader thread)");
-	readAheadFrames = static_cast<unsigned>(ahead);
-	referenceMaps = read("reference_maps", referenceMaps);
-	checkpointIntervalSeconds = read("checkpoint_interval_s", checkpointIntervalSeconds);
-	if (!(checkpointIntervalSeconds >= 0 && checkpointIntervalSeconds <= 86400))
-		throw io::iniValueError(
-			s, "checkpoint_interval_s", checkpointIntervalSeconds, "must be 0 (no checkpoints) .. 86400 s");
-	viewer.loadFromConfigFile(cfg, s);
-	mapSection = cfg.read_string(s, "map_section", mapSection);
-	if (mapSection.empty()) throw io::iniValueError(s, "map_section", "", "must name the map definition section");
+	iniKeys().load(*this, cfg, s);
 }
 
 void TPipelineOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& s) const
 {
-	cfg.write(s, "pose_source", toString(poseSource));
-	cfg.write(s, "detect_every_n", static_cast<int>(detectEveryN));
-	cfg.write(s, "async_detection", asyncDetection);
-	cfg.write(s, "detection_lag_frames", static_cast<int>(detectionLagFrames));
-	cfg.write(s, "async_mapping", asyncMapping);
-	cfg.write(s, "start_at_ground_truth", startAtGroundTruth);
-	cfg.write(s, "max_frames", static_cast<int>(maxFrames));
-	cfg.write(s, "picture_size", pictureSize);
-	cfg.write(s, "repeat", static_cast<int>(repeat));
-	cfg.write(s, "read_ahead_frames", static_cast<int>(readAheadFrames));
-	cfg.write(s, "reference_maps", referenceMaps);
-	cfg.write(s, "checkpoint_interval_s", checkpointIntervalSeconds);
-	viewer.saveToConfigFile(cfg, s);
-	cfg.write(s, "map_section", mapSection);
+	iniKeys().save(*this, cfg, s);
 }
 
 namespace

@@ -73,6 +73,8 @@ struct TPipelineOptions : public mrpt::config::CLoadableOptions
 	viewer::TViewerOptions viewer;
 	std::string mapSection = "map";  //!< section with MRPT's map definition
 
+	/** Every key: name, member, unit, description, check. */
+	static io::IniKeys<TPipelineOptions> iniKeys();
 	void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
 	void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
 };
