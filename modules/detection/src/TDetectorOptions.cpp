@@ -8,7 +8,7 @@
 
 #include "avm/detection/CocoClasses.h"
 #include "avm/io/ErrorMessage.h"
-#include "avm/io/IniOptions.h"
+#include "avm/io/IniKeys.h"
 
 namespace avm::detection
 {
@@ -48,56 +48,46 @@ OutputLayout parseOutputLayout(const std::string& name)
 	throw std::invalid_argument("unknown output layout '" + name + "' (auto, yolox, yolov5, yolov8)");
 }
 
+io::IniKeys<TDetectorOptions> TDetectorOptions::iniKeys()
+{
+	using O = TDetectorOptions;
+	const auto inUnit = [](bool open) {
+		return io::IniRule<double>{[open](double v) { return v >= 0 && v <= 1 && (!open || v > 0); },
+			open ? "must be in (0, 1]" : "must be in [0, 1]"};
+	};
+	// The YOLO grids have stride 32.
+	const io::IniRule<int> stride32{[](int v) { return v >= 32 && v % 32 == 0; }, "must be a positive multiple of 32"};
+	io::IniKeys<O> keys;
+	keys.text("model", &O::model, "ONNX model file, relative to the project root; \"\" = OpenCV's HOG people detector", {},
+			[](const std::string& v) { return unquote(trim(v)); })
+		.choice("layout", &O::layout, parseOutputLayout, [](OutputLayout l) { return toString(l); },
+			"auto | yolox (1xNx85 raw grid) | yolov5 (1xNx85) | yolov8 (1x84xN)")
+		.text("classes", &O::classes, "COCO class names to keep, comma separated")
+		.number("score_threshold", &O::score_threshold, "0..1", "minimum score (YOLOX: objectness x class)", inUnit(false))
+		.number("nms_threshold", &O::nms_threshold, "0..1", "IoU above which the weaker box of a class is dropped", inUnit(true))
+		.number("input_width", &O::input_width, "px", "network input, a multiple of 32", stride32)
+		.number("input_height", &O::input_height, "px", "network input, a multiple of 32", stride32)
+		.number("threads", &O::threads, "", "OpenCV threads for the whole run; 0 = OpenCV default",
+			{[](int v) { return v >= 0; }, "must be >= 0 (0 = OpenCV default)"})
+		.number("hog_hit_threshold", &O::hog_hit_threshold, "", "HOG only: SVM margin a window needs",
+			{[](double v) { return std::isfinite(v); }, "must be finite"});
+	return keys;
+}
+
 void TDetectorOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
-	model = unquote(trim(c.read_string(s, "model", model)));
-	const std::string layoutName = c.read_string(s, "layout", toString(layout));
-	try
-	{
-		layout = parseOutputLayout(layoutName);
-	}
-	catch (const std::invalid_argument& e)
-	{
-		throw io::iniValueError(s, "layout", layoutName, e.what());
-	}
-	classes = c.read_string(s, "classes", classes);
-	// io's readers: "abc" is "not a number", not a 0 that validate() reports.
-	const auto read = [&](const char* key, auto def) { return io::readIniValue(c, s, key, def); };
-	score_threshold = read("score_threshold", score_threshold);
-	nms_threshold = read("nms_threshold", nms_threshold);
-	input_width = read("input_width", input_width);
-	input_height = read("input_height", input_height);
-	threads = read("threads", threads);
-	hog_hit_threshold = read("hog_hit_threshold", hog_hit_threshold);
-	validate(s);
+	iniKeys().load(*this, c, s);
+	classIds(s);
 }
 
 void TDetectorOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-	c.write(s, "model", model);
-	c.write(s, "layout", toString(layout));
-	c.write(s, "classes", classes);
-	c.write(s, "score_threshold", score_threshold);
-	c.write(s, "nms_threshold", nms_threshold);
-	c.write(s, "input_width", input_width);
-	c.write(s, "input_height", input_height);
-	c.write(s, "threads", threads);
-	c.write(s, "hog_hit_threshold", hog_hit_threshold);
+	iniKeys().save(*this, c, s);
 }
 
 void TDetectorOptions::validate(const std::string& s) const
 {
-	auto inUnit = [&](const char* key, double v, bool open) {
-		if (!std::isfinite(v) || v < 0 || v > 1 || (open && v == 0))
-			throw io::iniValueError(s, key, v, open ? "must be in (0, 1]" : "must be in [0, 1]");
-	};
-	inUnit("score_threshold", score_threshold, false);
-	inUnit("nms_threshold", nms_threshold, true);
-	// The YOLO grids have stride 32.
-	if (input_width < 32 || input_width % 32) throw io::iniValueError(s, "input_width", input_width, "must be a positive multiple of 32");
-	if (input_height < 32 || input_height % 32) throw io::iniValueError(s, "input_height", input_height, "must be a positive multiple of 32");
-	if (threads < 0) throw io::iniValueError(s, "threads", threads, "must be >= 0 (0 = OpenCV default)");
-	if (!std::isfinite(hog_hit_threshold)) throw io::iniValueError(s, "hog_hit_threshold", hog_hit_threshold, "must be finite");
+	iniKeys().validate(*this, s);
 	classIds(s);
 }
 

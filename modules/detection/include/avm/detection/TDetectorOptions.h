@@ -8,6 +8,12 @@
 #include <string>
 #include <vector>
 
+namespace avm::io
+{
+template <class Options>
+class IniKeys;  // avm/io/IniKeys.h
+}
+
 namespace avm::detection
 {
 /** How a model's output tensor is laid out (see OutputDecoders.h). */
@@ -40,6 +46,8 @@ struct TDetectorOptions : public mrpt::config::CLoadableOptions
 	int threads = 0;
 	double hog_hit_threshold = 0.0;  //!< HOG only: SVM margin a window needs to count
 
+	/** Every key: name, member, unit, description, check. */
+	static io::IniKeys<TDetectorOptions> iniKeys();
 	void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
 	void saveToConfigFile(mrpt::config::CConfigFileBase& target, const std::string& section) const override;
 	/** Throws std::invalid_argument naming "[section] key" and the bad value. */
