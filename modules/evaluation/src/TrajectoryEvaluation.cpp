@@ -12,41 +12,41 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <iomanip>
 #include <numeric>
 #include <sstream>
 #include <stdexcept>
 
+#include "avm/io/IniKeys.h"
+
 namespace avm::evaluation
 {
+io::IniKeys<TEvaluationOptions> TEvaluationOptions::iniKeys()
+{
+	using O = TEvaluationOptions;
+	const io::IniRule<double> positiveSeconds{[](double v) { return v > 0; }, "must be a positive number of seconds"};
+	const io::IniRule<std::int64_t> count{[](std::int64_t v) { return v >= 0; }, "must be >= 0"};
+	io::IniKeys<O> keys;
+	keys.number("max_time_difference", &O::maxTimeDifference, "s",
+			"an estimated pose is matched with the ground-truth pose nearest in time at most this far", positiveSeconds)
+		.number<std::int64_t>("first_frame", &O::firstFrame, "", "index of the first estimated pose evaluated", count)
+		.number<std::int64_t>("max_frames", &O::maxFrames, "", "estimated poses evaluated from first_frame; 0 = all", count)
+		.number("rpe_delta", &O::rpeDelta, "s", "time step of the relative pose error", positiveSeconds);
+	return keys;
+}
+
 void TEvaluationOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section)
 {
-	maxTimeDifference = cfg.read_double(section, "max_time_difference", maxTimeDifference);
-	firstFrame = static_cast<std::size_t>(cfg.read_uint64_t(section, "first_frame", firstFrame));
-	maxFrames = static_cast<std::size_t>(cfg.read_uint64_t(section, "max_frames", maxFrames));
-	rpeDelta = cfg.read_double(section, "rpe_delta", rpeDelta);
-	validate(section);
+	iniKeys().load(*this, cfg, section);
 }
 
 void TEvaluationOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const
 {
-	cfg.write(section, "max_time_difference", maxTimeDifference);
-	cfg.write(section, "first_frame", static_cast<uint64_t>(firstFrame));
-	cfg.write(section, "max_frames", static_cast<uint64_t>(maxFrames));
-	cfg.write(section, "rpe_delta", rpeDelta);
+	iniKeys().save(*this, cfg, section);
 }
 
-void TEvaluationOptions::validate(const std::string& section) const
-{
-	const auto bad = [&](const std::string& key, double v, const std::string& why) {
-		std::ostringstream s;
-		s << "[" << section << "] " << key << " = " << v << ": " << why;
-		throw std::invalid_argument(s.str());
-	};
-	if (!(maxTimeDifference > 0) || !std::isfinite(maxTimeDifference))
-		bad("max_time_difference", maxTimeDifference, "must be a positive number of seconds");
-	if (!(rpeDelta > 0) || !std::isfinite(rpeDelta)) bad("rpe_delta", rpeDelta, "must be a positive number of seconds");
-}
+void TEvaluationOptions::validate(const std::string& section) const { iniKeys().validate(*this, section); }
 
 std::vector<std::pair<std::size_t, std::size_t>> associateByTimestamp(
 	const io::Trajectory& estimate, const io::Trajectory& groundTruth, double maxTimeDifference)

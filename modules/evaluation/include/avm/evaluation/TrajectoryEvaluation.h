@@ -15,6 +15,12 @@
 
 #include "avm/io/Trajectory.h"
 
+namespace avm::io
+{
+template <class Options>
+class IniKeys;  // avm/io/IniKeys.h
+}
+
 namespace avm::evaluation
 {
 struct TEvaluationOptions : public mrpt::config::CLoadableOptions
@@ -29,6 +35,8 @@ struct TEvaluationOptions : public mrpt::config::CLoadableOptions
 	/** [s] time step of the relative pose error. */
 	double rpeDelta = 1.0;
 
+	/** Every key: name, member, unit, description, check. */
+	static io::IniKeys<TEvaluationOptions> iniKeys();
 	void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
 	void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
 	/** Throws std::invalid_argument naming "[section] key" and the value. */
