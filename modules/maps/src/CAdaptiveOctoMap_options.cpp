@@ -1,70 +1,23 @@
-// The .ini face of the map: load, save (the same key set) and validation of
-// every option, with errors that name "[section] key".
+// The .ini face of the map: every option declared once (io::IniKeys), which
+// gives load, save (the same key set), validation with errors that name
+// "[section] key", and the keys' documentation.
 #include <mrpt/config/CConfigFileBase.h>
 
-#include <charconv>
 #include <cmath>
 #include <stdexcept>
 
-#include "avm/io/ErrorMessage.h"
-#include "avm/io/IniOptions.h"
+#include "avm/io/IniKeys.h"
 #include "avm/maps/CAdaptiveOctoMap.h"
 
 namespace avm
 {
 namespace
 {
-/** Shortest text that reads back to the same value (saved keys round-trip
- *  exactly, messages show what the user typed). */
-template <typename T>
-std::string str(const T& v)
-{
-	char buf[64];
-	const auto r = std::to_chars(buf, buf + sizeof(buf), v);
-	return std::string(buf, r.ptr);
-}
+using io::iniText;
 
-[[noreturn]] void reject(const std::string& section, const std::string& key, const std::string& value,
-	const std::string& problem)
+io::IniRule<double> inOpenRange(double lo, double hi)
 {
-	throw io::iniValueError(section, key, value, problem);
-}
-
-void requireInOpenRange(const std::string& section, const std::string& key, double v, double lo, double hi)
-{
-	if (!(v > lo && v < hi))
-		reject(section, key, str(v), "must be in (" + str(lo) + ", " + str(hi) + ")");
-}
-
-/** An integer key that must not be negative. */
-std::int64_t readNonNegative(
-	const mrpt::config::CConfigFileBase& c, const std::string& section, const std::string& key, std::int64_t def)
-{
-	const auto v = io::readIniValue<std::int64_t>(c, section, key, def);
-	if (v < 0) reject(section, key, str(v), "must be >= 0");
-	return v;
-}
-
-double readNumber(const mrpt::config::CConfigFileBase& c, const std::string& section, const std::string& key, double def)
-{
-	return io::readIniValue<double>(c, section, key, def);
-}
-
-/** A key naming one of an enum's values, parsed by `parse` (which throws
- *  std::invalid_argument on anything else). */
-template <typename Enum, typename Parse>
-Enum readChoice(const mrpt::config::CConfigFileBase& c, const std::string& section, const std::string& key, Enum def,
-	Parse parse, const std::string& expected)
-{
-	const std::string text = c.read_string(section, key, toString(def));
-	try
-	{
-		return parse(text);
-	}
-	catch (const std::invalid_argument&)
-	{
-		reject(section, key, text, expected);
-	}
+	return {[lo, hi](double v) { return v > lo && v < hi; }, "must be in (" + iniText(lo) + ", " + iniText(hi) + ")"};
 }
 
 // A tree of depth 16 spans +-resolution * 2^15 around the origin; below this
@@ -97,200 +50,215 @@ CAdaptiveOctoMap::TTreeOptions::TTreeOptions(std::string prefix, double res)
 {
 }
 
+io::IniKeys<CAdaptiveOctoMap::TTreeOptions> CAdaptiveOctoMap::TTreeOptions::iniKeys() const
+{
+	using O = TTreeOptions;
+	const std::string p = keyPrefix;
+	io::IniKeys<O> keys;
+	keys.number(p + "resolution", &O::resolution, "m", "voxel edge",
+			{[](double v) { return v > 0; }, "must be a positive length in metres"})
+		.check(p + "resolution", [](const O& o) { return o.resolution * kTreeHalfCells >= kMinTreeHalfExtent; },
+			[](const O& o) {
+				return "too fine for an octree of depth 16: it would span only +-" +
+					iniText(o.resolution * kTreeHalfCells) + " m (at least +-" + iniText(kMinTreeHalfExtent) +
+					" m needed, i.e. resolution >= " + iniText(kMinTreeHalfExtent / kTreeHalfCells) + " m)";
+			})
+		.check(p + "resolution", [](const O& o) { return o.resolution <= 100; }, "larger than 100 m is not a voxel map")
+		.number(p + "probHit", &O::probHit, "", "hit probability of the sensor model", inOpenRange(0.5, 1.0))
+		.number(p + "probMiss", &O::probMiss, "", "miss probability of the sensor model", inOpenRange(0.0, 0.5))
+		.number(p + "clampingThresMin", &O::clampingThresMin, "", "lower clamping probability", inOpenRange(0.0, 1.0))
+		.number(p + "clampingThresMax", &O::clampingThresMax, "", "upper clamping probability", inOpenRange(0.0, 1.0))
+		.check(p + "clampingThresMax", [](const O& o) { return o.clampingThresMin < o.clampingThresMax; },
+			[p](const O& o) { return "must be above " + p + "clampingThresMin (" + iniText(o.clampingThresMin) + ")"; })
+		.number(p + "occupancyThres", &O::occupancyThres, "", "probability above which a voxel is occupied",
+			inOpenRange(0.0, 1.0))
+		.number(p + "maxrange", &O::maxRange, "m", "rays cut here: free space up to it, no endpoint",
+			{[](double v) { return v > 0; }, "must be a positive range in metres"});
+	return keys;
+}
+
 void CAdaptiveOctoMap::TTreeOptions::loadFromConfigFile(
 	const mrpt::config::CConfigFileBase& c, const std::string& section)
 {
-	resolution = readNumber(c, section, keyPrefix + "resolution", resolution);
-	probHit = readNumber(c, section, keyPrefix + "probHit", probHit);
-	probMiss = readNumber(c, section, keyPrefix + "probMiss", probMiss);
-	clampingThresMin = readNumber(c, section, keyPrefix + "clampingThresMin", clampingThresMin);
-	clampingThresMax = readNumber(c, section, keyPrefix + "clampingThresMax", clampingThresMax);
-	occupancyThres = readNumber(c, section, keyPrefix + "occupancyThres", occupancyThres);
-	maxRange = readNumber(c, section, keyPrefix + "maxrange", maxRange);
-	validate(section);
+	iniKeys().load(*this, c, section);
 }
 
 void CAdaptiveOctoMap::TTreeOptions::saveToConfigFile(
 	mrpt::config::CConfigFileBase& c, const std::string& section) const
 {
-	c.write(section, keyPrefix + "resolution", str(resolution));
-	c.write(section, keyPrefix + "probHit", str(probHit));
-	c.write(section, keyPrefix + "probMiss", str(probMiss));
-	c.write(section, keyPrefix + "clampingThresMin", str(clampingThresMin));
-	c.write(section, keyPrefix + "clampingThresMax", str(clampingThresMax));
-	c.write(section, keyPrefix + "occupancyThres", str(occupancyThres));
-	c.write(section, keyPrefix + "maxrange", str(maxRange));
+	iniKeys().save(*this, c, section);
 }
 
 void CAdaptiveOctoMap::TTreeOptions::validate(const std::string& section) const
 {
-	const auto& p = keyPrefix;
-	if (!(std::isfinite(resolution) && resolution > 0))
-		reject(section, p + "resolution", str(resolution), "must be a positive length in metres");
-	if (resolution * kTreeHalfCells < kMinTreeHalfExtent)
-		reject(section, p + "resolution", str(resolution),
-			"too fine for an octree of depth 16: it would span only +-" + str(resolution * kTreeHalfCells) +
-				" m (at least +-" + str(kMinTreeHalfExtent) + " m needed, i.e. resolution >= " +
-				str(kMinTreeHalfExtent / kTreeHalfCells) + " m)");
-	if (resolution > 100)
-		reject(section, p + "resolution", str(resolution), "larger than 100 m is not a voxel map");
-	requireInOpenRange(section, p + "probHit", probHit, 0.5, 1.0);
-	requireInOpenRange(section, p + "probMiss", probMiss, 0.0, 0.5);
-	requireInOpenRange(section, p + "clampingThresMin", clampingThresMin, 0.0, 1.0);
-	requireInOpenRange(section, p + "clampingThresMax", clampingThresMax, 0.0, 1.0);
-	if (!(clampingThresMin < clampingThresMax))
-		reject(section, p + "clampingThresMax", str(clampingThresMax),
-			"must be above " + p + "clampingThresMin (" + str(clampingThresMin) + ")");
-	requireInOpenRange(section, p + "occupancyThres", occupancyThres, 0.0, 1.0);
-	if (!(std::isfinite(maxRange) && maxRange > 0))
-		reject(section, p + "maxrange", str(maxRange), "must be a positive range in metres");
+	iniKeys().validate(*this, section);
 }
 
 // ------------------------------------------------------------ TCreationOptions
+io::IniKeys<CAdaptiveOctoMap::TCreationOptions> CAdaptiveOctoMap::TCreationOptions::iniKeys() const
+{
+	using O = TCreationOptions;
+	const std::string highKey = high.keyPrefix + "resolution", lowKey = low.keyPrefix + "resolution";
+	io::IniKeys<O> keys;
+	keys.include(&O::low, low.iniKeys())
+		.include(&O::high, high.iniKeys())
+		.check(highKey, [](const O& o) { return o.high.resolution < o.low.resolution; },
+			[lowKey](const O& o) { return "must be finer than " + lowKey + " (" + iniText(o.low.resolution) + ")"; })
+		.check(highKey,
+			[](const O& o) {
+				const double ratio = o.low.resolution / o.high.resolution;
+				return std::abs(ratio - std::round(ratio)) <= 1e-6;
+			},
+			[lowKey](const O& o) {
+				return "must divide " + lowKey + " (" + iniText(o.low.resolution) +
+					") a whole number of times, so that no high voxel straddles two low ones";
+			});
+	return keys;
+}
+
 void CAdaptiveOctoMap::TCreationOptions::loadFromConfigFile(
 	const mrpt::config::CConfigFileBase& c, const std::string& section)
 {
-	low.loadFromConfigFile(c, section);
-	high.loadFromConfigFile(c, section);
-	validate(section);
+	iniKeys().load(*this, c, section);
 }
 
 void CAdaptiveOctoMap::TCreationOptions::saveToConfigFile(
 	mrpt::config::CConfigFileBase& c, const std::string& section) const
 {
-	low.saveToConfigFile(c, section);
-	high.saveToConfigFile(c, section);
+	iniKeys().save(*this, c, section);
 }
 
 void CAdaptiveOctoMap::TCreationOptions::validate(const std::string& section) const
 {
-	low.validate(section);
-	high.validate(section);
-	if (!(high.resolution < low.resolution))
-		reject(section, high.keyPrefix + "resolution", str(high.resolution),
-			"must be finer than " + low.keyPrefix + "resolution (" + str(low.resolution) + ")");
-	const double ratio = low.resolution / high.resolution;
-	if (std::abs(ratio - std::round(ratio)) > 1e-6)
-		reject(section, high.keyPrefix + "resolution", str(high.resolution),
-			"must divide " + low.keyPrefix + "resolution (" + str(low.resolution) +
-				") a whole number of times, so that no high voxel straddles two low ones");
+	iniKeys().validate(*this, section);
 }
 
 // ----------------------------------------------------------- TInsertionOptions
+io::IniKeys<CAdaptiveOctoMap::TInsertionOptions> CAdaptiveOctoMap::TInsertionOptions::iniKeys()
+{
+	using O = TInsertionOptions;
+	using S = persons::SightingOptions;
+	using T = persons::TrackerOptions;
+	const auto forcedSwitchNeedsPaper = [](const O& o) { return o.switchPolicy == SwitchPolicy::Paper; };
+	io::IniKeys<O> keys;
+	keys.choice("switch_policy", &O::switchPolicy, switchPolicyFromString, [](SwitchPolicy p) { return toString(p); },
+			"region (space around people at high resolution) | paper (Algorithm 1 as published)",
+			"expected paper or region")
+		.number("region_margin", &O::regionMargin, "m", "grown on each side of a person's box to make its region",
+			{[](double v) { return v >= 0; }, "must be >= 0 metres"})
+		.choice("region_lifetime", &O::regionLifetime, regionLifetimeFromString,
+			[](RegionLifetime l) { return toString(l); },
+			"follow (the region moves with its person; ends once its space was in view region_end_after_s with no "
+			"sighting of the person; out of view it stays) | persist (every place a person has been stays high "
+			"resolution)",
+			"expected follow or persist")
+		.number("region_end_after_s", &O::regionEndAfterSeconds, "s",
+			"follow: in-view time with no sighting after which a region ends, its detail folded into the low tree",
+			{[](double v) { return v > 0; }, "must be > 0 seconds"})
+		.text("person_label", &O::personLabel,
+			"pixelLabels name of persons: \"person\" may hold many (one per 4-connected blob), \"person/<k>\" one each",
+			{[](const std::string& v) { return !v.empty(); }, "must not be empty"})
+		.number("person_depth_band", &O::sighting, &S::depthBand, "m",
+			"half-width of the person's depth band around its robust depth; pixels outside are background",
+			{[](double v) { return v > 0; }, "must be > 0 metres"})
+		.number("person_percentile", &O::sighting, &S::percentile, "0..0.5",
+			"a person's box spans the [p, 1-p] percentiles of its points on each axis",
+			{[](double v) { return v >= 0 && v < 0.5; }, "must be in [0, 0.5)"})
+		.number<std::int64_t>("min_person_pixels", &O::sighting, &S::minPixels, "pixels",
+			"depth pixels in the band needed for a sighting", {[](std::int64_t v) { return v >= 1; }, "must be >= 1"})
+		.number("min_person_depth_fraction", &O::sighting, &S::minDepthFraction, "0..1",
+			"share of a person's pixels that must have depth",
+			{[](double v) { return v >= 0 && v <= 1; }, "must be in [0, 1]"})
+		.number("track_gate", &O::tracking, &T::gate, "m",
+			"farthest a sighting may be from a track seen at the same instant to join it",
+			{[](double v) { return v > 0; }, "must be > 0 metres"})
+		.number("track_gate_growth", &O::tracking, &T::gateGrowth, "m/s",
+			"the gate widens by this per second the track was unseen",
+			{[](double v) { return v >= 0; }, "must be >= 0 m/s"})
+		.number("track_max_gate", &O::tracking, &T::maxGate, "m",
+			"widest gate: a person back near where last seen keeps the id")
+		.check("track_max_gate", [](const O& o) { return o.tracking.maxGate >= o.tracking.gate; },
+			"must be >= track_gate")
+		.number("switch_at_frame", &O::switchAtFrame, "", "paper policy: force the switch at this insertion index; -1 = off",
+			{[](std::int64_t v) { return v >= -1; }, "must be -1 (off) or >= 0"})
+		.check("switch_at_frame", [=](const O& o) { return o.switchAtFrame == -1 || forcedSwitchNeedsPaper(o); },
+			"a forced switch needs switch_policy = paper")
+		.number("switch_at_fraction", &O::switchAtFraction, "",
+			"paper policy: force the switch at this fraction of the run; -1 = off",
+			{[](double v) { return v == -1 || (v >= 0 && v <= 1); }, "must be -1 (off) or in [0, 1]"})
+		.check("switch_at_fraction", [=](const O& o) { return o.switchAtFraction == -1 || forcedSwitchNeedsPaper(o); },
+			"a forced switch needs switch_policy = paper")
+		.number<std::int64_t>("expected_frame_count", &O::expectedFrameCount, "",
+			"frames in the run, for switch_at_fraction; 0 = counted by avm-map",
+			{[](std::int64_t v) { return v >= 0; }, "must be >= 0"})
+		.number<std::int64_t>("insertion_threads", &O::insertionThreads, "",
+			"threads for unprojecting and keying a depth image (row bands), 1..16; rays and tree updates stay on one "
+			"thread",
+			{[](std::int64_t v) { return v >= 1 && v <= 16; }, "must be in [1, 16]"});
+	return keys;
+}
+
 void CAdaptiveOctoMap::TInsertionOptions::loadFromConfigFile(
 	const mrpt::config::CConfigFileBase& c, const std::string& section)
 {
-	switchPolicy = readChoice(c, section, "switch_policy", switchPolicy, switchPolicyFromString, "expected paper or region");
-	regionMargin = readNumber(c, section, "region_margin", regionMargin);
-	regionLifetime = readChoice(
-		c, section, "region_lifetime", regionLifetime, regionLifetimeFromString, "expected follow or persist");
-	regionEndAfterSeconds = readNumber(c, section, "region_end_after_s", regionEndAfterSeconds);
-	personLabel = c.read_string(section, "person_label", personLabel);
-	sighting.depthBand = readNumber(c, section, "person_depth_band", sighting.depthBand);
-	sighting.percentile = readNumber(c, section, "person_percentile", sighting.percentile);
-	sighting.minPixels = static_cast<std::size_t>(
-		readNonNegative(c, section, "min_person_pixels", static_cast<std::int64_t>(sighting.minPixels)));
-	sighting.minDepthFraction = readNumber(c, section, "min_person_depth_fraction", sighting.minDepthFraction);
-	tracking.gate = readNumber(c, section, "track_gate", tracking.gate);
-	tracking.gateGrowth = readNumber(c, section, "track_gate_growth", tracking.gateGrowth);
-	tracking.maxGate = readNumber(c, section, "track_max_gate", tracking.maxGate);
-	const double frame = readNumber(c, section, "switch_at_frame", static_cast<double>(switchAtFrame));
-	if (frame != std::floor(frame)) reject(section, "switch_at_frame", str(frame), "must be a whole insertion index");
-	switchAtFrame = static_cast<std::int64_t>(frame);
-	switchAtFraction = readNumber(c, section, "switch_at_fraction", switchAtFraction);
-	expectedFrameCount = static_cast<std::uint64_t>(readNonNegative(c, section, "expected_frame_count",
-		static_cast<std::int64_t>(expectedFrameCount)));
-	insertionThreads = static_cast<std::uint32_t>(readNonNegative(c, section, "insertion_threads", insertionThreads));
-	validate(section);
+	iniKeys().load(*this, c, section);
 }
 
 void CAdaptiveOctoMap::TInsertionOptions::saveToConfigFile(
 	mrpt::config::CConfigFileBase& c, const std::string& section) const
 {
-	c.write(section, "switch_policy", toString(switchPolicy));
-	c.write(section, "region_margin", str(regionMargin));
-	c.write(section, "region_lifetime", toString(regionLifetime));
-	c.write(section, "region_end_after_s", str(regionEndAfterSeconds));
-	c.write(section, "person_label", personLabel);
-	c.write(section, "person_depth_band", str(sighting.depthBand));
-	c.write(section, "person_percentile", str(sighting.percentile));
-	c.write(section, "min_person_pixels", str(sighting.minPixels));
-	c.write(section, "min_person_depth_fraction", str(sighting.minDepthFraction));
-	c.write(section, "track_gate", str(tracking.gate));
-	c.write(section, "track_gate_growth", str(tracking.gateGrowth));
-	c.write(section, "track_max_gate", str(tracking.maxGate));
-	c.write(section, "switch_at_frame", str(switchAtFrame));
-	c.write(section, "switch_at_fraction", str(switchAtFraction));
-	c.write(section, "expected_frame_count", str(expectedFrameCount));
-	c.write(section, "insertion_threads", str(insertionThreads));
+	iniKeys().save(*this, c, section);
 }
 
 void CAdaptiveOctoMap::TInsertionOptions::validate(const std::string& section) const
 {
-	if (!(std::isfinite(regionMargin) && regionMargin >= 0))
-		reject(section, "region_margin", str(regionMargin), "must be >= 0 metres");
-	if (personLabel.empty()) reject(section, "person_label", "", "must not be empty");
-	if (insertionThreads < 1 || insertionThreads > 16)
-		reject(section, "insertion_threads", str(insertionThreads), "must be in [1, 16]");
-	if (!(std::isfinite(regionEndAfterSeconds) && regionEndAfterSeconds > 0))
-		reject(section, "region_end_after_s", str(regionEndAfterSeconds), "must be > 0 seconds");
-	if (!(std::isfinite(sighting.depthBand) && sighting.depthBand > 0))
-		reject(section, "person_depth_band", str(sighting.depthBand), "must be > 0 metres");
-	if (!(sighting.percentile >= 0 && sighting.percentile < 0.5))
-		reject(section, "person_percentile", str(sighting.percentile), "must be in [0, 0.5)");
-	if (sighting.minPixels < 1) reject(section, "min_person_pixels", str(sighting.minPixels), "must be >= 1");
-	if (!(sighting.minDepthFraction >= 0 && sighting.minDepthFraction <= 1))
-		reject(section, "min_person_depth_fraction", str(sighting.minDepthFraction), "must be in [0, 1]");
-	if (!(std::isfinite(tracking.gate) && tracking.gate > 0))
-		reject(section, "track_gate", str(tracking.gate), "must be > 0 metres");
-	if (!(std::isfinite(tracking.gateGrowth) && tracking.gateGrowth >= 0))
-		reject(section, "track_gate_growth", str(tracking.gateGrowth), "must be >= 0 m/s");
-	if (!(std::isfinite(tracking.maxGate) && tracking.maxGate >= tracking.gate))
-		reject(section, "track_max_gate", str(tracking.maxGate), "must be >= track_gate");
-	if (switchAtFrame < -1) reject(section, "switch_at_frame", str(switchAtFrame), "must be -1 (off) or >= 0");
-	if (!(switchAtFraction == -1 || (switchAtFraction >= 0 && switchAtFraction <= 1)))
-		reject(section, "switch_at_fraction", str(switchAtFraction), "must be -1 (off) or in [0, 1]");
-	if (switchPolicy == SwitchPolicy::Region)
-	{
-		if (switchAtFrame != -1)
-			reject(section, "switch_at_frame", str(switchAtFrame), "a forced switch needs switch_policy = paper");
-		if (switchAtFraction != -1)
-			reject(section, "switch_at_fraction", str(switchAtFraction),
-				"a forced switch needs switch_policy = paper");
-	}
+	iniKeys().validate(*this, section);
 }
 
 // ---------------------------------------------------------- TLikelihoodOptions
+io::IniKeys<CAdaptiveOctoMap::TLikelihoodOptions> CAdaptiveOctoMap::TLikelihoodOptions::iniKeys()
+{
+	io::IniKeys<TLikelihoodOptions> keys;
+	keys.number<std::int64_t>("decimation", &TLikelihoodOptions::decimation, "",
+		"use one pixel in N along rows and columns", {[](std::int64_t v) { return v >= 1; }, "must be >= 1"});
+	return keys;
+}
+
 void CAdaptiveOctoMap::TLikelihoodOptions::loadFromConfigFile(
 	const mrpt::config::CConfigFileBase& c, const std::string& section)
 {
-	decimation = static_cast<std::uint32_t>(readNonNegative(c, section, "decimation", decimation));
-	validate(section);
+	iniKeys().load(*this, c, section);
 }
 
 void CAdaptiveOctoMap::TLikelihoodOptions::saveToConfigFile(
 	mrpt::config::CConfigFileBase& c, const std::string& section) const
 {
-	c.write(section, "decimation", str(decimation));
+	iniKeys().save(*this, c, section);
 }
 
 void CAdaptiveOctoMap::TLikelihoodOptions::validate(const std::string& section) const
 {
-	if (decimation < 1) reject(section, "decimation", str(decimation), "must be >= 1");
+	iniKeys().validate(*this, section);
 }
 
 // ----------------------------------------------------------- TRenderingOptions
+io::IniKeys<CAdaptiveOctoMap::TRenderingOptions> CAdaptiveOctoMap::TRenderingOptions::iniKeys()
+{
+	io::IniKeys<TRenderingOptions> keys;
+	keys.number("show_free_space", &TRenderingOptions::showFreeSpace, "", "draw free voxels too")
+		.number("show_regions", &TRenderingOptions::showRegions, "", "draw the high-resolution regions");
+	return keys;
+}
+
 void CAdaptiveOctoMap::TRenderingOptions::loadFromConfigFile(
 	const mrpt::config::CConfigFileBase& c, const std::string& section)
 {
-	showFreeSpace = c.read_bool(section, "show_free_space", showFreeSpace);
-	showRegions = c.read_bool(section, "show_regions", showRegions);
+	iniKeys().load(*this, c, section);
 }
 
 void CAdaptiveOctoMap::TRenderingOptions::saveToConfigFile(
 	mrpt::config::CConfigFileBase& c, const std::string& section) const
 {
-	c.write(section, "show_free_space", showFreeSpace ? "true" : "false");
-	c.write(section, "show_regions", showRegions ? "true" : "false");
+	iniKeys().save(*this, c, section);
 }
 }  // namespace avm

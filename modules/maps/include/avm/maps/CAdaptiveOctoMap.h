@@ -31,6 +31,12 @@
 #include "avm/persons/PersonSighting.h"
 #include "avm/persons/PersonTracker.h"
 
+namespace avm::io
+{
+template <class Options>
+class IniKeys;  // avm/io/IniKeys.h
+}
+
 namespace octomap
 {
 class OcTree;
@@ -154,6 +160,8 @@ class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
 		 *  occupied endpoint (as octomap's insertPointCloud maxrange). */
 		double maxRange = 5.0;
 
+		/** Every key (with keyPrefix): name, member, unit, description, check. */
+		io::IniKeys<TTreeOptions> iniKeys() const;
 		void loadFromConfigFile(
 			const mrpt::config::CConfigFileBase& source, const std::string& section) override;
 		void saveToConfigFile(
@@ -168,6 +176,7 @@ class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
 		TTreeOptions low{"low_", 0.20};
 		TTreeOptions high{"high_", 0.05};
 
+		io::IniKeys<TCreationOptions> iniKeys() const;
 		void loadFromConfigFile(
 			const mrpt::config::CConfigFileBase& source, const std::string& section) override;
 		void saveToConfigFile(
@@ -202,6 +211,7 @@ class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
 		 *  ray casting and tree updates stay on the inserting thread. */
 		std::uint32_t insertionThreads = 1;
 
+		static io::IniKeys<TInsertionOptions> iniKeys();
 		void loadFromConfigFile(
 			const mrpt::config::CConfigFileBase& source, const std::string& section) override;
 		void saveToConfigFile(
@@ -215,6 +225,7 @@ class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
 		/** Use one pixel in `decimation` along rows and columns. */
 		std::uint32_t decimation = 8;
 
+		static io::IniKeys<TLikelihoodOptions> iniKeys();
 		void loadFromConfigFile(
 			const mrpt::config::CConfigFileBase& source, const std::string& section) override;
 		void saveToConfigFile(
@@ -228,6 +239,7 @@ class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
 		bool showFreeSpace = false;
 		bool showRegions = true;
 
+		static io::IniKeys<TRenderingOptions> iniKeys();
 		void loadFromConfigFile(
 			const mrpt::config::CConfigFileBase& source, const std::string& section) override;
 		void saveToConfigFile(
