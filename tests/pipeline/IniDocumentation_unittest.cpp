@@ -1,10 +1,11 @@
-// ini/default.ini documents every key avm-map reads: each key an options
-// struct writes back (saveToConfigFile writes exactly the keys it reads) is in
-// the file with a "// ... (default X)" comment whose X is the built-in
-// default, and the file holds no key the code does not read.
+// ini/default.ini documents every key avm-map reads as the options structs
+// declare it (io::IniKeys): each declared key is in the file with the comment
+// "// description [unit] (default X)" that its declaration gives, X the
+// built-in default, and the file holds no key the code does not read.
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <map>
@@ -12,6 +13,7 @@
 #include <string>
 
 #include "avm/detection/TDetectorOptions.h"
+#include "avm/io/IniKeys.h"
 #include "avm/io/IniOptions.h"
 #include "avm/maps/CAdaptiveOctoMap.h"
 #include "avm/odometry/TOdometryOptions.h"
@@ -55,6 +57,36 @@ IniComments commentsOf(const fs::path& file)
 	return out;
 }
 
+/** Each key `keys` declares is in [section] of default.ini with the comment
+ *  its declaration gives; [section] holds no other key. */
+template <class Options>
+void expectDocumented(const IniComments& docs, const mrpt::config::CConfigFileBase& ini, const std::string& section,
+	const io::IniKeys<Options>& keys, const Options& defaults)
+{
+	const auto declared = keys.documentation(defaults);
+	ASSERT_FALSE(declared.empty()) << section;
+	const auto inSection = docs.find(section);
+	ASSERT_NE(inSection, docs.end()) << "ini/default.ini has no [" << section << "]";
+	for (const auto& key : declared)
+	{
+		const auto line = inSection->second.find(key.key);
+		if (line == inSection->second.end())
+			ADD_FAILURE() << "ini/default.ini does not document [" << section << "] " << key.key << "; its line:\n"
+						  << key.key << " = " << key.defaultText << "  // " << key.comment();
+		else
+			EXPECT_EQ(line->second, key.comment()) << "[" << section << "] " << key.key
+												   << ": the comment in ini/default.ini is not the declaration's";
+	}
+	std::vector<std::string> present;
+	ini.getAllKeys(section, present);
+	for (const auto& key : present)
+		if (std::none_of(declared.begin(), declared.end(), [&](const io::IniKeyDoc& d) { return d.key == key; }))
+			ADD_FAILURE() << "ini/default.ini has [" << section << "] " << key << ", which avm-map does not read";
+}
+
+// TOdometryOptions does not declare its keys yet: its keys and defaults are
+// checked through what it saves.
+
 /** "X" of a comment ending in "(default X)"; nothing without one. */
 std::optional<std::string> documentedDefault(const std::string& comment)
 {
@@ -73,7 +105,7 @@ bool sameValue(const std::string& documented, const std::string& builtIn)
 	return endA != documented.c_str() && *endA == 0 && endB != builtIn.c_str() && *endB == 0 && a == b;
 }
 
-void expectDocumented(
+void expectKeysAndDefaultsDocumented(
 	const IniComments& docs, const mrpt::config::CConfigFileBase& ini, const std::string& section,
 	const mrpt::config::CLoadableOptions& options)
 {
@@ -113,13 +145,14 @@ TEST(IniDocumentation, DefaultIniDocumentsEveryKeyWithItsDefault)
 	const fs::path file = fs::path(AVM_SOURCE_DIR) / "ini/default.ini";
 	const auto docs = commentsOf(file);
 	mrpt::config::CConfigFile ini(file.string());
-	expectDocumented(docs, ini, "pipeline", pipeline::TPipelineOptions());
-	expectDocumented(docs, ini, "odometry", odometry::TOdometryOptions());
-	expectDocumented(docs, ini, "detection", detection::TDetectorOptions());
+	expectDocumented(docs, ini, "pipeline", pipeline::TPipelineOptions::iniKeys(), pipeline::TPipelineOptions());
+	expectKeysAndDefaultsDocumented(docs, ini, "odometry", odometry::TOdometryOptions());
+	expectDocumented(docs, ini, "detection", detection::TDetectorOptions::iniKeys(), detection::TDetectorOptions());
 	const CAdaptiveOctoMap map;
 	const std::string prefix = "map_adaptiveOctoMap_00_";
-	expectDocumented(docs, ini, prefix + "creationOpts", map.creationOptions());
-	expectDocumented(docs, ini, prefix + "insertOpts", map.insertionOptions);
-	expectDocumented(docs, ini, prefix + "likelihoodOpts", map.likelihoodOptions);
-	expectDocumented(docs, ini, prefix + "renderOpts", map.renderingOptions);
+	expectDocumented(docs, ini, prefix + "creationOpts", map.creationOptions().iniKeys(), map.creationOptions());
+	expectDocumented(docs, ini, prefix + "insertOpts", map.insertionOptions.iniKeys(), map.insertionOptions);
+	expectDocumented(
+		docs, ini, prefix + "likelihoodOpts", map.likelihoodOptions.iniKeys(), map.likelihoodOptions);
+	expectDocumented(docs, ini, prefix + "renderOpts", map.renderingOptions.iniKeys(), map.renderingOptions);
 }

@@ -161,8 +161,8 @@ io::IniKeys<CAdaptiveOctoMap::TInsertionOptions> CAdaptiveOctoMap::TInsertionOpt
 		.number("person_depth_band", &O::sighting, &S::depthBand, "m",
 			"half-width of the person's depth band around its robust depth; pixels outside are background",
 			{[](double v) { return v > 0; }, "must be > 0 metres"})
-		.number("person_percentile", &O::sighting, &S::percentile, "0..0.5",
-			"a person's box spans the [p, 1-p] percentiles of its points on each axis",
+		.number("person_percentile", &O::sighting, &S::percentile, "",
+			"a person's box spans the [p, 1-p] percentiles of its points on each axis, p in [0, 0.5)",
 			{[](double v) { return v >= 0 && v < 0.5; }, "must be in [0, 0.5)"})
 		.number<std::int64_t>("min_person_pixels", &O::sighting, &S::minPixels, "pixels",
 			"depth pixels in the band needed for a sighting", {[](std::int64_t v) { return v >= 1; }, "must be >= 1"})
