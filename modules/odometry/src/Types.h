@@ -13,18 +13,13 @@
 #include <limits>
 #include <vector>
 
+#include "avm/io/DepthCamera.h"
+
 namespace avm::odometry::detail
 {
-struct Intrinsics
-{
-	double fx = 0, fy = 0, cx = 0, cy = 0;
-
-	/** The pixel of a point in the camera optical frame (z > 0). */
-	Eigen::Vector2d project(const Eigen::Vector3d& pc) const
-	{
-		return {fx * pc.x() / pc.z() + cx, fy * pc.y() / pc.z() + cy};
-	}
-};
+/** The pinhole model of the registered depth and intensity images: the one of
+ *  the whole project (io::DepthCamera), used in its optical frame. */
+using Intrinsics = io::DepthCamera;
 
 /** Reprojection error [px] of a world point seen at a pixel, from pose T_cw;
  *  infinite behind the camera. */
@@ -33,7 +28,7 @@ inline double reprojectionError(
 {
 	const Eigen::Vector3d pc = T_cw * world;
 	if (pc.z() <= 1e-6) return std::numeric_limits<double>::infinity();
-	return (K.project(pc) - pixel).norm();
+	return (K.opticalPixelOf(pc) - pixel).norm();
 }
 
 /** 256 bits, as ORB computes them. */

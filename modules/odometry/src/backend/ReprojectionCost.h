@@ -28,8 +28,10 @@ class ReprojectionDepthCost
 		pc[1] += pose[4];
 		pc[2] += pose[5];
 		if (pc[2] < T(1e-3)) pc[2] = T(1e-3);  // keeps a point that slipped behind finite
-		residual[0] = T(m_K.fx) * pc[0] / pc[2] + T(m_K.cx) - T(m_u);
-		residual[1] = T(m_K.fy) * pc[1] / pc[2] + T(m_K.cy) - T(m_v);
+		T pixel[2];
+		m_K.opticalPixelOf(pc, pixel);
+		residual[0] = pixel[0] - T(m_u);
+		residual[1] = pixel[1] - T(m_v);
 		residual[2] = T(m_depthWeight * m_K.fx / m_depth) * (pc[2] - T(m_depth));
 		return true;
 	}

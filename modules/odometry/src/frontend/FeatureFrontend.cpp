@@ -137,7 +137,7 @@ FrameFeatures FeatureFrontend::extract(
 	for (const auto& kp : f.keypoints)
 	{
 		const double d = *stableDepth(depth, cvRound(kp.pt.x), cvRound(kp.pt.y), o);
-		f.points.emplace_back((kp.pt.x - K.cx) * d / K.fx, (kp.pt.y - K.cy) * d / K.fy, d);
+		f.points.push_back(K.opticalPointOf(kp.pt.x, kp.pt.y, d));
 	}
 	return f;
 }
@@ -165,7 +165,7 @@ std::vector<Match> FeatureFrontend::matchByProjection(
 	{
 		const Eigen::Vector3d pc = T_cw * lm.position;
 		if (pc.z() < o.min_depth) continue;
-		const Eigen::Vector2d px = frame.K.project(pc);
+		const Eigen::Vector2d px = frame.K.opticalPixelOf(pc);
 		const double u = px.x(), v = px.y();
 		if (u < 0 || v < 0 || u >= frame.imageSize.width || v >= frame.imageSize.height) continue;
 		int d1 = INT32_MAX, d2 = INT32_MAX, bestFeature = -1;
