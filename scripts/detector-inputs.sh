@@ -23,8 +23,8 @@ tmp=$(mktemp "$root/doc/.detector-inputs.XXXX")
   echo
   for size in 416x416 320x320 320x256 256x192; do
     w=${size%x*} h=${size#*x}
-    sed -E -e "s/^input_width *=[^/]*/input_width = $w /" -e "s/^input_height *=[^/]*/input_height = $h /" \
-      "$root/ini/detect.ini" > "$work/detect-$size.ini"
+    # [detection] is detect.ini's last section: the keys appended go to it.
+    { cat "$root/ini/detect.ini"; printf 'input_width = %s\ninput_height = %s\n' "$w" "$h"; } > "$work/detect-$size.ini"
     echo "### $size"
     echo
     echo "\`\`\`"
