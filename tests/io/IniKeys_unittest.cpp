@@ -43,14 +43,19 @@ struct Sample
 io::IniKeys<Sample> sampleKeys()
 {
 	io::IniKeys<Sample> keys;
-	keys.number<int>("count", &Sample::count, "frames", "frames per step", {[](int v) { return v >= 1; }, "must be >= 1"})
-		.number("ratio", &Sample::ratio, "", "share kept", {[](double v) { return v > 0 && v <= 1; }, "must be in (0, 1]"})
+	keys.number<int>(
+			"count", &Sample::count, "frames", "frames per step", {[](int v) { return v >= 1; }, "must be >= 1"})
+		.number(
+			"ratio", &Sample::ratio, "", "share kept", {[](double v) { return v > 0 && v <= 1; }, "must be in (0, 1]"})
 		.number("on", &Sample::on, "", "switch")
-		.text("name", &Sample::name, "what it is called", {[](const std::string& s) { return !s.empty(); }, "must not be empty"})
-		.choice("mode", &Sample::mode, modeFromString, [](Mode m) { return toString(m); }, "fast | exact")
+		.text("name", &Sample::name, "what it is called",
+			{[](const std::string& s) { return !s.empty(); }, "must not be empty"})
+		.choice(
+			"mode", &Sample::mode, modeFromString, [](Mode m) { return toString(m); }, "fast | exact")
 		.number("low", &Sample::limits, &Limits::low, "m", "lower limit")
 		.number("high", &Sample::limits, &Limits::high, "m", "upper limit")
-		.check("high", [](const Sample& s) { return s.limits.high > s.limits.low; },
+		.check(
+			"high", [](const Sample& s) { return s.limits.high > s.limits.low; },
 			[](const Sample& s) { return "must be above low (" + io::iniText(s.limits.low) + ")"; });
 	return keys;
 }

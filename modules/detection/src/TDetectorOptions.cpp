@@ -51,20 +51,24 @@ OutputLayout parseOutputLayout(const std::string& name)
 io::IniKeys<TDetectorOptions> TDetectorOptions::iniKeys()
 {
 	using O = TDetectorOptions;
-	const auto inUnit = [](bool open) {
+	const auto inUnit = [](bool open)
+	{
 		return io::IniRule<double>{[open](double v) { return v >= 0 && v <= 1 && (!open || v > 0); },
 			open ? "must be in (0, 1]" : "must be in [0, 1]"};
 	};
 	// The YOLO grids have stride 32.
 	const io::IniRule<int> stride32{[](int v) { return v >= 32 && v % 32 == 0; }, "must be a positive multiple of 32"};
 	io::IniKeys<O> keys;
-	keys.text("model", &O::model, "ONNX model file, relative to the project root; \"\" = OpenCV's HOG people detector", {},
-			[](const std::string& v) { return unquote(trim(v)); })
-		.choice("layout", &O::layout, parseOutputLayout, [](OutputLayout l) { return toString(l); },
+	keys.text("model", &O::model, "ONNX model file, relative to the project root; \"\" = OpenCV's HOG people detector",
+			{}, [](const std::string& v) { return unquote(trim(v)); })
+		.choice(
+			"layout", &O::layout, parseOutputLayout, [](OutputLayout l) { return toString(l); },
 			"auto | yolox (1xNx85 raw grid) | yolov5 (1xNx85) | yolov8 (1x84xN)")
 		.text("classes", &O::classes, "COCO class names to keep, comma separated")
-		.number("score_threshold", &O::score_threshold, "0..1", "minimum score (YOLOX: objectness x class)", inUnit(false))
-		.number("nms_threshold", &O::nms_threshold, "0..1", "IoU above which the weaker box of a class is dropped", inUnit(true))
+		.number(
+			"score_threshold", &O::score_threshold, "0..1", "minimum score (YOLOX: objectness x class)", inUnit(false))
+		.number("nms_threshold", &O::nms_threshold, "0..1", "IoU above which the weaker box of a class is dropped",
+			inUnit(true))
 		.number("input_width", &O::input_width, "px", "network input, a multiple of 32", stride32)
 		.number("input_height", &O::input_height, "px", "network input, a multiple of 32", stride32)
 		.number("threads", &O::threads, "", "OpenCV threads for the whole run; 0 = OpenCV default",

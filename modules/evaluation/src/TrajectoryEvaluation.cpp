@@ -31,7 +31,8 @@ io::IniKeys<TEvaluationOptions> TEvaluationOptions::iniKeys()
 	keys.number("max_time_difference", &O::maxTimeDifference, "s",
 			"an estimated pose is matched with the ground-truth pose nearest in time at most this far", positiveSeconds)
 		.number<std::int64_t>("first_frame", &O::firstFrame, "", "index of the first estimated pose evaluated", count)
-		.number<std::int64_t>("max_frames", &O::maxFrames, "", "estimated poses evaluated from first_frame; 0 = all", count)
+		.number<std::int64_t>(
+			"max_frames", &O::maxFrames, "", "estimated poses evaluated from first_frame; 0 = all", count)
 		.number("rpe_delta", &O::rpeDelta, "s", "time step of the relative pose error", positiveSeconds);
 	return keys;
 }
@@ -55,8 +56,7 @@ std::vector<std::pair<std::size_t, std::size_t>> associateByTimestamp(
 	for (std::size_t i = 0; i < estimate.size(); ++i)
 	{
 		const double t = estimate[i].timestamp;
-		const auto it = std::lower_bound(
-			groundTruth.begin(), groundTruth.end(), t,
+		const auto it = std::lower_bound(groundTruth.begin(), groundTruth.end(), t,
 			[](const io::TimedPose& p, double time) { return p.timestamp < time; });
 		std::size_t best = groundTruth.size();
 		double bestDt = maxTimeDifference;

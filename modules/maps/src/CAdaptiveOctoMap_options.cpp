@@ -57,18 +57,22 @@ io::IniKeys<CAdaptiveOctoMap::TTreeOptions> CAdaptiveOctoMap::TTreeOptions::iniK
 	io::IniKeys<O> keys;
 	keys.number(p + "resolution", &O::resolution, "m", "voxel edge",
 			{[](double v) { return v > 0; }, "must be a positive length in metres"})
-		.check(p + "resolution", [](const O& o) { return o.resolution * kTreeHalfCells >= kMinTreeHalfExtent; },
-			[](const O& o) {
+		.check(
+			p + "resolution", [](const O& o) { return o.resolution * kTreeHalfCells >= kMinTreeHalfExtent; },
+			[](const O& o)
+			{
 				return "too fine for an octree of depth 16: it would span only +-" +
-					iniText(o.resolution * kTreeHalfCells) + " m (at least +-" + iniText(kMinTreeHalfExtent) +
-					" m needed, i.e. resolution >= " + iniText(kMinTreeHalfExtent / kTreeHalfCells) + " m)";
+					   iniText(o.resolution * kTreeHalfCells) + " m (at least +-" + iniText(kMinTreeHalfExtent) +
+					   " m needed, i.e. resolution >= " + iniText(kMinTreeHalfExtent / kTreeHalfCells) + " m)";
 			})
-		.check(p + "resolution", [](const O& o) { return o.resolution <= 100; }, "larger than 100 m is not a voxel map")
+		.check(
+			p + "resolution", [](const O& o) { return o.resolution <= 100; }, "larger than 100 m is not a voxel map")
 		.number(p + "probHit", &O::probHit, "", "hit probability of the sensor model", inOpenRange(0.5, 1.0))
 		.number(p + "probMiss", &O::probMiss, "", "miss probability of the sensor model", inOpenRange(0.0, 0.5))
 		.number(p + "clampingThresMin", &O::clampingThresMin, "", "lower clamping probability", inOpenRange(0.0, 1.0))
 		.number(p + "clampingThresMax", &O::clampingThresMax, "", "upper clamping probability", inOpenRange(0.0, 1.0))
-		.check(p + "clampingThresMax", [](const O& o) { return o.clampingThresMin < o.clampingThresMax; },
+		.check(
+			p + "clampingThresMax", [](const O& o) { return o.clampingThresMin < o.clampingThresMax; },
 			[p](const O& o) { return "must be above " + p + "clampingThresMin (" + iniText(o.clampingThresMin) + ")"; })
 		.number(p + "occupancyThres", &O::occupancyThres, "", "probability above which a voxel is occupied",
 			inOpenRange(0.0, 1.0))
@@ -89,10 +93,7 @@ void CAdaptiveOctoMap::TTreeOptions::saveToConfigFile(
 	iniKeys().save(*this, c, section);
 }
 
-void CAdaptiveOctoMap::TTreeOptions::validate(const std::string& section) const
-{
-	iniKeys().validate(*this, section);
-}
+void CAdaptiveOctoMap::TTreeOptions::validate(const std::string& section) const { iniKeys().validate(*this, section); }
 
 // ------------------------------------------------------------ TCreationOptions
 io::IniKeys<CAdaptiveOctoMap::TCreationOptions> CAdaptiveOctoMap::TCreationOptions::iniKeys() const
@@ -102,16 +103,20 @@ io::IniKeys<CAdaptiveOctoMap::TCreationOptions> CAdaptiveOctoMap::TCreationOptio
 	io::IniKeys<O> keys;
 	keys.include(&O::low, low.iniKeys())
 		.include(&O::high, high.iniKeys())
-		.check(highKey, [](const O& o) { return o.high.resolution < o.low.resolution; },
+		.check(
+			highKey, [](const O& o) { return o.high.resolution < o.low.resolution; },
 			[lowKey](const O& o) { return "must be finer than " + lowKey + " (" + iniText(o.low.resolution) + ")"; })
-		.check(highKey,
-			[](const O& o) {
+		.check(
+			highKey,
+			[](const O& o)
+			{
 				const double ratio = o.low.resolution / o.high.resolution;
 				return std::abs(ratio - std::round(ratio)) <= 1e-6;
 			},
-			[lowKey](const O& o) {
+			[lowKey](const O& o)
+			{
 				return "must divide " + lowKey + " (" + iniText(o.low.resolution) +
-					") a whole number of times, so that no high voxel straddles two low ones";
+					   ") a whole number of times, so that no high voxel straddles two low ones";
 			});
 	return keys;
 }
@@ -141,12 +146,14 @@ io::IniKeys<CAdaptiveOctoMap::TInsertionOptions> CAdaptiveOctoMap::TInsertionOpt
 	using T = persons::TrackerOptions;
 	const auto forcedSwitchNeedsPaper = [](const O& o) { return o.switchPolicy == SwitchPolicy::Paper; };
 	io::IniKeys<O> keys;
-	keys.choice("switch_policy", &O::switchPolicy, switchPolicyFromString, [](SwitchPolicy p) { return toString(p); },
+	keys.choice(
+			"switch_policy", &O::switchPolicy, switchPolicyFromString, [](SwitchPolicy p) { return toString(p); },
 			"region (space around people at high resolution) | paper (Algorithm 1 as published)",
 			"expected paper or region")
 		.number("region_margin", &O::regionMargin, "m", "grown on each side of a person's box to make its region",
 			{[](double v) { return v >= 0; }, "must be >= 0 metres"})
-		.choice("region_lifetime", &O::regionLifetime, regionLifetimeFromString,
+		.choice(
+			"region_lifetime", &O::regionLifetime, regionLifetimeFromString,
 			[](RegionLifetime l) { return toString(l); },
 			"follow (the region moves with its person; ends once its space was in view region_end_after_s with no "
 			"sighting of the person; out of view it stays) | persist (every place a person has been stays high "
@@ -177,16 +184,19 @@ io::IniKeys<CAdaptiveOctoMap::TInsertionOptions> CAdaptiveOctoMap::TInsertionOpt
 			{[](double v) { return v >= 0; }, "must be >= 0 m/s"})
 		.number("track_max_gate", &O::tracking, &T::maxGate, "m",
 			"widest gate: a person back near where last seen keeps the id")
-		.check("track_max_gate", [](const O& o) { return o.tracking.maxGate >= o.tracking.gate; },
-			"must be >= track_gate")
-		.number("switch_at_frame", &O::switchAtFrame, "", "paper policy: force the switch at this insertion index; -1 = off",
+		.check(
+			"track_max_gate", [](const O& o) { return o.tracking.maxGate >= o.tracking.gate; }, "must be >= track_gate")
+		.number("switch_at_frame", &O::switchAtFrame, "",
+			"paper policy: force the switch at this insertion index; -1 = off",
 			{[](std::int64_t v) { return v >= -1; }, "must be -1 (off) or >= 0"})
-		.check("switch_at_frame", [=](const O& o) { return o.switchAtFrame == -1 || forcedSwitchNeedsPaper(o); },
+		.check(
+			"switch_at_frame", [=](const O& o) { return o.switchAtFrame == -1 || forcedSwitchNeedsPaper(o); },
 			"a forced switch needs switch_policy = paper")
 		.number("switch_at_fraction", &O::switchAtFraction, "",
 			"paper policy: force the switch at this fraction of the run; -1 = off",
 			{[](double v) { return v == -1 || (v >= 0 && v <= 1); }, "must be -1 (off) or in [0, 1]"})
-		.check("switch_at_fraction", [=](const O& o) { return o.switchAtFraction == -1 || forcedSwitchNeedsPaper(o); },
+		.check(
+			"switch_at_fraction", [=](const O& o) { return o.switchAtFraction == -1 || forcedSwitchNeedsPaper(o); },
 			"a forced switch needs switch_policy = paper")
 		.number<std::int64_t>("expected_frame_count", &O::expectedFrameCount, "",
 			"frames in the run, for switch_at_fraction; 0 = counted by avm-map",

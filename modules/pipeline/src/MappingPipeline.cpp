@@ -42,7 +42,8 @@ io::IniKeys<TPipelineOptions> TPipelineOptions::iniKeys()
 {
 	using O = TPipelineOptions;
 	io::IniKeys<O> keys;
-	keys.choice("pose_source", &O::poseSource, poseSourceFromString, [](PoseSource p) { return toString(p); },
+	keys.choice(
+			"pose_source", &O::poseSource, poseSourceFromString, [](PoseSource p) { return toString(p); },
 			"vo (visual odometry) | gt (the rawlog's ground truth)", "must be vo or gt")
 		.number<int>("detect_every_n", &O::detectEveryN, "", "run the detector on every N-th frame; 0 = no detection",
 			{[](int v) { return v >= 0; }, "must be >= 0 (0 = no detection)"})

@@ -57,7 +57,7 @@ std::string documentIniSection(const std::string& section, const std::vector<Ini
 template <class Options>
 class IniKeys
 {
-public:
+   public:
 	/** A number or bool. It is parsed as `ReadAs` (default: the member's
 	 *  type; e.g. int for an unsigned member so that -1 gets the rule's
 	 *  message, not a parse error), checked by `rule`, then stored. */
@@ -65,30 +65,34 @@ public:
 	IniKeys& number(std::string key, T Options::*member, std::string unit, std::string description,
 		IniRule<std::conditional_t<std::is_void_v<ReadAs>, T, ReadAs>> rule = {})
 	{
-		return addNumber<ReadAs, T>(std::move(key), [member](auto& o) -> auto& { return o.*member; },
-			std::move(unit), std::move(description), std::move(rule));
+		return addNumber<ReadAs, T>(
+			std::move(key), [member](auto& o) -> auto& { return o.*member; }, std::move(unit), std::move(description),
+			std::move(rule));
 	}
 
 	/** The same for a member of a member (`o.*outer.*inner`). */
 	template <class ReadAs = void, class Outer, class T>
-	IniKeys& number(std::string key, Outer Options::*outer, T Outer::*inner, std::string unit,
-		std::string description, IniRule<std::conditional_t<std::is_void_v<ReadAs>, T, ReadAs>> rule = {})
+	IniKeys& number(std::string key, Outer Options::*outer, T Outer::*inner, std::string unit, std::string description,
+		IniRule<std::conditional_t<std::is_void_v<ReadAs>, T, ReadAs>> rule = {})
 	{
-		return addNumber<ReadAs, T>(std::move(key), [outer, inner](auto& o) -> auto& { return o.*outer.*inner; },
-			std::move(unit), std::move(description), std::move(rule));
+		return addNumber<ReadAs, T>(
+			std::move(key), [ outer, inner ](auto& o) -> auto& { return o.*outer.*inner; }, std::move(unit),
+			std::move(description), std::move(rule));
 	}
 
 	/** Text, stored after `normalise` (if given) and checked by `rule`. */
-	IniKeys& text(std::string key, std::string Options::*member, std::string description, IniRule<std::string> rule = {},
-		std::function<std::string(const std::string&)> normalise = {})
+	IniKeys& text(std::string key, std::string Options::*member, std::string description,
+		IniRule<std::string> rule = {}, std::function<std::string(const std::string&)> normalise = {})
 	{
 		Key k{std::move(key), "", std::move(description), {}, {}};
-		k.parse = [member, normalise](Options& o, const std::string& value, const std::string&) {
-			o.*member = normalise ? normalise(value) : value;
-		};
+		k.parse = [member, normalise](Options& o, const std::string& value, const std::string&)
+		{ o.*member = normalise ? normalise(value) : value; };
 		k.format = [member](const Options& o) { return o.*member; };
 		m_keys.push_back(std::move(k));
-		if (rule.ok) addRule(m_keys.back().name, [member, ok = std::move(rule.ok)](const Options& o) { return ok(o.*member); }, rule.why);
+		if (rule.ok)
+			addRule(
+				m_keys.back().name, [member, ok = std::move(rule.ok)](const Options& o) { return ok(o.*member); },
+				rule.why);
 		return *this;
 	}
 
@@ -99,7 +103,8 @@ public:
 		std::string why = {})
 	{
 		Key k{std::move(key), "", std::move(description), {}, {}};
-		k.parse = [member, parse, why, name = k.name](Options& o, const std::string& value, const std::string& section) {
+		k.parse = [member, parse, why, name = k.name](Options& o, const std::string& value, const std::string& section)
+		{
 			try
 			{
 				o.*member = parse(value);
@@ -120,7 +125,8 @@ public:
 	{
 		for (const auto& k : inner.m_keys)
 			m_keys.push_back({k.name, k.unit, k.description,
-				[member, parse = k.parse](Options& o, const std::string& v, const std::string& s) { parse(o.*member, v, s); },
+				[member, parse = k.parse](Options& o, const std::string& v, const std::string& s)
+				{ parse(o.*member, v, s); },
 				[member, format = k.format](const Options& o) { return format(o.*member); }});
 		for (const auto& c : inner.m_checks)
 			m_checks.push_back({c.key, [member, ok = c.ok](const Options& o) { return ok(o.*member); },
@@ -134,8 +140,8 @@ public:
 		return addRule(key, std::move(ok), std::move(why));
 	}
 	/** The same with a message that shows other values. */
-	IniKeys& check(const std::string& key, std::function<bool(const Options&)> ok,
-		std::function<std::string(const Options&)> why)
+	IniKeys& check(
+		const std::string& key, std::function<bool(const Options&)> ok, std::function<std::string(const Options&)> why)
 	{
 		m_checks.push_back({key, std::move(ok), std::move(why)});
 		return *this;
@@ -146,7 +152,7 @@ public:
 	void load(Options& o, const mrpt::config::CConfigFileBase& ini, const std::string& section) const
 	{
 		// read_string with a sentinel, not keyExists: MRPT's own (case-insensitive) lookup.
-		static const std::string absent = "\x01" "absent";
+		static const std::string absent = std::string(1, '\x01') + "absent";
 		for (const auto& k : m_keys)
 			if (const std::string value = ini.read_string(section, k.name, absent); value != absent)
 				k.parse(o, value, section);
@@ -174,7 +180,7 @@ public:
 		return docs;
 	}
 
-private:
+   private:
 	template <class>
 	friend class IniKeys;
 
@@ -199,7 +205,8 @@ private:
 		Key k{std::move(key), std::move(unit), std::move(description), {}, {}};
 		// A value is checked as read (a negative count is "must be >= 0"), and stored only if it passes.
 		k.parse = [access, ok = rule.ok, why = rule.why, name = k.name](
-					  Options& o, const std::string& value, const std::string& section) {
+					  Options& o, const std::string& value, const std::string& section)
+		{
 			const Read v = parseIniValue<Read>(section, name, value);
 			if (ok && !ok(v)) throw iniValueError(section, name, iniText(v), why);
 			access(o) = static_cast<T>(v);
@@ -207,7 +214,8 @@ private:
 		k.format = [access](const Options& o) { return iniText(static_cast<Read>(access(o))); };
 		m_keys.push_back(std::move(k));
 		if (rule.ok)
-			addRule(m_keys.back().name,
+			addRule(
+				m_keys.back().name,
 				[access, ok = std::move(rule.ok)](const Options& o) { return ok(static_cast<Read>(access(o))); },
 				std::move(rule.why));
 		return *this;
