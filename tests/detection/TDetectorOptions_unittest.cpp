@@ -1,7 +1,11 @@
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
 
+#include <filesystem>
+#include <fstream>
+
 #include "avm/detection/TDetectorOptions.h"
+#include "avm/io/IniOptions.h"
 
 using namespace avm::detection;
 
@@ -87,4 +91,18 @@ TEST(TDetectorOptions, ValuesThatAreNotNumbersAreReportedAsSuch)
 				<< what;
 		}
 	}
+}
+
+// hog_hit_threshold's default 0 is saved as "0": a file's 0.5 was once taken
+// for a bad whole number ("not a whole number") when the key types were
+// guessed from the saved defaults; the declared type decides.
+TEST(TDetectorOptions, AFractionWhereTheDefaultIsWholeLoadsFromAFile)
+{
+	const auto file = std::filesystem::path(testing::TempDir()) / "detect-fraction.ini";
+	std::ofstream(file) << "[detection]\nhog_hit_threshold = 0.5\n";
+	std::vector<std::string> unknown;
+	const auto o = avm::io::loadOptionsFromFile<TDetectorOptions>(file, "detection", unknown);
+	EXPECT_EQ(o.hog_hit_threshold, 0.5);
+	EXPECT_TRUE(unknown.empty());
+	std::filesystem::remove(file);
 }

@@ -1,6 +1,6 @@
-// Ini values read as what they are (io::parseIniValue, readIniValue,
-// checkIniValueTypes) and errors as the programs print them (io::errorMessage,
-// rethrowNamingIniSource), MRPT's call-stack wrappers included.
+// Ini values read as what they are (io::parseIniValue, readIniValue) and
+// errors as the programs print them (io::errorMessage, rethrowNamingIniSource),
+// MRPT's call-stack wrappers included.
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/core/exceptions.h>
@@ -21,42 +21,6 @@ std::string rejection(const std::string& text)
 	try
 	{
 		io::parseIniValue<T>("s", "k", text);
-	}
-	catch (const std::invalid_argument& e)
-	{
-		return e.what();
-	}
-	return "";
-}
-
-/** An options struct that reads with MRPT's readers, as TDetectorOptions does. */
-struct MrptReadOptions : mrpt::config::CLoadableOptions
-{
-	int count = 3;
-	double ratio = 0.5;
-	bool on = true;
-	std::string name = "x";
-	void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override
-	{
-		count = c.read_int(s, "count", count);
-		ratio = c.read_double(s, "ratio", ratio);
-		on = c.read_bool(s, "on", on);
-		name = c.read_string(s, "name", name);
-	}
-	void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override
-	{
-		c.write(s, "count", count);
-		c.write(s, "ratio", ratio);
-		c.write(s, "on", on);
-		c.write(s, "name", name);
-	}
-};
-
-std::string typeError(const std::string& ini)
-{
-	try
-	{
-		io::checkIniValueTypes(mrpt::config::CConfigFileMemory(ini), "s", MrptReadOptions());
 	}
 	catch (const std::invalid_argument& e)
 	{
@@ -112,15 +76,6 @@ TEST(IniValues, ReadIniValueKeepsTheDefaultOfAnAbsentKey)
 	EXPECT_EQ(io::readIniValue(ini, "s", "K", 1), 12) << "MRPT reads keys without regard to case";
 	EXPECT_EQ(io::readIniValue(ini, "s", "absent", 7), 7);
 	EXPECT_THROW(io::readIniValue(ini, "s", "empty", 7), std::invalid_argument);
-}
-
-TEST(IniValues, TypesOfMrptReadOptionsComeFromTheirDefaults)
-{
-	EXPECT_EQ(typeError("[s]\ncount = 4\nratio = 1\non = false\nname = 12\n"), "");
-	EXPECT_EQ(typeError("[s]\ncount = four\n"), "[s] count = four: not a number");
-	EXPECT_EQ(typeError("[s]\ncount = 4.5\n"), "[s] count = 4.5: not a whole number");
-	EXPECT_EQ(typeError("[s]\nratio =\n"), "[s] ratio = \"\": empty value, a number needed");
-	EXPECT_EQ(typeError("[s]\non = sometimes\n"), "[s] on = sometimes: not true or false");
 }
 
 TEST(ErrorMessages, MrptsCallStackAndLocationAreLeftOut)

@@ -97,26 +97,6 @@ template unsigned parseIniValue<unsigned>(const std::string&, const std::string&
 template std::int64_t parseIniValue<std::int64_t>(const std::string&, const std::string&, const std::string&);
 template double parseIniValue<double>(const std::string&, const std::string&, const std::string&);
 
-void checkIniValueTypes(
-	const mrpt::config::CConfigFileBase& ini, const std::string& section, const mrpt::config::CLoadableOptions& options)
-{
-	mrpt::config::CConfigFileMemory defaults;
-	options.saveToConfigFile(defaults, section);
-	std::vector<std::string> keys;
-	defaults.getAllKeys(section, keys);
-	std::errc ignored{};
-	for (const auto& key : keys)
-	{
-		const std::string def = trim(defaults.read_string(section, key, ""));
-		if (def == "true" || def == "false")
-			readIniValue<bool>(ini, section, key, false);
-		else if (whole<std::int64_t>(def, ignored))
-			readIniValue<std::int64_t>(ini, section, key, 0);
-		else if (whole<double>(def, ignored))
-			readIniValue<double>(ini, section, key, 0.0);
-	}
-}
-
 std::vector<std::string> unknownKeys(
 	const mrpt::config::CConfigFileBase& ini, const std::string& section,
 	const mrpt::config::CLoadableOptions& options)

@@ -35,15 +35,6 @@ T readIniValue(const mrpt::config::CConfigFileBase& ini, const std::string& sect
 	return text == absent ? def : parseIniValue<T>(section, key, text);
 }
 
-/** Checks that every key of [section] that `options` reads holds a value of
- *  the type of the default `options` writes for it (true/false: a bool,
- *  "12": an integer, "0.300000": a number, anything else: text), with the
- *  messages of parseIniValue. For options structs that read with MRPT's
- *  read_int/read_double; run before their loadFromConfigFile. */
-void checkIniValueTypes(
-	const mrpt::config::CConfigFileBase& ini, const std::string& section,
-	const mrpt::config::CLoadableOptions& options);
-
 /** Keys present in [section] of ini that `options` does not know (MRPT reads
  *  keys without regard to case, so this compares without it too). */
 std::vector<std::string> unknownKeys(
@@ -61,10 +52,7 @@ T loadOptionsFromFile(const std::filesystem::path& ini, const std::string& secti
 	if (!cfg.sectionExists(section)) throw std::runtime_error(ini.string() + ": no section [" + section + "]");
 	T options;
 	unknown = unknownKeys(cfg, section, options);
-	namingIniFile(ini.string(), [&] {
-		checkIniValueTypes(cfg, section, options);
-		options.loadFromConfigFile(cfg, section);
-	});
+	namingIniFile(ini.string(), [&] { options.loadFromConfigFile(cfg, section); });
 	return options;
 }
 }  // namespace avm::io
