@@ -33,7 +33,8 @@ mrpt::config::CConfigFileMemory defaultIni()
 	return ini;
 }
 
-const char* const kRunFiles[] = {"trajectory.txt", "detections.txt", "persons.csv", "map_low.bt", "map_high.bt"};
+const char* const kRunFiles[] = {
+	"trajectory.txt", "trajectory_status.txt", "detections.txt", "persons.csv", "map_low.bt", "map_high.bt"};
 
 /** All of the map's state (trees, regions, person tracks, surface sketch). */
 std::string serialized(const CAdaptiveOctoMap& map)

@@ -7,6 +7,7 @@
 #include <octomap/OcTree.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <fstream>
 #include <mutex>
 #include <sstream>
@@ -229,9 +230,25 @@ TEST(PipelineOnBonn, PersonTracksCrossTheViewAndLieInTheMappedSpace)
 TEST(PipelineOnBonn, AllOutputsExistAndLoad)
 {
 	const auto& [out, summary] = defaultRun();
-	for (const char* name : {"map_low.bt", "map_high.bt", "map.3Dscene", "trajectory.txt", "detections.txt",
-							 "persons.csv", "stats.json", "map_top.png", "map_perspective.png", "avm-map.log"})
+	for (const char* name : {"map_low.bt", "map_high.bt", "map.3Dscene", "trajectory.txt", "trajectory_status.txt",
+							 "detections.txt", "persons.csv", "stats.json", "map_top.png", "map_perspective.png",
+							 "avm-map.log"})
 		EXPECT_TRUE(fs::exists(out / name)) << name;
+	// One status line per pose: 1 tracked, 0 bridged (the default run loses no frame).
+	std::istringstream status(test::fileBytes(out / "trajectory_status.txt"));
+	std::size_t poses = 0, bridged = 0;
+	for (std::string line; std::getline(status, line);)
+	{
+		if (line.empty() || line[0] == '#') continue;
+		double timestamp = 0;
+		int tracked = -1;
+		ASSERT_EQ(std::sscanf(line.c_str(), "%lf %d", &timestamp, &tracked), 2) << line;
+		ASSERT_TRUE(tracked == 0 || tracked == 1) << line;
+		++poses;
+		bridged += tracked == 0;
+	}
+	EXPECT_EQ(poses, io::readTumTrajectory(out / "trajectory.txt").size());
+	EXPECT_EQ(bridged, 0u);
 
 	octomap::OcTree low(0.1), high(0.1);
 	ASSERT_TRUE(low.readBinary((out / "map_low.bt").string()));

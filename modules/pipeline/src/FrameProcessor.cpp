@@ -52,6 +52,7 @@ bool FrameProcessor::process(const io::RgbdFrame& frame)
 	finishInsertion();
 	updatePersons();
 	m_trajectory.push_back({frame.timestamp(), *pose});
+	m_trackedPoses.push_back(m_options.poseSource == PoseSource::GroundTruth || m_lastEstimate.tracked);
 	if (m_view && m_view->due()) m_view->show(snapshot(frame, *pose));
 	insert(frame, *pose);
 	++m_counts.frames;

@@ -110,6 +110,9 @@ class FrameProcessor
 	const RunSummary& counts() const { return m_counts; }
 	const StageSamples& stages() const { return m_stages; }
 	const io::Trajectory& trajectory() const { return m_trajectory; }
+	/** Per pose of trajectory(): false when the odometry had lost the track
+	 *  and the pose is bridged by its motion model. */
+	const std::vector<bool>& trackedPoses() const { return m_trackedPoses; }
 	/** The frames' ground truth, where the rawlog has it. */
 	const io::Trajectory& groundTruth() const { return m_groundTruth; }
 	const std::vector<PersonDetectionRecord>& personDetections() const { return m_personDetections; }
@@ -167,6 +170,7 @@ class FrameProcessor
 	RunSummary m_counts;
 	StageSamples m_stages;
 	io::Trajectory m_trajectory, m_groundTruth;
+	std::vector<bool> m_trackedPoses;  // per pose of m_trajectory
 	std::vector<PersonDetectionRecord> m_personDetections;
 
 	std::map<std::size_t, mrpt::poses::CPose3D> m_recentPoses;  // frame index -> pose, for lagging detections

@@ -15,7 +15,7 @@ using mrpt::serialization::CArchive;
 
 namespace
 {
-constexpr std::uint8_t kStateVersion = 1;
+constexpr std::uint8_t kStateVersion = 2;
 
 void write(CArchive& out, const mrpt::math::TPoint3D& p) { out << p.x << p.y << p.z; }
 void read(CArchive& in, mrpt::math::TPoint3D& p) { in >> p.x >> p.y >> p.z; }
@@ -122,6 +122,7 @@ void FrameProcessor::saveState(CArchive& out)
 			 &m_stages.mapCpu})
 		write(out, *t);
 	write(out, m_trajectory);
+	for (const bool tracked : m_trackedPoses) out.WriteAs<std::uint8_t>(tracked);
 	write(out, m_groundTruth);
 	write(out, m_personDetections.size());
 	for (const auto& r : m_personDetections) write(out, r);
@@ -159,6 +160,8 @@ void FrameProcessor::loadState(CArchive& in)
 	for (auto* t : {&m_stages.odometry, &m_stages.detection, &m_stages.detectionWait, &m_stages.map, &m_stages.mapCpu})
 		read(in, *t);
 	read(in, m_trajectory);
+	m_trackedPoses.resize(m_trajectory.size());
+	for (std::size_t i = 0; i < m_trackedPoses.size(); ++i) m_trackedPoses[i] = in.ReadAs<std::uint8_t>() != 0;
 	read(in, m_groundTruth);
 	m_personDetections.resize(readSize(in));
 	for (auto& r : m_personDetections) read(in, r);

@@ -424,7 +424,7 @@ RunSummary MappingPipeline::runFrames(
 		logFmt(mrpt::system::LVL_INFO, "%zu frames in %.2f s (%.1f fps, real-time factor %.2f)%s\n", summary.frames,
 			summary.seconds, summary.fps, summary.realTimeFactor, summary.interrupted ? ", interrupted" : "");
 		detail::RunRecord record{rawlog, &opt, d.detector ? d.detector->description() : std::string("none"),
-			processor.trajectory(), processor.personDetections(), frames.peakMemoryPerReplay(),
+			processor.trajectory(), processor.trackedPoses(), processor.personDetections(), frames.peakMemoryPerReplay(),
 			before.log + getLogAsString() + frames.log()};
 		detail::writeRunOutputs(outDir, summary, record, map);
 		return summary;

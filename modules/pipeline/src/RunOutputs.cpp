@@ -237,6 +237,22 @@ std::string statsJson(
 
 /** Temporaries of earlier runs that were killed while writing
  *  (".name.partial-PID.ext", see io::temporaryPathFor) whose process is gone. */
+/** One line per pose of trajectory.txt: its timestamp and whether the
+ *  odometry tracked it (1) or bridged it by its motion model (0). */
+std::string trajectoryStatusText(const RunRecord& record)
+{
+	std::string text =
+		"# avm-map: per pose of trajectory.txt, timestamp and tracked (1) or bridged by the motion model after a "
+		"tracking loss (0)\n";
+	char line[64];
+	for (std::size_t i = 0; i < record.trajectory.size(); ++i)
+	{
+		std::snprintf(line, sizeof(line), "%.6f %d\n", record.trajectory[i].timestamp, int(record.trackedPoses.at(i)));
+		text += line;
+	}
+	return text;
+}
+
 void removeStaleTemporaries(const fs::path& dir)
 {
 	for (const auto& e : fs::directory_iterator(dir))
@@ -258,6 +274,7 @@ void writeRunOutputs(
 	io::writeTumTrajectory(
 		outDir / "trajectory.txt", record.trajectory,
 		"avm-map camera trajectory (" + toString(record.options->poseSource) + "), optical frame, TUM format");
+	writeText(outDir / "trajectory_status.txt", trajectoryStatusText(record));
 	writeText(outDir / "detections.txt", detectionsText(record.personDetections));
 	writeText(outDir / "persons.csv", personsCsv(map.personTracks()));
 	if (record.options->pictureSize > 0) 

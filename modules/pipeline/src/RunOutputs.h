@@ -1,7 +1,7 @@
 // The files a run of avm-map ends in, written from the run's summary and
 // record after the last frame, each complete or absent (io::writeFileAtomically):
 // map_low.bt, map_high.bt, map.3Dscene (the map), trajectory.txt,
-// detections.txt, persons.csv, map_top.png, map_perspective.png, stats.json
+// trajectory_status.txt, detections.txt, persons.csv, map_top.png, map_perspective.png, stats.json
 // and avm-map.log.
 #pragma once
 
@@ -23,6 +23,7 @@ struct RunRecord
 	const TPipelineOptions* options = nullptr;
 	std::string detector;  //!< the detector's description, "none" without one
 	io::Trajectory trajectory;
+	std::vector<bool> trackedPoses;  //!< per pose: false = bridged by the odometry's motion model
 	std::vector<PersonDetectionRecord> personDetections;
 	std::vector<double> peakMemoryPerReplay;  //!< [MiB] at the end of each replay
 	std::string log;                          //!< avm-map.log
