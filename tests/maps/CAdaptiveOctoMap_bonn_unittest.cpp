@@ -366,9 +366,9 @@ TEST(CAdaptiveOctoMapBonn, AFollowRegionEndsOnlyWhileInViewAndUnseen)
 }
 
 // Space that enters a region takes what the low tree knew there: a free low
-// voxel gives free high voxels, an occupied one occupied high voxels where its
-// sketch saw the surface (and none elsewhere), an unknown one nothing; the
-// low tree no longer holds that space.
+// voxel gives free high voxels (but for surfaces its sketch kept), an occupied
+// one occupied high voxels where its sketch saw the surface (and none
+// elsewhere), an unknown one nothing; the low tree no longer holds that space.
 TEST(CAdaptiveOctoMapBonn, SpaceEnteringARegionKeepsWhatTheLowTreeKnew)
 {
 	CAdaptiveOctoMap map(resolutions(0.2, 0.05), {}, {});
@@ -386,7 +386,7 @@ TEST(CAdaptiveOctoMapBonn, SpaceEnteringARegionKeepsWhatTheLowTreeKnew)
 			}
 
 	map.addHighResolutionRegion(box);
-	std::size_t inRegion = 0, occupiedLow = 0, wrong = 0;
+	std::size_t inRegion = 0, occupiedLow = 0, occupiedHigh = 0, wrong = 0;
 	for (const auto& [c, state] : before)
 	{
 		if (map.query(c).tree != Resolution::High) continue;
@@ -400,14 +400,19 @@ TEST(CAdaptiveOctoMapBonn, SpaceEnteringARegionKeepsWhatTheLowTreeKnew)
 					occupied += q == avm::OccupancyState::Occupied;
 					free += q == avm::OccupancyState::Free;
 				}
-		if (state == avm::OccupancyState::Occupied) ++occupiedLow;
-		const bool kept = state == avm::OccupancyState::Free       ? free == 64
-						  : state == avm::OccupancyState::Occupied ? occupied >= 1 && free == 0
+		if (state == avm::OccupancyState::Occupied)
+		{
+			++occupiedLow;
+			occupiedHigh += occupied;
+		}
+		const bool kept = state == avm::OccupancyState::Free       ? occupied + free == 64 && free > occupied
+						  : state == avm::OccupancyState::Occupied ? free == 0
 																   : occupied + free == 0;
 		if (!kept) ++wrong;
 	}
 	EXPECT_GT(inRegion, 30u);
 	EXPECT_GT(occupiedLow, 0u);
+	EXPECT_GE(occupiedHigh, occupiedLow) << "the surfaces of the occupied low voxels come back";
 	EXPECT_EQ(wrong, 0u);
 	// No space held twice: the low tree has nothing inside the region.
 	const auto region = map.highResolutionRegions().at(0).boxes.at(0);

@@ -281,13 +281,13 @@ detail::ScanTargets CAdaptiveOctoMap::prepareInsertion()
 
 void CAdaptiveOctoMap::finishInsertion()
 {
-	// The sketch only matters for occupied low voxels (a free one has no
-	// surface to give back): forget the others now and then.
+	// The sketch matters for occupied low voxels and for free ones that still
+	// hold a surface not seen through: forget the others now and then.
 	constexpr std::size_t kSketchPruneEvery = 30;  // insertions
 	if (m_insertions % kSketchPruneEvery == kSketchPruneEvery - 1)
-		m_sketch->prune([&](std::uint64_t lowKey) {
+		m_sketch->prune([&](std::uint64_t lowKey, std::uint64_t bits) {
 			const auto* node = m_low->search(detail::unpackKey(lowKey));
-			return node && m_low->isNodeOccupied(node);
+			return node && (bits != 0 || m_low->isNodeOccupied(node));
 		});
 	++m_insertions;
 	m_pointsCacheValid = false;

@@ -283,8 +283,18 @@ void RayIntegrator::finish()
 	}
 	if (m_targets.sketch)
 		for (const auto k : m_sketchEnds.keys())
+		{
+			// The low tree takes an endpoint within range by its low voxel's
+			// centre, the sketch by the high voxel's: a low voxel hit at the
+			// edge of the range may hold no surface within it, and is then
+			// known to the sketch without bits, so that it does not enter a
+			// region as a solid block.
+			const auto lowKey = m_targets.sketch->lowKeyOf(k);
 			if ((centreOf(k, m_sketchGrid.resolution) - m_origin).norm() <= m_targets.outsideMaxRange)
 				m_targets.sketch->markHighVoxel(k);
+			else if ((centreOf(lowKey, m_outsideGrid.resolution) - m_origin).norm() <= m_targets.outsideMaxRange)
+				m_targets.sketch->markLowVoxel(lowKey);
+		}
 	applyUpdates(*m_targets.outside, m_outsideGrid, m_outsideFree, m_outsideOccupied, false);
 	if (m_hasRegions) applyUpdates(*m_targets.inside, m_insideGrid, m_insideFree, m_insideOccupied, true);
 }
@@ -388,7 +398,46 @@ void RayIntegrator::integrateDepthImage(
 			for (const auto k : m_bands[i].ownSketch.keys()) m_sketchEnds.insert(k);
 		}
 	}
+	if (m_targets.sketch) forgetSketchSeenThrough(obs, sensorPose, camera);
 	finish();
+}
+
+void RayIntegrator::forgetSketchSeenThrough(
+	const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& sensorPose,
+	const io::DepthCamera& camera)
+{
+	// A single fine map frees the voxels its rays cross, so a person who walked
+	// through leaves nothing there once the wall behind is seen again. The low
+	// tree's rays are too coarse to say which fine voxels they crossed; the
+	// depth image says it for the few the sketch holds: a voxel whose pixel
+	// sees a surface more than a voxel beyond it has been seen through. The
+	// endpoints of this image are marked after (finish()), so a surface seen
+	// again stays.
+	const double fine = m_sketchGrid.resolution;
+	const double lowHalfDiagonal = 0.5 * std::sqrt(3.0) * fine * m_targets.sketch->ratio();
+	const double maxRange = m_targets.outsideMaxRange;
+	const auto& img = obs.rangeImage;
+	const auto units = obs.rangeUnits;
+	m_targets.sketch->updateBits([&](std::uint64_t lowKey, std::uint64_t bits) {
+		const auto lowCentre = sensorPose.inverseComposePoint(centreOf(lowKey, fine * m_targets.sketch->ratio()));
+		if (lowCentre.x <= -lowHalfDiagonal || lowCentre.norm() > maxRange + lowHalfDiagonal) return bits;
+		for (std::uint64_t rest = bits; rest != 0; rest &= rest - 1)
+		{
+			const auto bit = static_cast<unsigned>(__builtin_ctzll(rest));
+			const auto p = sensorPose.inverseComposePoint(centreOf(m_targets.sketch->highKeyOf(lowKey, bit), fine));
+			const double distance = p.norm();
+			if (distance > maxRange) continue;
+			const auto pixel = camera.project(p);
+			if (!pixel) continue;
+			const auto u = static_cast<int>(std::lround(pixel->x)), v = static_cast<int>(std::lround(pixel->y));
+			if (u >= camera.width || v >= camera.height) continue;
+			const std::uint16_t raw = img(v, u);
+			if (raw == 0) continue;
+			const double measured = raw * units, along = camera.rangeIsDepth ? p.x : distance;
+			if (measured > along + fine) bits &= ~(std::uint64_t(1) << bit);
+		}
+		return bits;
+	});
 }
 
 

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "BatchUpdate.h"
+#include "avm/io/DepthCamera.h"
 #include "KeySet.h"
 #include "ResolutionPolicy.h"
 #include "SurfaceSketch.h"
@@ -105,6 +106,11 @@ class RayIntegrator
 	 *  depth-image path skip the region tests for most pixels). */
 	void addPoint(double x, double y, double z, bool nearRegion);
 	void finish();
+	/** Clears the sketch's bits of the high voxels that this depth image sees
+	 *  through. */
+	void forgetSketchSeenThrough(
+		const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& sensorPose,
+		const io::DepthCamera& camera);
 	/** Which part of a ray a cast maps: the part outside the regions (in
 	 *  the `outside` tree) or the parts inside them (in the high tree). */
 	enum class RayPart

@@ -49,28 +49,35 @@ float carried(float logOdds, bool occupied, const octomap::OcTree& target)
 void refineIntoHighTree(octomap::OcTree& low, octomap::OcTree& high, std::uint64_t lowKey, SurfaceSketch* sketch)
 {
 	const auto key = unpackKey(lowKey);
-	const std::uint64_t surface = sketch ? sketch->take(lowKey) : 0;
+	const auto surface = sketch ? sketch->take(lowKey) : std::nullopt;
 	const auto* node = low.search(key);
 	if (!node) return;
 	const bool occupied = low.isNodeOccupied(node);
-	float value = carried(node->getLogOdds(), occupied, high);
-	// A sketch bit says a surface was there at some time, not how often, nor
-	// whether it has gone since (a person walking through leaves bits behind):
-	// the voxel comes back just occupied, so that the first ray through it at
-	// high resolution frees it, as it would in a single fine map.
-	if (occupied && surface != 0) value = std::min(value, high.getOccupancyThresLog() + kJustOccupied);
+	const float value = carried(node->getLogOdds(), occupied, high);
+	// A sketch bit says a surface was seen there and not seen through since,
+	// not how often: in an occupied low voxel it comes back as a voxel hit
+	// once, which rays through it at high resolution free as they would in a
+	// single fine map. In a free low voxel (a chair's edge in a voxel of mostly air)
+	// the bit has had more rays around it: just occupied, and the voxel's
+	// other high voxels come back free.
+	const float surfaceValue = occupied ? std::min(value, high.getProbHitLog())
+										: high.getOccupancyThresLog() + kJustOccupied;
 	const auto range = highKeysOf(key, sketch ? sketch->ratio() : ratioOf(low, high));
 	unsigned bit = 0;
-	std::vector<octomap::OcTreeKey> unknown;
+	std::vector<octomap::OcTreeKey> sketched, others;
 	for (unsigned x = range.lo[0]; x < range.hi[0]; x++)
 		for (unsigned y = range.lo[1]; y < range.hi[1]; y++)
 			for (unsigned z = range.lo[2]; z < range.hi[2]; z++, bit++)
 			{
-				if (occupied && surface != 0 && !(surface >> bit & 1u)) continue;
 				const octomap::OcTreeKey k(x, y, z);
-				if (!high.search(k)) unknown.push_back(k);
+				if (high.search(k)) continue;
+				if (surface && (*surface >> bit & 1u))
+					sketched.push_back(k);
+				else if (!(occupied && surface))
+					others.push_back(k);
 			}
-	setNodeValues(high, unknown, value);
+	setNodeValues(high, others, value);
+	setNodeValues(high, sketched, surfaceValue);
 	eraseKeyRange(low, KeyRange::of(key));
 }
 

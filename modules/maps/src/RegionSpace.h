@@ -14,13 +14,13 @@
 
 namespace avm::detail
 {
-/** The low voxel `lowKey` (packed, KeySet.h) moves into `high`. Its log-odds
- *  (clamped to the high tree's limits, occupied stays occupied) goes to the
- *  high voxels `high` does not know yet: to all of them when the low voxel is
- *  free or the sketch has nothing of it, else only to those the sketch marks
- *  as surface (the others stay unknown), and then no more than just above the
- *  occupancy threshold: one miss at high resolution frees them. `sketch` may
- *  be null. */
+/** The low voxel `lowKey` (packed, KeySet.h) moves into `high`, to the high
+ *  voxels `high` does not know yet. When the sketch never saw it, all of them
+ *  take its log-odds (clamped to the high tree's limits, occupied stays
+ *  occupied). Else the sketch's surface voxels come back occupied, as a voxel
+ *  hit once (occupied low voxel) or just occupied (free low voxel), and the
+ *  others stay unknown (occupied low voxel) or take its log-odds (free low
+ *  voxel). `sketch` may be null. */
 void refineIntoHighTree(octomap::OcTree& low, octomap::OcTree& high, std::uint64_t lowKey, SurfaceSketch* sketch);
 
 /** The high voxels inside low voxel `lowKey` fold into it, as octomap merges

@@ -1,7 +1,6 @@
 #include "SurfaceSketch.h"
 
-#include <algorithm>
-#include <vector>
+#include <stdexcept>
 
 #include "OcTreeKeys.h"
 
@@ -39,59 +38,58 @@ std::uint64_t SurfaceSketch::highKeyOf(std::uint64_t lowKey, unsigned bit) const
 	return packKey(h);
 }
 
-void SurfaceSketch::markHighVoxel(std::uint64_t highKey)
+std::vector<SurfaceSketch::Entry>::iterator SurfaceSketch::find(std::uint64_t lowKey)
 {
-	m_bits[lowKeyOf(highKey)] |= std::uint64_t(1) << bitOf(highKey);
+	return std::lower_bound(
+		m_entries.begin(), m_entries.end(), lowKey, [](const Entry& e, std::uint64_t k) { return e.lowKey < k; });
 }
 
-std::uint64_t SurfaceSketch::take(std::uint64_t lowKey)
+std::uint64_t& SurfaceSketch::entryOf(std::uint64_t lowKey)
 {
-	const auto it = m_bits.find(lowKey);
-	if (it == m_bits.end()) return 0;
-	const auto bits = it->second;
-	m_bits.erase(it);
+	auto it = find(lowKey);
+	if (it == m_entries.end() || it->lowKey != lowKey) it = m_entries.insert(it, Entry{lowKey, 0});
+	return it->bits;
+}
+
+void SurfaceSketch::markHighVoxel(std::uint64_t highKey) { entryOf(lowKeyOf(highKey)) |= std::uint64_t(1) << bitOf(highKey); }
+
+std::optional<std::uint64_t> SurfaceSketch::take(std::uint64_t lowKey)
+{
+	const auto it = find(lowKey);
+	if (it == m_entries.end() || it->lowKey != lowKey) return std::nullopt;
+	const auto bits = it->bits;
+	m_entries.erase(it);
 	return bits;
 }
 
 void SurfaceSketch::set(std::uint64_t lowKey, std::uint64_t bits)
 {
-	if (bits == 0)
-		m_bits.erase(lowKey);
-	else
-		m_bits[lowKey] = bits;
-}
-
-std::size_t SurfaceSketch::memoryBytes() const
-{
-	// A node of the hash map (key, value, next pointer, cached hash) and one
-	// bucket per entry (the container's maximum load factor). Counted from
-	// the entries, as octomap's memoryUsage() is from the nodes, not from
-	// bucket_count(): that depends on the map's history (growth, erasures,
-	// prune's rehash), so a map read back from a checkpoint would report
-	// other bytes than the same map never interrupted.
-	return m_bits.size() * (2 * sizeof(std::uint64_t) + 3 * sizeof(void*));
+	if (bits != 0)
+		entryOf(lowKey) = bits;
+	else if (const auto it = find(lowKey); it != m_entries.end() && it->lowKey == lowKey)
+		m_entries.erase(it);
 }
 
 void SurfaceSketch::serializeTo(mrpt::serialization::CArchive& out) const
 {
-	// In key order: the same map serializes to the same bytes.
-	std::vector<std::pair<std::uint64_t, std::uint64_t>> sorted(m_bits.begin(), m_bits.end());
-	std::sort(sorted.begin(), sorted.end());
 	out.WriteAs<uint32_t>(m_ratio);
-	out.WriteAs<uint64_t>(sorted.size());
-	for (const auto& [key, bits] : sorted) out << key << bits;
+	out.WriteAs<uint64_t>(m_entries.size());
+	for (const auto& e : m_entries) out << e.lowKey << e.bits;
 }
 
 void SurfaceSketch::serializeFrom(mrpt::serialization::CArchive& in)
 {
 	m_ratio = in.ReadAs<uint32_t>();
 	const auto n = in.ReadAs<uint64_t>();
-	m_bits.clear();
+	m_entries.clear();
 	for (uint64_t i = 0; i < n; i++)
 	{
-		std::uint64_t key = 0, bits = 0;
-		in >> key >> bits;
-		m_bits[key] = bits;
+		Entry e{};
+		in >> e.lowKey >> e.bits;
+		// Written in key order; a damaged stream must not break the order.
+		if (!m_entries.empty() && e.lowKey <= m_entries.back().lowKey)
+			throw std::runtime_error("SurfaceSketch: entries out of order in the stream");
+		m_entries.push_back(e);
 	}
 }
 }  // namespace avm::detail

@@ -1,7 +1,8 @@
 // Where inside each low voxel the surface was seen: one bit per high voxel of
 // the low voxel (a 0.20 m voxel holds 4 x 4 x 4 = 64 voxels of 0.05 m), set by
 // the scan endpoints that land in low-tree space, and by the occupied high
-// voxels of space that leaves a region. A few bytes per occupied low voxel
+// voxels of space that leaves a region; cleared where a later depth image
+// sees through the voxel (a single fine map frees what its rays cross). A few bytes per occupied low voxel
 // keep the shape a coarse voxel lost, so that when a person's region reaches
 // it the high tree gets the surface back where it was (a wall 5 cm thick), not
 // a solid 20 cm block.
@@ -11,8 +12,9 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <iterator>
-#include <unordered_map>
+#include <algorithm>
+#include <optional>
+#include <vector>
 
 namespace avm::detail
 {
@@ -28,9 +30,13 @@ class SurfaceSketch
 
 	/** The high voxel (packed high-tree key, KeySet.h) held surface. */
 	void markHighVoxel(std::uint64_t highKey);
+	/** The low voxel was seen, with no surface in it that the sketch keeps. */
+	void markLowVoxel(std::uint64_t lowKey) { entryOf(lowKey); }
 	/** The low voxel's bits (bit (x * ratio + y) * ratio + z for the high
-	 *  voxel at offset x, y, z), forgotten by the sketch; 0 if none. */
-	std::uint64_t take(std::uint64_t lowKey);
+	 *  voxel at offset x, y, z), forgotten by the sketch; nothing when the
+	 *  sketch never saw the low voxel (no bits: the surfaces it saw have
+	 *  all been seen through since). */
+	std::optional<std::uint64_t> take(std::uint64_t lowKey);
 	/** Replaces the low voxel's bits (0 forgets it). */
 	void set(std::uint64_t lowKey, std::uint64_t bits);
 
@@ -39,25 +45,48 @@ class SurfaceSketch
 	std::uint64_t highKeyOf(std::uint64_t lowKey, unsigned bit) const;
 	unsigned bitOf(std::uint64_t highKey) const;
 
-	/** Forgets the low voxels for which `keep(lowKey)` is false. */
+	/** Replaces each low voxel's bits by `update(lowKey, bits)`. A low voxel
+	 *  left with no bits is kept: its surface has gone, which is not the same
+	 *  as never having been seen. */
+	template <typename Update>
+	void updateBits(Update&& update)
+	{
+		for (auto& e : m_entries) e.bits = update(e.lowKey, e.bits);
+	}
+
+	/** Forgets the low voxels for which `keep(lowKey, bits)` is false. */
 	template <typename Keep>
 	void prune(Keep&& keep)
 	{
-		for (auto it = m_bits.begin(); it != m_bits.end();)
-			it = keep(it->first) ? std::next(it) : m_bits.erase(it);
-		m_bits.rehash(0);
+		const auto gone = std::remove_if(
+			m_entries.begin(), m_entries.end(), [&](const Entry& e) { return !keep(e.lowKey, e.bits); });
+		m_entries.erase(gone, m_entries.end());
+		m_entries.shrink_to_fit();
 	}
 
-	std::size_t size() const { return m_bits.size(); }
-	/** Bytes of the entries as a hash map holds them, from their count only:
-	 *  the same sketch gives the same figure whatever its history. */
-	std::size_t memoryBytes() const;
+	std::size_t size() const { return m_entries.size(); }
+	/** Bytes of the entries, from their count only: the same sketch gives the
+	 *  same figure whatever its history (a vector's spare capacity depends on
+	 *  how it grew). */
+	std::size_t memoryBytes() const { return m_entries.size() * sizeof(Entry); }
 
 	void serializeTo(mrpt::serialization::CArchive& out) const;
 	void serializeFrom(mrpt::serialization::CArchive& in);
 
    private:
+	// Sorted by low key: 16 bytes an entry, where a hash map spends 40 (its
+	// node, next pointer, cached hash and bucket); a frame adds few entries
+	// (surfaces mostly land in low voxels already seen), so the inserts that
+	// keep the order cost less than the hashing they replace.
+	struct Entry
+	{
+		std::uint64_t lowKey, bits;
+	};
+	/** The low voxel's entry, made (without bits) if there is none. */
+	std::uint64_t& entryOf(std::uint64_t lowKey);
+	std::vector<Entry>::iterator find(std::uint64_t lowKey);
+
 	unsigned m_ratio;
-	std::unordered_map<std::uint64_t, std::uint64_t> m_bits;
+	std::vector<Entry> m_entries;
 };
 }  // namespace avm::detail
