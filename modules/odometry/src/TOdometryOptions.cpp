@@ -1,103 +1,106 @@
 #include <mrpt/config/CConfigFileBase.h>
 
-#include <cmath>
-
-#include "avm/io/ErrorMessage.h"
-#include "avm/io/IniOptions.h"
+#include "avm/io/IniKeys.h"
 #include "avm/odometry/TOdometryOptions.h"
 
 namespace avm::odometry
 {
-namespace
+io::IniKeys<TOdometryOptions> TOdometryOptions::iniKeys()
 {
-// One list of (key, member) drives load and save, so both see the same key set.
-template <typename Options, typename Visitor>
-void forEachKey(Options& o, Visitor&& v)
-{
-	v("num_features", o.num_features);
-	v("pyramid_levels", o.pyramid_levels);
-	v("pyramid_scale", o.pyramid_scale);
-	v("fast_threshold", o.fast_threshold);
-	v("grid_cols", o.grid_cols);
-	v("grid_rows", o.grid_rows);
-	v("min_depth", o.min_depth);
-	v("max_depth", o.max_depth);
-	v("depth_edge_ratio", o.depth_edge_ratio);
-	v("match_ratio", o.match_ratio);
-	v("max_hamming", o.max_hamming);
-	v("search_radius", o.search_radius);
-	v("ransac_reprojection", o.ransac_reprojection);
-	v("ransac_iterations", o.ransac_iterations);
-	v("min_inliers", o.min_inliers);
-	v("huber_delta", o.huber_delta);
-	v("depth_weight", o.depth_weight);
-	v("refine_iterations", o.refine_iterations);
-	v("window_size", o.window_size);
-	v("ba_iterations", o.ba_iterations);
-	v("ba_max_landmarks", o.ba_max_landmarks);
-	v("keyframe_translation", o.keyframe_translation);
-	v("keyframe_rotation", o.keyframe_rotation);
-	v("keyframe_overlap", o.keyframe_overlap);
-	v("map_max_keyframes", o.map_max_keyframes);
-	v("relocalisation_candidates", o.relocalisation_candidates);
-	v("relocalisation_min_inliers", o.relocalisation_min_inliers);
-	v("relocalisation_frames", o.relocalisation_frames);
-	v("mask_people", o.mask_people);
-	v("person_box_margin", o.person_box_margin);
-	v("person_depth_band", o.person_depth_band);
-	v("threads", o.threads);
+	using O = TOdometryOptions;
+	io::IniKeys<O> keys;
+	keys.number("num_features", &O::num_features, "", "features kept per frame after bucketing",
+			{[](int v) { return v >= 50; }, "must be at least 50"})
+		.number("pyramid_levels", &O::pyramid_levels, "", "ORB pyramid levels",
+			{[](int v) { return v >= 1 && v <= 12; }, "must be 1..12"})
+		.number("pyramid_scale", &O::pyramid_scale, "", "ORB scale factor between levels, (1, 2]",
+			{[](double v) { return v > 1.0 && v <= 2.0; }, "must be in (1, 2]"})
+		.number("fast_threshold", &O::fast_threshold, "grey levels", "ORB FAST threshold",
+			{[](int v) { return v >= 1 && v <= 100; }, "must be 1..100"})
+		.number("grid_cols", &O::grid_cols, "", "bucketing grid columns",
+			{[](int v) { return v >= 1 && v <= 64; }, "must be 1..64"})
+		.number("grid_rows", &O::grid_rows, "", "bucketing grid rows",
+			{[](int v) { return v >= 1 && v <= 64; }, "must be 1..64"})
+		.number(
+			"min_depth", &O::min_depth, "m", "nearer depth rejected", {[](double v) { return v > 0; }, "must be > 0 m"})
+		.number("max_depth", &O::max_depth, "m", "farther depth rejected")
+		.check(
+			"max_depth", [](const O& o) { return o.max_depth > o.min_depth; }, "must be > min_depth")
+		.number("depth_edge_ratio", &O::depth_edge_ratio, "",
+			"feature dropped when its 3x3 depth range exceeds this fraction of its depth",
+			{[](double v) { return v > 0; }, "must be > 0"})
+		.number("match_ratio", &O::match_ratio, "", "Lowe ratio best/second-best Hamming distance, (0, 1]",
+			{[](double v) { return v > 0 && v <= 1; }, "must be in (0, 1]"})
+		.number("max_hamming", &O::max_hamming, "bits", "largest accepted descriptor distance",
+			{[](int v) { return v >= 1 && v <= 256; }, "must be 1..256"})
+		.number("search_radius", &O::search_radius, "px", "search window around a landmark's predicted projection",
+			{[](double v) { return v > 0; }, "must be > 0 px"})
+		.number("ransac_reprojection", &O::ransac_reprojection, "px",
+			"PnP RANSAC inlier threshold, also the final inlier test",
+			{[](double v) { return v > 0; }, "must be > 0 px"})
+		.number("ransac_iterations", &O::ransac_iterations, "", "PnP RANSAC iterations",
+			{[](int v) { return v >= 1; }, "must be >= 1"})
+		.number("min_inliers", &O::min_inliers, "", "fewer inliers = tracking lost",
+			{[](int v) { return v >= 6; }, "must be >= 6 (PnP needs at least 4, plus margin)"})
+		.number("huber_delta", &O::huber_delta, "px", "Huber loss width",
+			{[](double v) { return v > 0; }, "must be > 0 px"})
+		.number("depth_weight", &O::depth_weight, "",
+			"weight of the depth residual fx*(z-d)/d [px] (depth noise is ~20x pixel noise); 0 = reprojection only",
+			{[](double v) { return v >= 0; }, "must be >= 0"})
+		.number("refine_iterations", &O::refine_iterations, "", "Ceres iterations of the per-frame refinement, 0 = off",
+			{[](int v) { return v >= 0; }, "must be >= 0"})
+		.number("window_size", &O::window_size, "", "keyframes in the bundle adjustment, 0 = no BA",
+			{[](int v) { return v == 0 || v >= 2; }, "must be 0 (off) or >= 2"})
+		.number("ba_iterations", &O::ba_iterations, "", "Ceres iterations of one bundle adjustment",
+			{[](int v) { return v >= 1; }, "must be >= 1"})
+		.number("ba_max_landmarks", &O::ba_max_landmarks, "",
+			"landmarks in one bundle adjustment, the most-viewed first; 0 = all",
+			{[](int v) { return v >= 0; }, "must be >= 0 (0 = all)"})
+		.number("keyframe_translation", &O::keyframe_translation, "m",
+			"motion from the last keyframe that makes a keyframe", {[](double v) { return v > 0; }, "must be > 0 m"})
+		.number("keyframe_rotation", &O::keyframe_rotation, "deg",
+			"rotation from the last keyframe that makes a keyframe",
+			{[](double v) { return v > 0; }, "must be > 0 deg"})
+		.number("keyframe_overlap", &O::keyframe_overlap, "",
+			"keyframe when inliers fall below this share of the most the keyframe gave",
+			{[](double v) { return v > 0 && v <= 1; }, "must be in (0, 1]"})
+		.number("map_max_keyframes", &O::map_max_keyframes, "",
+			"keyframes kept for the whole run, about 70 kB each (descriptors, points, words); when full, the older of "
+			"the two closest keyframes goes, >= 10",
+			{[](int v) { return v >= 10; }, "must be >= 10"})
+		.number("relocalisation_candidates", &O::relocalisation_candidates, "",
+			"map keyframes a lost frame is checked against (descriptor matching, PnP RANSAC, Ceres refinement), most "
+			"similar words first",
+			{[](int v) { return v >= 1; }, "must be >= 1"})
+		.number("relocalisation_min_inliers", &O::relocalisation_min_inliers, "",
+			"inliers after the refinement that accept a relocalisation, >= min_inliers")
+		.check(
+			"relocalisation_min_inliers", [](const O& o) { return o.relocalisation_min_inliers >= o.min_inliers; },
+			"must be >= min_inliers")
+		.number("relocalisation_frames", &O::relocalisation_frames, "",
+			"lost frames with enough features during which the old map is kept for relocalisation; then a new local "
+			"map starts at the bridged pose",
+			{[](int v) { return v >= 0; }, "must be >= 0"})
+		.number("mask_people", &O::mask_people, "", "leave out features on detected people")
+		.number("person_box_margin", &O::person_box_margin, "px", "added on every side of a person box",
+			{[](int v) { return v >= 0; }, "must be >= 0 px"})
+		.number("person_depth_band", &O::person_depth_band, "m",
+			"in a box, pixels nearer than the person's median depth + this are masked; 0 = whole box",
+			{[](double v) { return v >= 0; }, "must be >= 0 m"})
+		.number("threads", &O::threads, "", "Ceres threads; OpenCV threads are set by the program",
+			{[](int v) { return v >= 1; }, "must be >= 1"});
+	return keys;
 }
-}  // namespace
 
 void TOdometryOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section)
 {
-	// io's reader, not MRPT's read_int: "abc" or an empty value is an error
-	// of its own, not a 0 that validate() would report as a wrong number.
-	forEachKey(*this, [&](const char* key, auto& value) { value = io::readIniValue(cfg, section, key, value); });
-	validate(section);
+	iniKeys().load(*this, cfg, section);
 }
 
 void TOdometryOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const
 {
-	forEachKey(*this, [&](const char* key, const auto& value) { cfg.write(section, key, value); });
+	iniKeys().save(*this, cfg, section);
 }
 
-void TOdometryOptions::validate(const std::string& section) const
-{
-	const auto require = [&](bool ok, const char* key, double value, const char* why) {
-		if (!ok || !std::isfinite(value)) throw io::iniValueError(section, key, value, why);
-	};
-	require(num_features >= 50, "num_features", num_features, "must be at least 50");
-	require(pyramid_levels >= 1 && pyramid_levels <= 12, "pyramid_levels", pyramid_levels, "must be 1..12");
-	require(pyramid_scale > 1.0 && pyramid_scale <= 2.0, "pyramid_scale", pyramid_scale, "must be in (1, 2]");
-	require(fast_threshold >= 1 && fast_threshold <= 100, "fast_threshold", fast_threshold, "must be 1..100");
-	require(grid_cols >= 1 && grid_cols <= 64, "grid_cols", grid_cols, "must be 1..64");
-	require(grid_rows >= 1 && grid_rows <= 64, "grid_rows", grid_rows, "must be 1..64");
-	require(min_depth > 0, "min_depth", min_depth, "must be > 0 m");
-	require(max_depth > min_depth, "max_depth", max_depth, "must be > min_depth");
-	require(depth_edge_ratio > 0, "depth_edge_ratio", depth_edge_ratio, "must be > 0");
-	require(match_ratio > 0 && match_ratio <= 1, "match_ratio", match_ratio, "must be in (0, 1]");
-	require(max_hamming >= 1 && max_hamming <= 256, "max_hamming", max_hamming, "must be 1..256");
-	require(search_radius > 0, "search_radius", search_radius, "must be > 0 px");
-	require(ransac_reprojection > 0, "ransac_reprojection", ransac_reprojection, "must be > 0 px");
-	require(ransac_iterations >= 1, "ransac_iterations", ransac_iterations, "must be >= 1");
-	require(min_inliers >= 6, "min_inliers", min_inliers, "must be >= 6 (PnP needs at least 4, plus margin)");
-	require(huber_delta > 0, "huber_delta", huber_delta, "must be > 0 px");
-	require(depth_weight >= 0, "depth_weight", depth_weight, "must be >= 0");
-	require(refine_iterations >= 0, "refine_iterations", refine_iterations, "must be >= 0");
-	require(window_size == 0 || window_size >= 2, "window_size", window_size, "must be 0 (off) or >= 2");
-	require(ba_iterations >= 1, "ba_iterations", ba_iterations, "must be >= 1");
-	require(ba_max_landmarks >= 0, "ba_max_landmarks", ba_max_landmarks, "must be >= 0 (0 = all)");
-	require(keyframe_translation > 0, "keyframe_translation", keyframe_translation, "must be > 0 m");
-	require(keyframe_rotation > 0, "keyframe_rotation", keyframe_rotation, "must be > 0 deg");
-	require(keyframe_overlap > 0 && keyframe_overlap <= 1, "keyframe_overlap", keyframe_overlap, "must be in (0, 1]");
-	require(map_max_keyframes >= 10, "map_max_keyframes", map_max_keyframes, "must be >= 10");
-	require(relocalisation_candidates >= 1, "relocalisation_candidates", relocalisation_candidates, "must be >= 1");
-	require(relocalisation_min_inliers >= min_inliers, "relocalisation_min_inliers", relocalisation_min_inliers,
-		"must be >= min_inliers");
-	require(relocalisation_frames >= 0, "relocalisation_frames", relocalisation_frames, "must be >= 0");
-	require(person_box_margin >= 0, "person_box_margin", person_box_margin, "must be >= 0 px");
-	require(person_depth_band >= 0, "person_depth_band", person_depth_band, "must be >= 0 m");
-	require(threads >= 1, "threads", threads, "must be >= 1");
-}
+void TOdometryOptions::validate(const std::string& section) const { iniKeys().validate(*this, section); }
 }  // namespace avm::odometry

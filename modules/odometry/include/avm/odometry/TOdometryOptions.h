@@ -6,6 +6,12 @@
 
 #include <string>
 
+namespace avm::io
+{
+template <class Options>
+class IniKeys;  // avm/io/IniKeys.h
+}
+
 namespace avm::odometry
 {
 struct TOdometryOptions : public mrpt::config::CLoadableOptions
@@ -50,6 +56,8 @@ struct TOdometryOptions : public mrpt::config::CLoadableOptions
 	// --- runtime
 	int threads = 1;                 //!< Ceres threads (OpenCV threads are the caller's: cv::setNumThreads)
 
+	/** Every key: name, member, unit, description, check. */
+	static io::IniKeys<TOdometryOptions> iniKeys();
 	void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
 	void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
 	/** Throws std::invalid_argument naming "[section] key" and the bad value. */
