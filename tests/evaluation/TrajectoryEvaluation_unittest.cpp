@@ -125,7 +125,7 @@ TEST(TrajectoryEvaluation, FrameRangeAndTimeTolerance)
 	opt.maxTimeDifference = -1;
 	try
 	{
-		opt.validate();
+		opt.validate("evaluation");
 		ADD_FAILURE() << "negative tolerance accepted";
 	}
 	catch (const std::invalid_argument& e)

@@ -44,7 +44,7 @@ TEST(TOdometryOptions, BadValueNamesSectionAndKey)
 	}
 	o = {};
 	o.max_depth = 0.1;
-	EXPECT_THROW(o.validate(), std::invalid_argument);
+	EXPECT_THROW(o.validate("odometry"), std::invalid_argument);
 	EXPECT_THROW(odometry::VisualOdometry{o}, std::invalid_argument);
 	o = {};
 	o.pyramid_scale = 0.5;  // OpenCV would reject it too, but with its own message

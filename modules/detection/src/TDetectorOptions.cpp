@@ -84,11 +84,6 @@ void TDetectorOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c
 	classIds(s);
 }
 
-void TDetectorOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
-{
-	iniKeys().save(*this, c, s);
-}
-
 void TDetectorOptions::validate(const std::string& s) const
 {
 	iniKeys().validate(*this, s);
@@ -118,3 +113,5 @@ std::filesystem::path resolveModelPath(const std::string& model, const std::file
 	return p.is_absolute() || root.empty() ? p : root / p;
 }
 }  // namespace avm::detection
+
+template struct avm::io::CIniKeyOptions<avm::detection::TDetectorOptions>;

@@ -37,18 +37,6 @@ io::IniKeys<TEvaluationOptions> TEvaluationOptions::iniKeys()
 	return keys;
 }
 
-void TEvaluationOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section)
-{
-	iniKeys().load(*this, cfg, section);
-}
-
-void TEvaluationOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const
-{
-	iniKeys().save(*this, cfg, section);
-}
-
-void TEvaluationOptions::validate(const std::string& section) const { iniKeys().validate(*this, section); }
-
 std::vector<std::pair<std::size_t, std::size_t>> associateByTimestamp(
 	const io::Trajectory& estimate, const io::Trajectory& groundTruth, double maxTimeDifference)
 {
@@ -116,7 +104,7 @@ ErrorStatistics statisticsOf(std::vector<double> errors)
 TrajectoryErrors evaluateTrajectory(
 	const io::Trajectory& estimate, const io::Trajectory& groundTruth, const TEvaluationOptions& options)
 {
-	options.validate();
+	options.validate("evaluation");
 	TrajectoryErrors out;
 	const std::size_t first = std::min(options.firstFrame, estimate.size());
 	const std::size_t last =
@@ -185,3 +173,5 @@ std::string formatReport(const TrajectoryErrors& e)
 	return s.str();
 }
 }  // namespace avm::evaluation
+
+template struct avm::io::CIniKeyOptions<avm::evaluation::TEvaluationOptions>;

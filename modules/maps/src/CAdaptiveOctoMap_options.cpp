@@ -81,20 +81,6 @@ io::IniKeys<CAdaptiveOctoMap::TTreeOptions> CAdaptiveOctoMap::TTreeOptions::iniK
 	return keys;
 }
 
-void CAdaptiveOctoMap::TTreeOptions::loadFromConfigFile(
-	const mrpt::config::CConfigFileBase& c, const std::string& section)
-{
-	iniKeys().load(*this, c, section);
-}
-
-void CAdaptiveOctoMap::TTreeOptions::saveToConfigFile(
-	mrpt::config::CConfigFileBase& c, const std::string& section) const
-{
-	iniKeys().save(*this, c, section);
-}
-
-void CAdaptiveOctoMap::TTreeOptions::validate(const std::string& section) const { iniKeys().validate(*this, section); }
-
 // ------------------------------------------------------------ TCreationOptions
 io::IniKeys<CAdaptiveOctoMap::TCreationOptions> CAdaptiveOctoMap::TCreationOptions::iniKeys() const
 {
@@ -119,23 +105,6 @@ io::IniKeys<CAdaptiveOctoMap::TCreationOptions> CAdaptiveOctoMap::TCreationOptio
 					   ") a whole number of times, so that no high voxel straddles two low ones";
 			});
 	return keys;
-}
-
-void CAdaptiveOctoMap::TCreationOptions::loadFromConfigFile(
-	const mrpt::config::CConfigFileBase& c, const std::string& section)
-{
-	iniKeys().load(*this, c, section);
-}
-
-void CAdaptiveOctoMap::TCreationOptions::saveToConfigFile(
-	mrpt::config::CConfigFileBase& c, const std::string& section) const
-{
-	iniKeys().save(*this, c, section);
-}
-
-void CAdaptiveOctoMap::TCreationOptions::validate(const std::string& section) const
-{
-	iniKeys().validate(*this, section);
 }
 
 // ----------------------------------------------------------- TInsertionOptions
@@ -208,23 +177,6 @@ io::IniKeys<CAdaptiveOctoMap::TInsertionOptions> CAdaptiveOctoMap::TInsertionOpt
 	return keys;
 }
 
-void CAdaptiveOctoMap::TInsertionOptions::loadFromConfigFile(
-	const mrpt::config::CConfigFileBase& c, const std::string& section)
-{
-	iniKeys().load(*this, c, section);
-}
-
-void CAdaptiveOctoMap::TInsertionOptions::saveToConfigFile(
-	mrpt::config::CConfigFileBase& c, const std::string& section) const
-{
-	iniKeys().save(*this, c, section);
-}
-
-void CAdaptiveOctoMap::TInsertionOptions::validate(const std::string& section) const
-{
-	iniKeys().validate(*this, section);
-}
-
 // ---------------------------------------------------------- TLikelihoodOptions
 io::IniKeys<CAdaptiveOctoMap::TLikelihoodOptions> CAdaptiveOctoMap::TLikelihoodOptions::iniKeys()
 {
@@ -232,23 +184,6 @@ io::IniKeys<CAdaptiveOctoMap::TLikelihoodOptions> CAdaptiveOctoMap::TLikelihoodO
 	keys.number<std::int64_t>("decimation", &TLikelihoodOptions::decimation, "",
 		"use one pixel in N along rows and columns", {[](std::int64_t v) { return v >= 1; }, "must be >= 1"});
 	return keys;
-}
-
-void CAdaptiveOctoMap::TLikelihoodOptions::loadFromConfigFile(
-	const mrpt::config::CConfigFileBase& c, const std::string& section)
-{
-	iniKeys().load(*this, c, section);
-}
-
-void CAdaptiveOctoMap::TLikelihoodOptions::saveToConfigFile(
-	mrpt::config::CConfigFileBase& c, const std::string& section) const
-{
-	iniKeys().save(*this, c, section);
-}
-
-void CAdaptiveOctoMap::TLikelihoodOptions::validate(const std::string& section) const
-{
-	iniKeys().validate(*this, section);
 }
 
 // ----------------------------------------------------------- TRenderingOptions
@@ -259,16 +194,10 @@ io::IniKeys<CAdaptiveOctoMap::TRenderingOptions> CAdaptiveOctoMap::TRenderingOpt
 		.number("show_regions", &TRenderingOptions::showRegions, "", "draw the high-resolution regions");
 	return keys;
 }
-
-void CAdaptiveOctoMap::TRenderingOptions::loadFromConfigFile(
-	const mrpt::config::CConfigFileBase& c, const std::string& section)
-{
-	iniKeys().load(*this, c, section);
-}
-
-void CAdaptiveOctoMap::TRenderingOptions::saveToConfigFile(
-	mrpt::config::CConfigFileBase& c, const std::string& section) const
-{
-	iniKeys().save(*this, c, section);
-}
 }  // namespace avm
+
+template struct avm::io::CIniKeyOptions<avm::CAdaptiveOctoMap::TTreeOptions>;
+template struct avm::io::CIniKeyOptions<avm::CAdaptiveOctoMap::TCreationOptions>;
+template struct avm::io::CIniKeyOptions<avm::CAdaptiveOctoMap::TInsertionOptions>;
+template struct avm::io::CIniKeyOptions<avm::CAdaptiveOctoMap::TLikelihoodOptions>;
+template struct avm::io::CIniKeyOptions<avm::CAdaptiveOctoMap::TRenderingOptions>;

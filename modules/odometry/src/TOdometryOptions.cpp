@@ -91,16 +91,6 @@ io::IniKeys<TOdometryOptions> TOdometryOptions::iniKeys()
 			{[](int v) { return v >= 1; }, "must be >= 1"});
 	return keys;
 }
-
-void TOdometryOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section)
-{
-	iniKeys().load(*this, cfg, section);
-}
-
-void TOdometryOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const
-{
-	iniKeys().save(*this, cfg, section);
-}
-
-void TOdometryOptions::validate(const std::string& section) const { iniKeys().validate(*this, section); }
 }  // namespace avm::odometry
+
+template struct avm::io::CIniKeyOptions<avm::odometry::TOdometryOptions>;

@@ -49,7 +49,7 @@ mrpt::poses::CPose3D toPose(const Eigen::Isometry3d& T)
 /** Checked before the front end builds its detector from them. */
 const TOdometryOptions& validated(const TOdometryOptions& o)
 {
-	o.validate();
+	o.validate("odometry");
 	return o;
 }
 

@@ -80,16 +80,6 @@ io::IniKeys<TPipelineOptions> TPipelineOptions::iniKeys()
 	return keys;
 }
 
-void TPipelineOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& s)
-{
-	iniKeys().load(*this, cfg, s);
-}
-
-void TPipelineOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& s) const
-{
-	iniKeys().save(*this, cfg, s);
-}
-
 namespace
 {
 constexpr const char* kPipelineSection = "pipeline";
@@ -442,3 +432,5 @@ RunSummary MappingPipeline::runFrames(
 	}
 }
 }  // namespace avm::pipeline
+
+template struct avm::io::CIniKeyOptions<avm::pipeline::TPipelineOptions>;

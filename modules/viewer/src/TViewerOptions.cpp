@@ -16,16 +16,6 @@ io::IniKeys<TViewerOptions> TViewerOptions::iniKeys()
 			{[](double v) { return v > 0 && v <= 60; }, "out of range (0, 60]"});
 	return keys;
 }
-
-void TViewerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section)
-{
-	iniKeys().load(*this, source, section);
-}
-
-void TViewerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& target, const std::string& section) const
-{
-	iniKeys().save(*this, target, section);
-}
-
-void TViewerOptions::validate(const std::string& section) const { iniKeys().validate(*this, section); }
 }  // namespace avm::viewer
+
+template struct avm::io::CIniKeyOptions<avm::viewer::TViewerOptions>;

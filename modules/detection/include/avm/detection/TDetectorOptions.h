@@ -2,17 +2,11 @@
 // section [detection] of an avm .ini (see ini/detect.ini for every key).
 #pragma once
 
-#include <mrpt/config/CLoadableOptions.h>
-
 #include <filesystem>
 #include <string>
 #include <vector>
 
-namespace avm::io
-{
-template <class Options>
-class IniKeys;  // avm/io/IniKeys.h
-}
+#include "avm/io/IniKeyOptions.h"
 
 namespace avm::detection
 {
@@ -29,7 +23,7 @@ std::string toString(OutputLayout layout);
 /** Throws std::invalid_argument listing the accepted names. */
 OutputLayout parseOutputLayout(const std::string& name);
 
-struct TDetectorOptions : public mrpt::config::CLoadableOptions
+struct TDetectorOptions : public io::CIniKeyOptions<TDetectorOptions>
 {
 	/** ONNX model file as the ini gives it ("" = OpenCV's HOG people detector,
 	 *  no weights). A relative path is resolved by resolveModelPath(). */
@@ -49,7 +43,6 @@ struct TDetectorOptions : public mrpt::config::CLoadableOptions
 	/** Every key: name, member, unit, description, check. */
 	static io::IniKeys<TDetectorOptions> iniKeys();
 	void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
-	void saveToConfigFile(mrpt::config::CConfigFileBase& target, const std::string& section) const override;
 	/** Throws std::invalid_argument naming "[section] key" and the bad value. */
 	void validate(const std::string& section = "detection") const;
 

@@ -5,7 +5,6 @@
 // optical frame in the world, as TUM ground truth).
 #pragma once
 
-#include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/poses/CPose3D.h>
 
 #include <cstddef>
@@ -13,17 +12,12 @@
 #include <utility>
 #include <vector>
 
+#include "avm/io/IniKeyOptions.h"
 #include "avm/io/Trajectory.h"
-
-namespace avm::io
-{
-template <class Options>
-class IniKeys;  // avm/io/IniKeys.h
-}
 
 namespace avm::evaluation
 {
-struct TEvaluationOptions : public mrpt::config::CLoadableOptions
+struct TEvaluationOptions : public io::CIniKeyOptions<TEvaluationOptions>
 {
 	/** [s] an estimated pose is matched with the ground-truth pose nearest in
 	 *  time when they are at most this far apart. */
@@ -37,10 +31,6 @@ struct TEvaluationOptions : public mrpt::config::CLoadableOptions
 
 	/** Every key: name, member, unit, description, check. */
 	static io::IniKeys<TEvaluationOptions> iniKeys();
-	void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
-	void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
-	/** Throws std::invalid_argument naming "[section] key" and the value. */
-	void validate(const std::string& section = "evaluation") const;
 };
 
 /** Summary of a set of non-negative errors. */

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "avm/io/ErrorMessage.h"
+#include "avm/io/IniKeyOptions.h"
 #include "avm/io/IniOptions.h"
 
 namespace avm::io
@@ -237,4 +238,26 @@ class IniKeys
 	std::vector<Key> m_keys;
 	std::vector<Check> m_checks;
 };
+
+template <class Options>
+void CIniKeyOptions<Options>::loadFromConfigFile(
+	const mrpt::config::CConfigFileBase& source, const std::string& section)
+{
+	auto& self = static_cast<Options&>(*this);
+	self.iniKeys().load(self, source, section);
+}
+
+template <class Options>
+void CIniKeyOptions<Options>::saveToConfigFile(mrpt::config::CConfigFileBase& target, const std::string& section) const
+{
+	const auto& self = static_cast<const Options&>(*this);
+	self.iniKeys().save(self, target, section);
+}
+
+template <class Options>
+void CIniKeyOptions<Options>::validate(const std::string& section) const
+{
+	const auto& self = static_cast<const Options&>(*this);
+	self.iniKeys().validate(self, section);
+}
 }  // namespace avm::io

@@ -13,7 +13,6 @@
 // (doc/map.md has the full map of files).
 #pragma once
 
-#include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/maps/CMetricMap.h>
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/math/TBoundingBox.h>
@@ -27,15 +26,10 @@
 #include <string>
 #include <vector>
 
+#include "avm/io/IniKeyOptions.h"
 #include "avm/persons/PersonLabels.h"
 #include "avm/persons/PersonSighting.h"
 #include "avm/persons/PersonTracker.h"
-
-namespace avm::io
-{
-template <class Options>
-class IniKeys;  // avm/io/IniKeys.h
-}
 
 namespace octomap
 {
@@ -145,7 +139,7 @@ class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
    public:
 	/** The parameters of one octree. All keys carry the tree's prefix
 	 *  ("low_" or "high_") in the `_creationOpts` section. */
-	struct TTreeOptions : public mrpt::config::CLoadableOptions
+	struct TTreeOptions : public io::CIniKeyOptions<TTreeOptions>
 	{
 		explicit TTreeOptions(std::string keyPrefix, double resolution);
 
@@ -162,32 +156,22 @@ class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
 
 		/** Every key (with keyPrefix): name, member, unit, description, check. */
 		io::IniKeys<TTreeOptions> iniKeys() const;
-		void loadFromConfigFile(
-			const mrpt::config::CConfigFileBase& source, const std::string& section) override;
-		void saveToConfigFile(
-			mrpt::config::CConfigFileBase& target, const std::string& section) const override;
-		/** Throws std::invalid_argument naming "[section] <prefix>key". */
-		void validate(const std::string& section) const;
 	};
 
 	/** Section `<prefix>_creationOpts`: the two trees. */
-	struct TCreationOptions : public mrpt::config::CLoadableOptions
+	struct TCreationOptions : public io::CIniKeyOptions<TCreationOptions>
 	{
 		TTreeOptions low{"low_", 0.20};
 		TTreeOptions high{"high_", 0.05};
 
+		/** Both trees' keys, and the checks that high.resolution is finer than
+		 *  low.resolution and divides it exactly (so no high voxel straddles a
+		 *  low one). */
 		io::IniKeys<TCreationOptions> iniKeys() const;
-		void loadFromConfigFile(
-			const mrpt::config::CConfigFileBase& source, const std::string& section) override;
-		void saveToConfigFile(
-			mrpt::config::CConfigFileBase& target, const std::string& section) const override;
-		/** Both trees valid, and high.resolution finer than low.resolution and
-		 *  dividing it exactly (so no high voxel straddles a low one). */
-		void validate(const std::string& section) const;
 	};
 
 	/** Section `<prefix>_insertOpts`: switching policy and its triggers. */
-	struct TInsertionOptions : public mrpt::config::CLoadableOptions
+	struct TInsertionOptions : public io::CIniKeyOptions<TInsertionOptions>
 	{
 		SwitchPolicy switchPolicy = SwitchPolicy::Region;
 		/** [m] grown on each side of a person's box to make its region. */
@@ -212,38 +196,24 @@ class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
 		std::uint32_t insertionThreads = 1;
 
 		static io::IniKeys<TInsertionOptions> iniKeys();
-		void loadFromConfigFile(
-			const mrpt::config::CConfigFileBase& source, const std::string& section) override;
-		void saveToConfigFile(
-			mrpt::config::CConfigFileBase& target, const std::string& section) const override;
-		void validate(const std::string& section) const;
 	};
 
 	/** Section `<prefix>_likelihoodOpts`. */
-	struct TLikelihoodOptions : public mrpt::config::CLoadableOptions
+	struct TLikelihoodOptions : public io::CIniKeyOptions<TLikelihoodOptions>
 	{
 		/** Use one pixel in `decimation` along rows and columns. */
 		std::uint32_t decimation = 8;
 
 		static io::IniKeys<TLikelihoodOptions> iniKeys();
-		void loadFromConfigFile(
-			const mrpt::config::CConfigFileBase& source, const std::string& section) override;
-		void saveToConfigFile(
-			mrpt::config::CConfigFileBase& target, const std::string& section) const override;
-		void validate(const std::string& section) const;
 	};
 
 	/** Section `<prefix>_renderOpts`: what getVisualizationInto() draws. */
-	struct TRenderingOptions : public mrpt::config::CLoadableOptions
+	struct TRenderingOptions : public io::CIniKeyOptions<TRenderingOptions>
 	{
 		bool showFreeSpace = false;
 		bool showRegions = true;
 
 		static io::IniKeys<TRenderingOptions> iniKeys();
-		void loadFromConfigFile(
-			const mrpt::config::CConfigFileBase& source, const std::string& section) override;
-		void saveToConfigFile(
-			mrpt::config::CConfigFileBase& target, const std::string& section) const override;
 	};
 
 	/** Size figures of one tree, for the paper's comparison. Leaf counts are

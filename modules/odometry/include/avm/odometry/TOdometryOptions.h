@@ -2,19 +2,13 @@
 // back end: Ceres refinement and sliding-window bundle adjustment).
 #pragma once
 
-#include <mrpt/config/CLoadableOptions.h>
-
 #include <string>
 
-namespace avm::io
-{
-template <class Options>
-class IniKeys;  // avm/io/IniKeys.h
-}
+#include "avm/io/IniKeyOptions.h"
 
 namespace avm::odometry
 {
-struct TOdometryOptions : public mrpt::config::CLoadableOptions
+struct TOdometryOptions : public io::CIniKeyOptions<TOdometryOptions>
 {
 	// --- front end: features
 	int num_features = 1000;       //!< ORB features kept per frame (after bucketing)
@@ -58,9 +52,5 @@ struct TOdometryOptions : public mrpt::config::CLoadableOptions
 
 	/** Every key: name, member, unit, description, check. */
 	static io::IniKeys<TOdometryOptions> iniKeys();
-	void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
-	void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
-	/** Throws std::invalid_argument naming "[section] key" and the bad value. */
-	void validate(const std::string& section = "odometry") const;
 };
 }  // namespace avm::odometry

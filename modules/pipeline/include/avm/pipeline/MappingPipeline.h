@@ -11,7 +11,6 @@
 #pragma once
 
 #include <mrpt/config/CConfigFileBase.h>
-#include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/system/COutputLogger.h>
 
 #include <atomic>
@@ -21,6 +20,7 @@
 #include <optional>
 #include <string>
 
+#include "avm/io/IniKeyOptions.h"
 #include "avm/io/TimingSummary.h"
 #include "avm/maps/ReferenceOctoMaps.h"
 #include "avm/viewer/TViewerOptions.h"
@@ -36,7 +36,7 @@ PoseSource poseSourceFromString(const std::string& name);  //!< throws on anythi
 std::string toString(PoseSource source);
 
 /** Section [pipeline]. */
-struct TPipelineOptions : public mrpt::config::CLoadableOptions
+struct TPipelineOptions : public io::CIniKeyOptions<TPipelineOptions>
 {
 	PoseSource poseSource = PoseSource::VisualOdometry;  //!< pose_source
 	/** Run the detector on every N-th frame; 0 turns detection off. */
@@ -75,8 +75,6 @@ struct TPipelineOptions : public mrpt::config::CLoadableOptions
 
 	/** Every key: name, member, unit, description, check. */
 	static io::IniKeys<TPipelineOptions> iniKeys();
-	void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
-	void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
 };
 
 struct RunSummary

@@ -1,20 +1,14 @@
 // Options of the live view (avm-map --gui, avm-view).
 #pragma once
 
-#include <mrpt/config/CLoadableOptions.h>
-
 #include <string>
 
-namespace avm::io
-{
-template <class Options>
-class IniKeys;  // avm/io/IniKeys.h
-}
+#include "avm/io/IniKeyOptions.h"
 
 namespace avm::viewer
 {
 /** Keys `gui` and `gui_fps` of a section (avm-map: [pipeline]). */
-struct TViewerOptions : public mrpt::config::CLoadableOptions
+struct TViewerOptions : public io::CIniKeyOptions<TViewerOptions>
 {
 	bool enabled = false;  //!< `gui`: open the live view
 	double fps = 5.0;  //!< `gui_fps` [Hz] most redraws a second, (0, 60]
@@ -26,10 +20,5 @@ struct TViewerOptions : public mrpt::config::CLoadableOptions
 
 	/** The loaded keys: name, member, unit, description, check. */
 	static io::IniKeys<TViewerOptions> iniKeys();
-	/** Throws std::invalid_argument "[section] key = value: why" on a value
-	 *  that is not a bool / number or out of range. */
-	void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
-	void saveToConfigFile(mrpt::config::CConfigFileBase& target, const std::string& section) const override;
-	void validate(const std::string& section) const;
 };
 }  // namespace avm::viewer
