@@ -152,11 +152,8 @@ class IniKeys
 	 *  then validates. Throws std::invalid_argument "[section] key = value: why". */
 	void load(Options& o, const mrpt::config::CConfigFileBase& ini, const std::string& section) const
 	{
-		// read_string with a sentinel, not keyExists: MRPT's own (case-insensitive) lookup.
-		static const std::string absent = std::string(1, '\x01') + "absent";
 		for (const auto& k : m_keys)
-			if (const std::string value = ini.read_string(section, k.name, absent); value != absent)
-				k.parse(o, value, section);
+			if (const auto value = readIniText(ini, section, k.name)) k.parse(o, *value, section);
 		validate(o, section);
 	}
 

@@ -10,6 +10,7 @@
 #include <mrpt/config/CLoadableOptions.h>
 
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -25,14 +26,24 @@ namespace avm::io
 template <class T>
 T parseIniValue(const std::string& section, const std::string& key, const std::string& text);
 
+/** The text of [section] key of `ini`; nothing when the key is absent. */
+inline std::optional<std::string> readIniText(
+	const mrpt::config::CConfigFileBase& ini, const std::string& section, const std::string& key)
+{
+	// read_string with a sentinel, not keyExists: the same (case-insensitive)
+	// lookup as MRPT's readers.
+	static const std::string absent = std::string(1, '\x01') + "absent";
+	std::string text = ini.read_string(section, key, absent);
+	if (text == absent) return std::nullopt;
+	return text;
+}
+
 /** [section] key of `ini` as T (see parseIniValue), or `def` when absent. */
 template <class T>
 T readIniValue(const mrpt::config::CConfigFileBase& ini, const std::string& section, const std::string& key, const T& def)
 {
-	// read_string, not keyExists: the same (case-insensitive) lookup as MRPT's readers.
-	static const std::string absent = "\x01" "absent";
-	const std::string text = ini.read_string(section, key, absent);
-	return text == absent ? def : parseIniValue<T>(section, key, text);
+	const auto text = readIniText(ini, section, key);
+	return text ? parseIniValue<T>(section, key, *text) : def;
 }
 
 /** Keys present in [section] of ini that `options` does not know (MRPT reads
