@@ -17,14 +17,10 @@
 
 namespace avm::odometry::detail
 {
-/** The pinhole model of the registered depth and intensity images: the one of
- *  the whole project (io::DepthCamera), used in its optical frame. */
-using Intrinsics = io::DepthCamera;
-
 /** Reprojection error [px] of a world point seen at a pixel, from pose T_cw;
  *  infinite behind the camera. */
 inline double reprojectionError(
-	const Eigen::Isometry3d& T_cw, const Eigen::Vector3d& world, const Eigen::Vector2d& pixel, const Intrinsics& K)
+	const Eigen::Isometry3d& T_cw, const Eigen::Vector3d& world, const Eigen::Vector2d& pixel, const io::DepthCamera& K)
 {
 	const Eigen::Vector3d pc = T_cw * world;
 	if (pc.z() <= 1e-6) return std::numeric_limits<double>::infinity();
@@ -53,7 +49,7 @@ struct FrameFeatures
 	std::vector<cv::KeyPoint> keypoints;
 	cv::Mat descriptors;                   //!< one ORB descriptor (CV_8U, 32 bytes) per row
 	std::vector<Eigen::Vector3d> points;   //!< [m] back-projected in the camera optical frame
-	Intrinsics K;
+	io::DepthCamera K;  //!< the registered depth and intensity images' camera, used in its optical frame
 	cv::Size imageSize;
 
 	const std::uint8_t* descriptorData(int i) const { return descriptors.ptr<std::uint8_t>(i); }

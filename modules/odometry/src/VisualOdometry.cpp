@@ -58,7 +58,7 @@ double rotationAngleDeg(const Eigen::Matrix3d& R) { return mrpt::RAD2DEG(Eigen::
 struct FrameImages
 {
 	cv::Mat grey, depth;  //!< depth in metres, registered to the colour image
-	Intrinsics K;
+	io::DepthCamera K;
 };
 
 FrameImages imagesOf(const mrpt::obs::CObservation3DRangeScan& obs)
@@ -69,7 +69,7 @@ FrameImages imagesOf(const mrpt::obs::CObservation3DRangeScan& obs)
 	out.depth = io::depthInMetres(obs);
 	if (out.depth.size() != out.grey.size())
 		throw std::invalid_argument("VisualOdometry: depth and colour images differ in size (not registered)");
-	out.K = {obs.cameraParams.fx(), obs.cameraParams.fy(), obs.cameraParams.cx(), obs.cameraParams.cy()};
+	out.K = io::DepthCamera::of(obs);
 	return out;
 }
 

@@ -52,7 +52,7 @@ ceres::Solver::Options solverOptions(int iterations, int threads, ceres::LinearS
 
 void CeresBackend::refinePose(
 	Eigen::Isometry3d& T_cw, const std::vector<Observation>& observations, const LandmarkMap& landmarks,
-	const Intrinsics& K) const
+	const io::DepthCamera& K) const
 {
 	if (m_options.refine_iterations == 0 || observations.empty()) return;
 	PoseParams pose = toParams(T_cw);
@@ -75,7 +75,7 @@ void CeresBackend::refinePose(
 	T_cw = fromParams(pose, T_cw);
 }
 
-void CeresBackend::bundleAdjust(std::deque<Keyframe>& window, LandmarkMap& landmarks, const Intrinsics& K) const
+void CeresBackend::bundleAdjust(std::deque<Keyframe>& window, LandmarkMap& landmarks, const io::DepthCamera& K) const
 {
 	if (window.size() < 2) return;
 	std::unordered_map<int, int> seenBy;

@@ -13,7 +13,7 @@ namespace avm::odometry::detail
 class ReprojectionDepthCost
 {
    public:
-	ReprojectionDepthCost(const Observation& obs, const Intrinsics& K, double depthWeight)
+	ReprojectionDepthCost(const Observation& obs, const io::DepthCamera& K, double depthWeight)
 		: m_u(obs.pixel.x()), m_v(obs.pixel.y()), m_depth(obs.depth), m_K(K), m_depthWeight(depthWeight)
 	{
 	}
@@ -36,7 +36,7 @@ class ReprojectionDepthCost
 		return true;
 	}
 
-	static ceres::CostFunction* create(const Observation& obs, const Intrinsics& K, double depthWeight)
+	static ceres::CostFunction* create(const Observation& obs, const io::DepthCamera& K, double depthWeight)
 	{
 		return new ceres::AutoDiffCostFunction<ReprojectionDepthCost, 3, 6, 3>(
 			new ReprojectionDepthCost(obs, K, depthWeight));
@@ -44,7 +44,7 @@ class ReprojectionDepthCost
 
    private:
 	double m_u, m_v, m_depth;
-	Intrinsics m_K;
+	io::DepthCamera m_K;
 	double m_depthWeight;
 };
 }  // namespace avm::odometry::detail

@@ -86,7 +86,7 @@ cv::Mat FeatureFrontend::personMask(const cv::Mat& depth, const std::vector<cv::
 }
 
 FrameFeatures FeatureFrontend::extract(
-	const cv::Mat& grey, const cv::Mat& depth, const Intrinsics& K, const std::vector<cv::Rect>& excluded,
+	const cv::Mat& grey, const cv::Mat& depth, const io::DepthCamera& K, const std::vector<cv::Rect>& excluded,
 	std::vector<cv::KeyPoint>* masked) const
 {
 	const auto& o = m_options;

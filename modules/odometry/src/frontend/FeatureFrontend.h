@@ -27,7 +27,7 @@ class FeatureFrontend
 	 *  the masked pixels with depth. That is for the live view only (a second
 	 *  detection on the same person mask); the features are the same either way. */
 	FrameFeatures extract(
-		const cv::Mat& grey, const cv::Mat& depth, const Intrinsics& K, const std::vector<cv::Rect>& excluded,
+		const cv::Mat& grey, const cv::Mat& depth, const io::DepthCamera& K, const std::vector<cv::Rect>& excluded,
 		std::vector<cv::KeyPoint>* masked = nullptr) const;
 
 	/** Each landmark projected with T_cw, matched to the best feature within
