@@ -235,8 +235,6 @@ std::string statsJson(
 	return json.str();
 }
 
-/** Temporaries of earlier runs that were killed while writing
- *  (".name.partial-PID.ext", see io::temporaryPathFor) whose process is gone. */
 /** One line per pose of trajectory.txt: its timestamp and whether the
  *  odometry tracked it (1) or bridged it by its motion model (0). */
 std::string trajectoryStatusText(const RunRecord& record)
@@ -253,6 +251,8 @@ std::string trajectoryStatusText(const RunRecord& record)
 	return text;
 }
 
+/** Temporaries of earlier runs that were killed while writing
+ *  (".name.partial-PID.ext", see io::temporaryPathFor) whose process is gone. */
 void removeStaleTemporaries(const fs::path& dir)
 {
 	for (const auto& e : fs::directory_iterator(dir))
