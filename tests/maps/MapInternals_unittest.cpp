@@ -405,54 +405,11 @@ TEST(SurfaceSketch, SameEntriesSameBytesWhateverTheHistory)
 	EXPECT_EQ(grown.memoryBytes(), 400u * 16u) << "a low key and its 64 bits an entry";
 }
 
-// The integrator through the map on a synthetic scan: a flat wall 3 m ahead,
-// a region around part of it. The wall inside the region is in the high tree
-// at 5 cm, the rest in the low tree at 20 cm, the space before it free in the
-// tree that owns it, and no voxel in both.
-TEST(RayIntegrator, AWallSplitsAtTheRegionFaces)
-{
-	mrpt::obs::CObservation3DRangeScan obs;
-	obs.hasRangeImage = true;
-	obs.rangeImage.resize(120, 160);
-	obs.rangeUnits = 0.001f;
-	obs.cameraParams.ncols = 160;
-	obs.cameraParams.nrows = 120;
-	obs.cameraParams.setIntrinsicParamsFromValues(120, 120, 79.5, 59.5);
-	obs.rangeImage.fill(3000);  // depth 3 m: the plane X = 3 in the sensor frame
-	obs.sensorPose = mrpt::poses::CPose3D();
-	CAdaptiveOctoMap map;
-	const TBoundingBox region({2.6, -0.4, -0.4}, {3.4, 0.4, 0.4});
-	map.addHighResolutionRegion(region);
-	ASSERT_TRUE(map.insertObservation(obs, mrpt::poses::CPose3D()));
-
-	std::size_t highWall = 0, lowWall = 0;
-	map.forEachLeaf(Resolution::High, [&](const TLeafVoxel& v) {
-		if (!v.occupied) return;
-		++highWall;
-		EXPECT_NEAR(v.center.x, 3.025, 1e-4) << "the wall's 5 cm layer";
-		EXPECT_TRUE(region.containsPoint(v.center));
-	});
-	map.forEachLeaf(Resolution::Low, [&](const TLeafVoxel& v) {
-		if (!v.occupied) return;
-		++lowWall;
-		EXPECT_NEAR(v.center.x, 3.1, 1e-4) << "the wall's 20 cm layer";
-		EXPECT_FALSE(region.containsPoint(v.center));
-	});
-	// The region's face of the wall is 0.8 x 0.8 m: 16 x 16 high voxels.
-	EXPECT_EQ(highWall, 16u * 16u);
-	EXPECT_GT(lowWall, 20u);
-	// Between the camera and the wall: free, in the tree that owns the space.
-	EXPECT_EQ(map.query({2.8, 0.0, 0.0}).state, OccupancyState::Free);
-	EXPECT_EQ(map.query({2.8, 0.0, 0.0}).tree, Resolution::High);
-	EXPECT_EQ(map.query({1.5, 0.0, 0.0}).state, OccupancyState::Free);
-	EXPECT_EQ(map.query({1.5, 0.0, 0.0}).tree, Resolution::Low);
-	EXPECT_EQ(map.query({3.6, 0.0, 0.0}).state, OccupancyState::Unknown) << "behind the wall";
-}
-
 namespace
 {
-/** A 160 x 120 depth image of a wall 3 m ahead, with (optionally) a 0.25 m
- *  square object 1.5 m ahead in the middle of the view. */
+/** A 160 x 120 depth image of a wall 3 m ahead (the plane X = 3 in the
+ *  sensor frame), with (optionally) a 0.25 m square object 1.5 m ahead in the
+ *  middle of the view. */
 mrpt::obs::CObservation3DRangeScan wallScan(bool withObject)
 {
 	mrpt::obs::CObservation3DRangeScan obs;
@@ -477,6 +434,41 @@ std::size_t occupiedHighVoxels(const CAdaptiveOctoMap& map, const TBoundingBox& 
 	return n;
 }
 }  // namespace
+
+// The integrator through the map on a synthetic scan: a flat wall 3 m ahead,
+// a region around part of it. The wall inside the region is in the high tree
+// at 5 cm, the rest in the low tree at 20 cm, the space before it free in the
+// tree that owns it, and no voxel in both.
+TEST(RayIntegrator, AWallSplitsAtTheRegionFaces)
+{
+	CAdaptiveOctoMap map;
+	const TBoundingBox region({2.6, -0.4, -0.4}, {3.4, 0.4, 0.4});
+	map.addHighResolutionRegion(region);
+	ASSERT_TRUE(map.insertObservation(wallScan(false), mrpt::poses::CPose3D()));
+
+	std::size_t highWall = 0, lowWall = 0;
+	map.forEachLeaf(Resolution::High, [&](const TLeafVoxel& v) {
+		if (!v.occupied) return;
+		++highWall;
+		EXPECT_NEAR(v.center.x, 3.025, 1e-4) << "the wall's 5 cm layer";
+		EXPECT_TRUE(region.containsPoint(v.center));
+	});
+	map.forEachLeaf(Resolution::Low, [&](const TLeafVoxel& v) {
+		if (!v.occupied) return;
+		++lowWall;
+		EXPECT_NEAR(v.center.x, 3.1, 1e-4) << "the wall's 20 cm layer";
+		EXPECT_FALSE(region.containsPoint(v.center));
+	});
+	// The region's face of the wall is 0.8 x 0.8 m: 16 x 16 high voxels.
+	EXPECT_EQ(highWall, 16u * 16u);
+	EXPECT_GT(lowWall, 20u);
+	// Between the camera and the wall: free, in the tree that owns the space.
+	EXPECT_EQ(map.query({2.8, 0.0, 0.0}).state, OccupancyState::Free);
+	EXPECT_EQ(map.query({2.8, 0.0, 0.0}).tree, Resolution::High);
+	EXPECT_EQ(map.query({1.5, 0.0, 0.0}).state, OccupancyState::Free);
+	EXPECT_EQ(map.query({1.5, 0.0, 0.0}).tree, Resolution::Low);
+	EXPECT_EQ(map.query({3.6, 0.0, 0.0}).state, OccupancyState::Unknown) << "behind the wall";
+}
 
 // Something seen once at low resolution and then seen through (a person who
 // walked past) leaves the low voxel occupied, but the sketch forgets where:
