@@ -419,6 +419,7 @@ void RayIntegrator::forgetSketchSeenThrough(
 	const auto& img = obs.rangeImage;
 	const auto units = obs.rangeUnits;
 	m_targets.sketch->updateBits([&](std::uint64_t lowKey, std::uint64_t bits) {
+		if (bits == 0) return bits;
 		const auto lowCentre = sensorPose.inverseComposePoint(centreOf(lowKey, fine * m_targets.sketch->ratio()));
 		if (lowCentre.x <= -lowHalfDiagonal || lowCentre.norm() > maxRange + lowHalfDiagonal) return bits;
 		for (std::uint64_t rest = bits; rest != 0; rest &= rest - 1)
