@@ -157,6 +157,16 @@ TEST(VisualOdometry, PersonBoxesFromPixelLabels)
 	const auto boxes = odometry::personBoxesFromLabels(obs);
 	ASSERT_EQ(boxes.size(), 1u);
 	EXPECT_EQ(boxes.front(), cv::Rect(50, 100, 70, 200));
+
+	// avm-detect's labels: one "person/k" per person, touching or not.
+	labels->setLabelName(3, "person/1");
+	labels->setLabelName(4, "person/2");
+	for (int r = 100; r < 300; ++r)
+		for (int c = 120; c < 150; ++c) labels->setLabel(r, c, 4);
+	const auto two = odometry::personBoxesFromLabels(obs);
+	ASSERT_EQ(two.size(), 2u);
+	EXPECT_EQ(two[0], cv::Rect(50, 100, 70, 200));
+	EXPECT_EQ(two[1], cv::Rect(120, 100, 30, 200));
 }
 
 TEST(VisualOdometry, ReportedFeaturesShowWhatAPersonBoxMasks)

@@ -1,32 +1,21 @@
 #include "avm/odometry/OdometryRun.h"
 
-
-#include <opencv2/imgproc.hpp>
-
 #include <algorithm>
 #include <chrono>
-#include <ctime>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "avm/io/AtomicFile.h"
 #include "avm/io/IniOptions.h"
 #include "avm/io/RawlogFrameReader.h"
+#include "avm/io/ThreadCpuTime.h"
 #include "avm/io/TimingSummary.h"
+#include "avm/persons/PersonLabels.h"
 
 namespace avm::odometry
 {
-namespace
-{
-double threadCpuMilliseconds()
-{
-	timespec t{};
-	::clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-	return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
-}
-}  // namespace
-
 io::Trajectory OdometryRun::trajectory() const
 {
 	io::Trajectory t;
@@ -95,9 +84,9 @@ OdometryRun runOdometry(
 		const auto boxes = personBoxes ? personBoxes(*frame) : std::vector<cv::Rect>{};
 		rec.personBoxes = boxes.size();
 		const auto start = std::chrono::steady_clock::now();
-		const double cpuStart = threadCpuMilliseconds();
+		const double cpuStart = io::threadCpuMs();
 		rec.estimate = vo->process(*frame->observation, boxes);
-		rec.cpuMilliseconds = threadCpuMilliseconds() - cpuStart;
+		rec.cpuMilliseconds = io::threadCpuMs() - cpuStart;
 		rec.milliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 		run.frames.push_back(std::move(rec));
 		if (progress) progress(run.frames.size());
@@ -108,18 +97,21 @@ OdometryRun runOdometry(
 
 std::vector<cv::Rect> personBoxesFromLabels(const mrpt::obs::CObservation3DRangeScan& obs)
 {
-	if (!obs.pixelLabels) return {};
-	const int label = obs.pixelLabels->checkLabelNameExistence("person");
-	if (label < 0) return {};
-	const int rows = int(obs.rangeImage.rows()), cols = int(obs.rangeImage.cols());
-	cv::Mat mask(rows, cols, CV_8U, cv::Scalar(0));
-	for (int r = 0; r < rows; ++r)
-		for (int c = 0; c < cols; ++c)
-			if (obs.pixelLabels->checkLabel(r, c, uint8_t(label))) mask.at<uint8_t>(r, c) = 255;
-	std::vector<std::vector<cv::Point>> contours;
-	cv::findContours(mask, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_SIMPLE);
 	std::vector<cv::Rect> boxes;
-	for (const auto& c : contours) boxes.push_back(cv::boundingRect(c));
+	const int cols = static_cast<int>(obs.rangeImage.cols());
+	// Every labelled pixel counts, with depth or not: the box masks features,
+	// and a person's pixels without depth still carry moving texture.
+	for (const auto& person : persons::personPixelsFromLabels(obs, persons::kPersonLabel, 0))
+	{
+		int u0 = cols, v0 = std::numeric_limits<int>::max(), u1 = -1, v1 = -1;
+		for (const auto i : person)
+		{
+			const int v = static_cast<int>(i) / cols, u = static_cast<int>(i) % cols;
+			u0 = std::min(u0, u), u1 = std::max(u1, u);
+			v0 = std::min(v0, v), v1 = std::max(v1, v);
+		}
+		if (u1 >= 0) boxes.emplace_back(u0, v0, u1 - u0 + 1, v1 - v0 + 1);
+	}
 	return boxes;
 }
 

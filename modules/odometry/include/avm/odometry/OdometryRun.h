@@ -49,8 +49,10 @@ OdometryRun runOdometry(
 	const std::filesystem::path& rawlog, const TOdometryOptions& options, const PersonBoxSource& personBoxes = {},
 	std::size_t maxFrames = 0, const std::function<void(std::size_t)>& progress = {});
 
-/** Boxes around the pixels labelled "person" in the observation's pixelLabels
- *  (one box per connected region); none when there are no labels. */
+/** One box per person in the observation's pixelLabels, as
+ *  avm/persons/PersonLabels.h reads them ("person/k" labels as avm-detect
+ *  writes them, or each connected region of a plain "person" label); none
+ *  when there are no labels. */
 std::vector<cv::Rect> personBoxesFromLabels(const mrpt::obs::CObservation3DRangeScan& obs);
 
 /** Options from `section` of an ini file; throws std::runtime_error naming
