@@ -17,6 +17,7 @@
 #include "avm/io/RgbdFrame.h"
 #include "avm/io/Trajectory.h"
 #include "avm/maps/CAdaptiveOctoMap.h"
+#include "avm/persons/PersonsCsv.h"
 #include "avm/pipeline/MappingPipeline.h"
 
 using namespace avm;
@@ -50,33 +51,6 @@ std::vector<PersonDetection> personsIn(const fs::path& detectionsTxt)
 			d.region.max.z)
 			d.personId = id;
 		if (cls == "person") out.push_back(d);
-	}
-	return out;
-}
-
-struct PersonRow
-{
-	std::uint32_t id;
-	std::size_t firstFrame, lastFrame, detections;
-	mrpt::math::TPoint3D position;
-};
-
-std::vector<PersonRow> personsCsv(const fs::path& file)
-{
-	std::ifstream in(file);
-	std::vector<PersonRow> out;
-	std::string line;
-	std::getline(in, line);  // header
-	while (std::getline(in, line))
-	{
-		std::replace(line.begin(), line.end(), ',', ' ');
-		std::istringstream ss(line);
-		PersonRow r;
-		double t0, t1, box[6];
-		ss >> r.id >> r.firstFrame >> r.lastFrame >> t0 >> t1 >> r.position.x >> r.position.y >> r.position.z;
-		for (double& b : box) ss >> b;
-		ss >> r.detections;
-		if (ss) out.push_back(r);
 	}
 	return out;
 }
@@ -169,7 +143,7 @@ TEST(PipelineOnBonn, EachSightingPlacesItsPersonsRegionAroundThePerson)
 TEST(PipelineOnBonn, PersonTracksCrossTheViewAndLieInTheMappedSpace)
 {
 	const auto& [out, summary] = defaultRun();
-	const auto tracks = personsCsv(out / "persons.csv");
+	const auto tracks = persons::readPersonsCsv(out / "persons.csv");
 	ASSERT_FALSE(tracks.empty());
 	EXPECT_EQ(tracks.size(), summary.persons);
 	// People walk through the view for the last 230 frames; some detector

@@ -9,6 +9,7 @@
 
 #include "JsonWriter.h"
 #include "avm/io/AtomicFile.h"
+#include "avm/persons/PersonsCsv.h"
 #include "avm/pipeline/MapPictures.h"
 
 namespace avm::pipeline::detail
@@ -55,23 +56,6 @@ std::string detectionsText(const std::vector<PersonDetectionRecord>& detections)
 				b.min.y, b.min.z, b.max.x, b.max.y, b.max.z);
 			out << line;
 		}
-	}
-	return out.str();
-}
-
-/** persons.csv: one line per person track, what a rescue team reads first. */
-std::string personsCsv(const std::vector<persons::PersonTrack>& tracks)
-{
-	std::ostringstream out;
-	out << "id,first_frame,last_frame,first_time,last_time,x,y,z,box_min_x,box_min_y,box_min_z,box_max_x,box_max_y,"
-		   "box_max_z,detections\n";
-	for (const auto& t : tracks)
-	{
-		char line[512];
-		std::snprintf(line, sizeof(line), "%u,%zu,%zu,%.6f,%.6f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%zu\n", t.id,
-			t.firstFrame, t.lastFrame, t.firstTime, t.lastTime, t.position.x, t.position.y, t.position.z, t.box.min.x,
-			t.box.min.y, t.box.min.z, t.box.max.x, t.box.max.y, t.box.max.z, t.sightings);
-		out << line;
 	}
 	return out.str();
 }
@@ -276,7 +260,7 @@ void writeRunOutputs(
 		"avm-map camera trajectory (" + toString(record.options->poseSource) + "), optical frame, TUM format");
 	writeText(outDir / "trajectory_status.txt", trajectoryStatusText(record));
 	writeText(outDir / "detections.txt", detectionsText(record.personDetections));
-	writeText(outDir / "persons.csv", personsCsv(map.personTracks()));
+	writeText(outDir / "persons.csv", persons::personsCsvText(map.personTracks()));
 	if (record.options->pictureSize > 0) 
 		drawPictures(outDir, record.trajectory, map, trees, record.options->pictureSize);
 	writeText(outDir / "stats.json", statsJson(summary, record, map, trees));

@@ -1,16 +1,15 @@
 #include "avm/viewer/MapSnapshot.h"
 
+#include <mrpt/containers/yaml.h>
 #include <octomap/OcTree.h>
 
 #include <array>
-#include <cstdio>
-#include <fstream>
-#include <regex>
 #include <sstream>
 #include <stdexcept>
 
 #include "avm/io/Trajectory.h"
 #include "avm/maps/CAdaptiveOctoMap.h"
+#include "avm/persons/PersonsCsv.h"
 
 namespace avm::viewer
 {
@@ -22,98 +21,28 @@ SnapshotVoxel voxelOf(const mrpt::math::TPoint3D& c, double size)
 		static_cast<float>(size)};
 }
 
-std::string readText(const std::filesystem::path& file)
+mrpt::math::TPoint3D pointOf(const mrpt::containers::yaml& xyz)
 {
-	std::ifstream in(file);
-	if (!in) throw std::runtime_error(file.string() + ": cannot read");
-	std::stringstream s;
-	s << in.rdbuf();
-	return s.str();
-}
-
-/** persons.csv as avm-map writes it: id, first_frame, last_frame, first_time,
- *  last_time, x, y, z, box…, detections. */
-std::vector<SnapshotPerson> readPersonsCsv(const std::filesystem::path& file)
-{
-	std::vector<SnapshotPerson> persons;
-	std::istringstream text(readText(file));
-	std::string line;
-	std::size_t lineNo = 0;
-	while (std::getline(text, line))
-	{
-		++lineNo;
-		if (lineNo == 1 || line.empty()) continue;	// header
-		std::vector<std::string> f;
-		std::stringstream cells(line);
-		for (std::string c; std::getline(cells, c, ',');) f.push_back(c);
-		try
-		{
-			if (f.size() < 8) throw std::invalid_argument("too few columns");
-			SnapshotPerson p;
-			p.id = static_cast<std::uint32_t>(std::stoul(f[0]));
-			p.lastFrame = std::stoul(f[2]);
-			p.position = {std::stod(f[5]), std::stod(f[6]), std::stod(f[7])};
-			persons.push_back(p);
-		}
-		catch (const std::exception&)
-		{
-			throw std::runtime_error(file.string() + ":" + std::to_string(lineNo) + ": not a persons.csv line");
-		}
-	}
-	return persons;
-}
-
-/** The part of `json` between the '[' after "key": and its matching ']'. */
-std::optional<std::string> jsonArray(const std::string& json, const std::string& key)
-{
-	const auto at = json.find("\"" + key + "\"");
-	if (at == std::string::npos) return std::nullopt;
-	const auto open = json.find('[', at);
-	if (open == std::string::npos) return std::nullopt;
-	int depth = 0;
-	for (std::size_t i = open; i < json.size(); ++i)
-	{
-		if (json[i] == '[') ++depth;
-		else if (json[i] == ']' && --depth == 0) return json.substr(open + 1, i - open - 1);
-	}
-	return std::nullopt;
+	return {xyz(0).as<double>(), xyz(1).as<double>(), xyz(2).as<double>()};
 }
 
 /** "regions" of stats.json: [{"person": N, "boxes": [{"min": [x,y,z], "max": [x,y,z]}, …]}, …]. */
-std::vector<SnapshotRegion> readRegions(const std::string& json)
+std::vector<SnapshotRegion> readRegions(const mrpt::containers::yaml& stats)
 {
 	std::vector<SnapshotRegion> regions;
-	const auto array = jsonArray(json, "regions");
-	if (!array) return regions;
-	const std::string num = R"(\s*(-?[0-9.eE+-]+)\s*)";
-	const std::regex person(R"("person"\s*:\s*([0-9]+))");
-	const std::regex box(R"("min"\s*:\s*\[)" + num + "," + num + "," + num + R"(\]\s*,\s*"max"\s*:\s*\[)" + num +
-		"," + num + "," + num + R"(\])");
-	std::vector<std::pair<std::size_t, std::uint32_t>> starts;
-	for (std::sregex_iterator it(array->begin(), array->end(), person), end; it != end; ++it)
-		starts.emplace_back(it->position(), static_cast<std::uint32_t>(std::stoul((*it)[1])));
-	for (std::size_t i = 0; i < starts.size(); ++i)
+	if (!stats.has("regions")) return regions;
+	const auto& array = stats["regions"];
+	for (std::size_t i = 0; i < array.size(); ++i)
 	{
-		const auto from = starts[i].first, to = i + 1 < starts.size() ? starts[i + 1].first : array->size();
-		const std::string part = array->substr(from, to - from);
+		const auto& region = array(i);
 		SnapshotRegion r;
-		r.personId = starts[i].second;
-		for (std::sregex_iterator it(part.begin(), part.end(), box), end; it != end; ++it)
-		{
-			const auto& m = *it;
-			r.boxes.emplace_back(mrpt::math::TPoint3D(std::stod(m[1]), std::stod(m[2]), std::stod(m[3])),
-				mrpt::math::TPoint3D(std::stod(m[4]), std::stod(m[5]), std::stod(m[6])));
-		}
+		r.personId = region["person"].as<std::uint32_t>();
+		const auto& boxes = region["boxes"];
+		for (std::size_t b = 0; b < boxes.size(); ++b)
+			r.boxes.emplace_back(pointOf(boxes(b)["min"]), pointOf(boxes(b)["max"]));
 		regions.push_back(std::move(r));
 	}
 	return regions;
-}
-
-std::optional<std::size_t> readSwitchFrame(const std::string& json)
-{
-	std::smatch m;
-	if (std::regex_search(json, m, std::regex(R"("switch_frame"\s*:\s*([0-9]+))"))) return std::stoul(m[1]);
-	return std::nullopt;
 }
 }  // namespace
 
@@ -185,12 +114,22 @@ MapSnapshot snapshotOfRun(const std::filesystem::path& outDir, const SnapshotOpt
 		s.status.frame = s.trajectory.empty() ? std::nullopt : std::optional<std::size_t>(s.trajectory.size() - 1);
 		s.status.frames = s.trajectory.size();
 	}
-	if (const auto f = outDir / "persons.csv"; std::filesystem::exists(f)) s.persons = readPersonsCsv(f);
+	if (const auto f = outDir / "persons.csv"; std::filesystem::exists(f))
+		for (const auto& t : persons::readPersonsCsv(f)) s.persons.push_back({t.id, t.position, t.lastFrame});
 	if (const auto f = outDir / "stats.json"; std::filesystem::exists(f))
 	{
-		const auto json = readText(f);
-		s.regions = readRegions(json);
-		s.status.switchFrame = readSwitchFrame(json);
+		mrpt::containers::yaml stats;
+		try
+		{
+			stats = mrpt::containers::yaml::FromFile(f.string());
+			s.regions = readRegions(stats);
+			if (stats.has("switch_frame") && !stats["switch_frame"].isNullNode())
+				s.status.switchFrame = stats["switch_frame"].as<std::size_t>();
+		}
+		catch (const std::exception& e)
+		{
+			throw std::runtime_error(f.string() + ": not a stats.json of avm-map: " + e.what());
+		}
 	}
 	s.status.note = outDir.filename().string();
 	return s;
