@@ -9,13 +9,16 @@
 #include <opencv2/imgproc.hpp>
 
 #include "avm/io/AtomicFile.h"
+#include "avm/maps/MapColours.h"
 
 namespace avm::pipeline
 {
 namespace
 {
-const cv::Scalar kBackground(255, 255, 255), kTrajectory(40, 160, 40), kRegion(0, 0, 200), kText(30, 30, 30),
-	kPerson(160, 0, 160);
+cv::Scalar bgr(const mrpt::img::TColor& c) { return cv::Scalar(c.B, c.G, c.R); }
+
+const cv::Scalar kBackground(255, 255, 255), kRegion(0, 0, 200), kText(30, 30, 30);
+const cv::Scalar kTrajectory = bgr(maps::kTrajectoryColour), kPerson = bgr(maps::kPersonColour);
 
 /** A person's marker: a dot and the id beside it. */
 void drawPerson(cv::Mat& img, const cv::Point2d& at, std::uint32_t id)

@@ -29,14 +29,15 @@ namespace
 {
 using Clock = std::chrono::steady_clock;
 
-// The trees and regions as in map.3Dscene (avm/maps/MapColours.h); the
-// trajectory and persons as in map_top.png (MapPictures.cpp).
+// The trees, regions, trajectory and persons as in map.3Dscene and the
+// pictures (avm/maps/MapColours.h).
 using maps::kHighColour;
 using maps::kHighFreeColour;
 using maps::kLowColour;
 using maps::kLowFreeColour;
+using maps::kPersonColour;
 using maps::kRegionColour;
-const mrpt::img::TColor kTrajectoryColour(40, 160, 40), kPersonColour(160, 0, 160);
+using maps::kTrajectoryColour;
 const mrpt::img::TColor kCameraColour(20, 20, 20), kGridColour(190, 190, 190);
 const mrpt::img::TColorf kBackground(0.97f, 0.97f, 0.97f);
 const mrpt::img::TColor kFeatureColour(0, 200, 0), kMaskedFeatureColour(255, 0, 0);
