@@ -5,6 +5,7 @@
 #include "RowKernels.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <thread>
@@ -418,10 +419,23 @@ void RayIntegrator::forgetSketchSeenThrough(
 	const double maxRange = m_targets.outsideMaxRange;
 	const auto& img = obs.rangeImage;
 	const auto units = obs.rangeUnits;
+	// The image's four side planes, through the sensor, normals inwards: a low
+	// voxel wholly outside one of them has no high voxel that projects into
+	// the image, and most of the sketch lies there.
+	const double W = camera.width, H = camera.height;
+	std::array<mrpt::math::TPoint3D, 4> sides{mrpt::math::TPoint3D(camera.cx, -camera.fx, 0),
+		mrpt::math::TPoint3D(W - camera.cx, camera.fx, 0), mrpt::math::TPoint3D(camera.cy, 0, -camera.fy),
+		mrpt::math::TPoint3D(H - camera.cy, 0, camera.fy)};
+	for (auto& n : sides) n *= 1.0 / n.norm();
+	const double outsideBy = lowHalfDiagonal + 1e-6;
+	const auto outsideTheImage = [&](const mrpt::math::TPoint3D& c) {
+		return std::any_of(sides.begin(), sides.end(), [&](const auto& n) { return n.x * c.x + n.y * c.y + n.z * c.z < -outsideBy; });
+	};
 	m_targets.sketch->updateBits([&](std::uint64_t lowKey, std::uint64_t bits) {
 		if (bits == 0) return bits;
 		const auto lowCentre = sensorPose.inverseComposePoint(centreOf(lowKey, fine * m_targets.sketch->ratio()));
 		if (lowCentre.x <= -lowHalfDiagonal || lowCentre.norm() > maxRange + lowHalfDiagonal) return bits;
+		if (outsideTheImage(lowCentre)) return bits;
 		for (std::uint64_t rest = bits; rest != 0; rest &= rest - 1)
 		{
 			const auto bit = static_cast<unsigned>(__builtin_ctzll(rest));
