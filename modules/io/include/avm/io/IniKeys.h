@@ -77,7 +77,7 @@ class IniKeys
 		IniRule<std::conditional_t<std::is_void_v<ReadAs>, T, ReadAs>> rule = {})
 	{
 		return addNumber<ReadAs, T>(
-			std::move(key), [ outer, inner ](auto& o) -> auto& { return o.*outer.*inner; }, std::move(unit),
+			std::move(key), [=](auto& o) -> auto& { return o.*outer.*inner; }, std::move(unit),
 			std::move(description), std::move(rule));
 	}
 
