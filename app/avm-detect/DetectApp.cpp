@@ -39,25 +39,28 @@ cv::Mat drawDetections(const cv::Mat& bgr, const std::vector<Detection>& detecti
 
 void writeImage(const fs::path& file, const cv::Mat& image)
 {
-	io::writeFileAtomically(file, [&](const fs::path& tmp) {
-		bool ok = false;
-		try
+	io::writeFileAtomically(file,
+		[&](const fs::path& tmp)
 		{
-			ok = cv::imwrite(tmp.string(), image);
-		}
-		catch (const cv::Exception& e)
-		{
-			throw std::runtime_error(file.string() + ": cannot write image (" + e.err + ")");
-		}
-		if (!ok) throw std::runtime_error(file.string() + ": cannot write image (unknown extension or folder?)");
-	});
+			bool ok = false;
+			try
+			{
+				ok = cv::imwrite(tmp.string(), image);
+			}
+			catch (const cv::Exception& e)
+			{
+				throw std::runtime_error(file.string() + ": cannot write image (" + e.err + ")");
+			}
+			if (!ok) throw std::runtime_error(file.string() + ": cannot write image (unknown extension or folder?)");
+		});
 }
 
 std::function<void(double)> progressBar(bool enabled)
 {
 	if (!enabled) return {};
 	const bool terminal = ::isatty(STDERR_FILENO);
-	return [terminal](double fraction) {
+	return [terminal](double fraction)
+	{
 		const bool done = fraction >= 1;
 		if (!terminal && !done) return;
 		std::fprintf(stderr, "\r%s", mrpt::system::progress(std::min(fraction, 1.0), 40).c_str());
@@ -67,14 +70,14 @@ std::function<void(double)> progressBar(bool enabled)
 
 std::string summaryText(const detection::LabelRawlogSummary& s)
 {
-	std::string text = "frames:             " + std::to_string(s.frames) +
-					   "\ndetected frames:    " + std::to_string(s.detectedFrames) +
-					   "\nframes with person: " + std::to_string(s.framesWithPerson) +
-					   "\npersons:            " + std::to_string(s.persons) +
-					   "\nrawlog:             " + s.rawlog.string() +
-					   "\ndetections:         " + s.detectionsFile.string() +
-					   "\nimages:             " + (s.imagesDir.empty() ? std::string("embedded") : s.imagesDir.string()) +
-					   "\nnot labelled:       " + std::to_string(s.skipped.size()) + "\n";
+	std::string text =
+		"frames:             " + std::to_string(s.frames) +
+		"\ndetected frames:    " + std::to_string(s.detectedFrames) +
+		"\nframes with person: " + std::to_string(s.framesWithPerson) +
+		"\npersons:            " + std::to_string(s.persons) + "\nrawlog:             " + s.rawlog.string() +
+		"\ndetections:         " + s.detectionsFile.string() +
+		"\nimages:             " + (s.imagesDir.empty() ? std::string("embedded") : s.imagesDir.string()) +
+		"\nnot labelled:       " + std::to_string(s.skipped.size()) + "\n";
 	for (const auto& m : s.skipped) text += "  " + m + "\n";
 	return text;
 }
@@ -120,9 +123,9 @@ std::string benchmarkTable(const std::vector<DetectorBenchmark>& rows)
 	for (const auto& b : rows)
 	{
 		char line[256];
-		std::snprintf(
-			line, sizeof(line), "| %d | %zu | %zu | %zu | %.1f | %.1f | %.1f | %.1f |\n", b.threads, b.times.count,
-			b.framesWithPerson, b.persons, b.times.meanMs, b.times.medianMs, b.times.p95Ms, b.times.maxMs);
+		std::snprintf(line, sizeof(line), "| %d | %zu | %zu | %zu | %.1f | %.1f | %.1f | %.1f |\n", b.threads,
+			b.times.count, b.framesWithPerson, b.persons, b.times.meanMs, b.times.medianMs, b.times.p95Ms,
+			b.times.maxMs);
 		s += line;
 	}
 	return s;

@@ -41,8 +41,7 @@ struct DetectorBenchmark
 
 /** Times detector.detect() on each image, after one warm-up call, with the
  *  OpenCV threads the caller set (`threads` is only recorded). */
-DetectorBenchmark benchmarkDetector(
-	detection::DetectorBase& detector, const std::vector<cv::Mat>& images, int threads);
+DetectorBenchmark benchmarkDetector(detection::DetectorBase& detector, const std::vector<cv::Mat>& images, int threads);
 
 /** A markdown table of benchmark rows. */
 std::string benchmarkTable(const std::vector<DetectorBenchmark>& rows);

@@ -9,25 +9,29 @@
 
 int main(int argc, char** argv)
 {
-	return avm::io::runProgram(
-		"avm-eval", "ATE (SE(3)-aligned) and RPE of a TUM trajectory against TUM ground truth.",
-		[&](avm::io::CommandLine& cmd) {
-		TCLAP::UnlabeledValueArg<std::string> argEst("ESTIMATE", "estimated trajectory (TUM)", true, "", "EST.txt", cmd);
-		TCLAP::UnlabeledValueArg<std::string> argGt("GROUNDTRUTH", "ground truth (TUM)", true, "", "GT.txt", cmd);
-		TCLAP::ValueArg<double> argMaxDt("", "max-dt", "max timestamp difference of a match [s] (default 0.02)", false, 0.02, "S", cmd);
-		TCLAP::ValueArg<std::size_t> argFrom("", "from", "index of the first estimated pose evaluated (default 0)", false, 0, "N", cmd);
-		TCLAP::ValueArg<std::size_t> argMax("", "max-frames", "number of estimated poses evaluated, 0 = all (default 0)", false, 0, "N", cmd);
-		TCLAP::ValueArg<double> argDelta("", "rpe-delta", "RPE time step [s] (default 1)", false, 1.0, "S", cmd);
-		cmd.parse(argc, argv);
+	return avm::io::runProgram("avm-eval", "ATE (SE(3)-aligned) and RPE of a TUM trajectory against TUM ground truth.",
+		[&](avm::io::CommandLine& cmd)
+		{
+			TCLAP::UnlabeledValueArg<std::string> argEst(
+				"ESTIMATE", "estimated trajectory (TUM)", true, "", "EST.txt", cmd);
+			TCLAP::UnlabeledValueArg<std::string> argGt("GROUNDTRUTH", "ground truth (TUM)", true, "", "GT.txt", cmd);
+			TCLAP::ValueArg<double> argMaxDt(
+				"", "max-dt", "max timestamp difference of a match [s] (default 0.02)", false, 0.02, "S", cmd);
+			TCLAP::ValueArg<std::size_t> argFrom(
+				"", "from", "index of the first estimated pose evaluated (default 0)", false, 0, "N", cmd);
+			TCLAP::ValueArg<std::size_t> argMax(
+				"", "max-frames", "number of estimated poses evaluated, 0 = all (default 0)", false, 0, "N", cmd);
+			TCLAP::ValueArg<double> argDelta("", "rpe-delta", "RPE time step [s] (default 1)", false, 1.0, "S", cmd);
+			cmd.parse(argc, argv);
 
-		avm::evaluation::TEvaluationOptions opt;
-		opt.maxTimeDifference = argMaxDt.getValue();
-		opt.firstFrame = argFrom.getValue();
-		opt.maxFrames = argMax.getValue();
-		opt.rpeDelta = argDelta.getValue();
-		const auto est = avm::io::readTumTrajectory(argEst.getValue());
-		const auto gt = avm::io::readTumTrajectory(argGt.getValue());
-		std::cout << avm::evaluation::formatReport(avm::evaluation::evaluateTrajectory(est, gt, opt));
-		return 0;
-	});
+			avm::evaluation::TEvaluationOptions opt;
+			opt.maxTimeDifference = argMaxDt.getValue();
+			opt.firstFrame = argFrom.getValue();
+			opt.maxFrames = argMax.getValue();
+			opt.rpeDelta = argDelta.getValue();
+			const auto est = avm::io::readTumTrajectory(argEst.getValue());
+			const auto gt = avm::io::readTumTrajectory(argGt.getValue());
+			std::cout << avm::evaluation::formatReport(avm::evaluation::evaluateTrajectory(est, gt, opt));
+			return 0;
+		});
 }

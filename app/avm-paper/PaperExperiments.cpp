@@ -83,8 +83,8 @@ class Experiments
 		out.regionsAtEnd = pipeline.map().highResolutionRegions().size();
 		out.tracks = pipeline.map().personTracks();
 		m_log.logFmt(mrpt::system::LVL_INFO, "%-28s %-2s: %zu frames, occupied low %zu high %zu, %.2f KiB .bt\n",
-			name.c_str(), toString(poses).c_str(), out.summary.frames, out.low.occupiedLeaves,
-			out.high.occupiedLeaves, out.btKiB());
+			name.c_str(), toString(poses).c_str(), out.summary.frames, out.low.occupiedLeaves, out.high.occupiedLeaves,
+			out.btKiB());
 		return out;
 	}
 
@@ -110,8 +110,10 @@ std::vector<RegionRow> perPersonRows(Experiments& e, PoseSource poses)
 	rows.push_back({"follow (default)", e.run("regions_follow", poses, {reference})});
 	rows.push_back({"follow, region_margin 0.20 m (the code's default; default.ini has 0.10 m)",
 		e.run("regions_follow_margin020", poses, {reference, {kInsertion, "region_margin", "0.20"}})});
-	rows.push_back({"persist", e.run("regions_persist", poses, {reference, {kInsertion, "region_lifetime", "persist"}})});
-	rows.push_back({"paper policy", e.run("regions_paper", poses, {reference, {kInsertion, "switch_policy", "paper"}})});
+	rows.push_back(
+		{"persist", e.run("regions_persist", poses, {reference, {kInsertion, "region_lifetime", "persist"}})});
+	rows.push_back(
+		{"paper policy", e.run("regions_paper", poses, {reference, {kInsertion, "switch_policy", "paper"}})});
 	for (const auto& r : rows)
 		if (!r.outcome.summary.reference) throw std::runtime_error("reference_maps gave no comparison");
 	return rows;
@@ -130,7 +132,8 @@ Table1Row table1(Experiments& e, PoseSource poses, const std::string& policy, do
 	std::snprintf(res, sizeof(res), "%g_%g", low, high);
 	const std::vector<Override> resolutions = {
 		{kCreation, "low_resolution", std::to_string(low)}, {kCreation, "high_resolution", std::to_string(high)}};
-	auto with = [&](std::vector<Override> more) {
+	auto with = [&](std::vector<Override> more)
+	{
 		more.insert(more.begin(), resolutions.begin(), resolutions.end());
 		return more;
 	};
@@ -140,10 +143,9 @@ Table1Row table1(Experiments& e, PoseSource poses, const std::string& policy, do
 	// No trigger: everything stays in the low tree.
 	row.lowOnly = e.run("low_only_" + tag, poses, with({{"pipeline", "detect_every_n", "0"}}));
 	// Switched before the first frame: one high-resolution OctoMap.
-	row.highOnly = e.run(
-		"high_only_" + tag, poses,
+	row.highOnly = e.run("high_only_" + tag, poses,
 		with({{"pipeline", "detect_every_n", "0"}, {kInsertion, "switch_policy", "paper"},
-			  {kInsertion, "switch_at_frame", "0"}}));
+			{kInsertion, "switch_at_frame", "0"}}));
 	row.adaptive = e.run("adaptive_" + policy + "_" + tag, poses, with({{kInsertion, "switch_policy", policy}}));
 	return row;
 }
@@ -279,8 +281,7 @@ void reproducePaper(const PaperExperimentSettings& s, mrpt::system::COutputLogge
 		md << "| " << toString(r.poses) << " | single 0.20 m OctoMap | " << fmt("%.1f", ref.low.memoryBytes / 1024.0)
 		   << " | " << fmt("%.2f", ref.memoryShare(ref.low.memoryBytes)) << " | "
 		   << fmt("%.1f", ref.low.binaryBytes / 1024.0) << " | " << fmt("%.2f", ref.binaryShare(ref.low.binaryBytes))
-		   << " | " << ref.low.occupiedLeaves
-		   << " | | | | " << fmt("%.1f", ref.low.meanInsertMs) << " | | | |\n";
+		   << " | " << ref.low.occupiedLeaves << " | | | | " << fmt("%.1f", ref.low.meanInsertMs) << " | | | |\n";
 		for (const auto& row : r.regions)
 		{
 			const auto& c = row.reference();
@@ -289,17 +290,15 @@ void reproducePaper(const PaperExperimentSettings& s, mrpt::system::COutputLogge
 			   << fmt("%.1f", c.adaptiveMemoryBytes / 1024.0) << " | "
 			   << fmt("%.2f", c.memoryShare(c.adaptiveMemoryBytes)) << " | "
 			   << fmt("%.1f", c.adaptiveBinaryBytes / 1024.0) << " | "
-			   << fmt("%.2f", c.binaryShare(c.adaptiveBinaryBytes)) << " | " << o.occupied()
-			   << " | ";
+			   << fmt("%.2f", c.binaryShare(c.adaptiveBinaryBytes)) << " | " << o.occupied() << " | ";
 			if (o.regionsAtEnd > 0)
 				md << fmt("%.2f", c.insideIoU) << " (" << c.insideAdaptive << " / " << c.insideReference << ") | "
 				   << fmt("%.2f", c.outsideIoU) << " (" << c.outsideAdaptive << " / " << c.outsideReference << ") | ";
 			else
 				md << "— | — | ";
-			md
-			   << fmt("%.2f", o.summary.mapCpu.meanMs) << " | " << fmt("%.1f", c.high.meanInsertMs) << " | "
-			   << fmt("%.1fx", c.speedup(o.summary.mapCpu.meanMs)) << " | "
-			   << o.summary.persons << " | " << o.regionsAtEnd << " |\n";
+			md << fmt("%.2f", o.summary.mapCpu.meanMs) << " | " << fmt("%.1f", c.high.meanInsertMs) << " | "
+			   << fmt("%.1fx", c.speedup(o.summary.mapCpu.meanMs)) << " | " << o.summary.persons << " | "
+			   << o.regionsAtEnd << " |\n";
 		}
 	}
 	md << "\n### The persons of the default run (ground-truth poses)\n\n"
@@ -322,9 +321,8 @@ void reproducePaper(const PaperExperimentSettings& s, mrpt::system::COutputLogge
 		const auto& row = r.regions.front();
 		const auto& c = row.reference();
 		const double ms = row.outcome.summary.mapCpu.meanMs;
-		const auto verdict = [](bool met, const std::string& value) {
-			return (met ? "met (" : "**not met** (") + value + ")";
-		};
+		const auto verdict = [](bool met, const std::string& value)
+		{ return (met ? "met (" : "**not met** (") + value + ")"; };
 		const double memory = c.memoryShare(c.adaptiveMemoryBytes), bt = c.binaryShare(c.adaptiveBinaryBytes);
 		md << "| " << toString(r.poses) << " | " << verdict(memory <= 0.25, fmt("%.2f", memory)) << " | "
 		   << verdict(bt <= 0.25, fmt("%.2f", bt)) << " | " << verdict(c.insideIoU >= 0.9, fmt("%.2f", c.insideIoU))
@@ -365,8 +363,8 @@ void reproducePaper(const PaperExperimentSettings& s, mrpt::system::COutputLogge
 	   << fmt("%.1f", ratio(p.highOnly.occupied(), p.lowOnly.occupied()))
 	   << "x. The ratio depends on how much of the scene is surface: 3^3 = 27 is the bound for solid matter, "
 		  "thin surfaces give about 3^2 = 9.\n"
-	   << "- Adaptive / high only: paper 0.66, here " << fmt("%.2f", ratio(p.adaptive.occupied(), p.highOnly.occupied()))
-	   << " for the reason in the first point.\n"
+	   << "- Adaptive / high only: paper 0.66, here "
+	   << fmt("%.2f", ratio(p.adaptive.occupied(), p.highOnly.occupied())) << " for the reason in the first point.\n"
 	   << "- Map size grows with the high-resolution share (paper 0.454 → 1.7 KB): "
 	   << (growing ? "**agrees**" : "**does not agree**") << " (here " << fmt("%.1f", gt.shares.front().outcome.btKiB())
 	   << " → " << fmt("%.1f", gt.shares.back().outcome.btKiB())
@@ -376,14 +374,15 @@ void reproducePaper(const PaperExperimentSettings& s, mrpt::system::COutputLogge
 		  "person): adaptive / high only = "
 	   << fmt("%.2f", ratio(region.adaptive.occupied(), region.highOnly.occupied())) << " ("
 	   << region.adaptive.low.occupiedLeaves << " low and " << region.adaptive.high.occupiedLeaves
-	   << " high occupied voxels, " << region.adaptive.summary.persons << " persons, "
-	   << region.adaptive.regionsAtEnd << " regions at the end). Each person has a region of its own, so the "
+	   << " high occupied voxels, " << region.adaptive.summary.persons << " persons, " << region.adaptive.regionsAtEnd
+	   << " regions at the end). Each person has a region of its own, so the "
 		  "space between people stays low resolution; a region that ends is folded into the low tree.\n";
 
 	const fs::path pictures = s.results.parent_path() / "results";
 	md << "\n## Pictures\n\nOccupied voxels, low resolution in blue, high resolution in orange, camera trajectory "
 		  "in green, person regions in red, persons (id at the last position) in purple (ground-truth poses).\n\n";
-	const auto picture = [&](const Outcome& o, const std::string& name, const std::string& label) {
+	const auto picture = [&](const Outcome& o, const std::string& name, const std::string& label)
+	{
 		for (const char* view : {"top", "perspective"})
 		{
 			const std::string file = name + "_" + view + ".png";
@@ -394,10 +393,12 @@ void reproducePaper(const PaperExperimentSettings& s, mrpt::system::COutputLogge
 	picture(gt.rows[0].adaptive, "paper_adaptive", gt.rows[0].label);
 	picture(gt.regions[0].outcome, "region_adaptive", "avm default (per-person regions, follow)");
 	picture(gt.regions[2].outcome, "region_persist", "avm, per-person regions, persist");
-	io::writeFileAtomically(s.results, [&](const fs::path& tmp) {
-		std::ofstream out(tmp);
-		out << md.str();
-		if (!out.flush()) throw std::runtime_error(s.results.string() + ": write failed");
-	});
+	io::writeFileAtomically(s.results,
+		[&](const fs::path& tmp)
+		{
+			std::ofstream out(tmp);
+			out << md.str();
+			if (!out.flush()) throw std::runtime_error(s.results.string() + ": write failed");
+		});
 }
 }  // namespace avm::apps::paper

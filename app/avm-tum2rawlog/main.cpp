@@ -13,73 +13,76 @@
 
 int main(int argc, char** argv)
 {
-	return avm::io::runProgram(
-		"avm-tum2rawlog", "Converts a TUM RGB-D layout folder (rgb.txt + depth.txt, or associations.txt; "
-			"groundtruth.txt optional) into an MRPT rawlog.",
-		[&](avm::io::CommandLine& cmd) {
-		TCLAP::UnlabeledValueArg<std::string> argDir("DATASET_DIR", "TUM layout folder", true, "", "DATASET_DIR", cmd);
-		TCLAP::UnlabeledValueArg<std::string> argOut("OUT", "output .rawlog", true, "", "OUT.rawlog", cmd);
-		TCLAP::ValueArg<std::string> argCamera(
-			"", "camera", "intrinsics preset: bonn, tum-fr1, tum-fr2, tum-fr3 (default: bonn)", false, "bonn", "NAME", cmd);
-		TCLAP::ValueArg<double> argFx("", "fx", "focal length x [px], overrides the preset", false, 0, "PX", cmd);
-		TCLAP::ValueArg<double> argFy("", "fy", "focal length y [px]", false, 0, "PX", cmd);
-		TCLAP::ValueArg<double> argCx("", "cx", "principal point x [px]", false, 0, "PX", cmd);
-		TCLAP::ValueArg<double> argCy("", "cy", "principal point y [px]", false, 0, "PX", cmd);
-		TCLAP::ValueArg<double> argDepthFactor("", "depth-factor", "depth PNG value per metre (default 5000)", false, 0, "N", cmd);
-		TCLAP::ValueArg<double> argTolerance("", "max-dt", "RGB/depth association tolerance [s] (default 0.02)", false, 0.02, "S", cmd);
-		TCLAP::ValueArg<std::string> argBody(
-			"", "gt-body",
-			"pose of the camera in the ground-truth body: bonn, none, or a file with a 4x4 matrix (default none)",
-			false, "none", "bonn|none|FILE", cmd);
-		TCLAP::SwitchArg argNoGt("", "no-gt", "ignore groundtruth.txt", cmd);
-		TCLAP::SwitchArg argTrim(
-			"", "trim-to-ground-truth",
-			"leave out the frames before the first and after the last ground-truth pose (listed as skipped) "
-			"instead of failing on them",
-			cmd);
-		TCLAP::SwitchArg argEmbed("", "embed-images", "store colour images inside the rawlog", cmd);
-		TCLAP::ValueArg<int> argCompression(
-			"", "compression", "gzip level of the rawlog 1..9, 0 = plain file (default 1)", false, 1, "0-9", cmd);
-		TCLAP::SwitchArg argQuiet("q", "quiet", "no progress bar", cmd);
-		cmd.parse(argc, argv);
-
-		avm::io::TumConversionOptions opt;
-		opt.camera = avm::io::cameraPreset(argCamera.getValue());
-		auto& K = opt.camera.intrinsics;
-		K.setIntrinsicParamsFromValues(
-			argFx.isSet() ? argFx.getValue() : K.fx(), argFy.isSet() ? argFy.getValue() : K.fy(),
-			argCx.isSet() ? argCx.getValue() : K.cx(), argCy.isSet() ? argCy.getValue() : K.cy());
-		if (argDepthFactor.isSet())
+	return avm::io::runProgram("avm-tum2rawlog",
+		"Converts a TUM RGB-D layout folder (rgb.txt + depth.txt, or associations.txt; "
+		"groundtruth.txt optional) into an MRPT rawlog.",
+		[&](avm::io::CommandLine& cmd)
 		{
-			if (!(argDepthFactor.getValue() > 0)) throw std::runtime_error("--depth-factor must be > 0");
-			opt.camera.depthFactor = argDepthFactor.getValue();
-		}
-		if (!(argTolerance.getValue() > 0)) throw std::runtime_error("--max-dt must be > 0");
-		opt.maxTimeDifference = argTolerance.getValue();
-		opt.groundTruthBodyToCamera = avm::io::groundTruthBodyToCamera(argBody.getValue());
-		opt.useGroundTruth = !argNoGt.getValue();
-		opt.trimToGroundTruth = argTrim.getValue();
-		opt.embedImages = argEmbed.getValue();
-		opt.compressionLevel = argCompression.getValue();
+			TCLAP::UnlabeledValueArg<std::string> argDir(
+				"DATASET_DIR", "TUM layout folder", true, "", "DATASET_DIR", cmd);
+			TCLAP::UnlabeledValueArg<std::string> argOut("OUT", "output .rawlog", true, "", "OUT.rawlog", cmd);
+			TCLAP::ValueArg<std::string> argCamera("", "camera",
+				"intrinsics preset: bonn, tum-fr1, tum-fr2, tum-fr3 (default: bonn)", false, "bonn", "NAME", cmd);
+			TCLAP::ValueArg<double> argFx("", "fx", "focal length x [px], overrides the preset", false, 0, "PX", cmd);
+			TCLAP::ValueArg<double> argFy("", "fy", "focal length y [px]", false, 0, "PX", cmd);
+			TCLAP::ValueArg<double> argCx("", "cx", "principal point x [px]", false, 0, "PX", cmd);
+			TCLAP::ValueArg<double> argCy("", "cy", "principal point y [px]", false, 0, "PX", cmd);
+			TCLAP::ValueArg<double> argDepthFactor(
+				"", "depth-factor", "depth PNG value per metre (default 5000)", false, 0, "N", cmd);
+			TCLAP::ValueArg<double> argTolerance(
+				"", "max-dt", "RGB/depth association tolerance [s] (default 0.02)", false, 0.02, "S", cmd);
+			TCLAP::ValueArg<std::string> argBody("", "gt-body",
+				"pose of the camera in the ground-truth body: bonn, none, or a file with a 4x4 matrix (default none)",
+				false, "none", "bonn|none|FILE", cmd);
+			TCLAP::SwitchArg argNoGt("", "no-gt", "ignore groundtruth.txt", cmd);
+			TCLAP::SwitchArg argTrim("", "trim-to-ground-truth",
+				"leave out the frames before the first and after the last ground-truth pose (listed as skipped) "
+				"instead of failing on them",
+				cmd);
+			TCLAP::SwitchArg argEmbed("", "embed-images", "store colour images inside the rawlog", cmd);
+			TCLAP::ValueArg<int> argCompression(
+				"", "compression", "gzip level of the rawlog 1..9, 0 = plain file (default 1)", false, 1, "0-9", cmd);
+			TCLAP::SwitchArg argQuiet("q", "quiet", "no progress bar", cmd);
+			cmd.parse(argc, argv);
 
-		// Redraw the bar in a terminal; in a log, only the final line.
-		const bool bar = !argQuiet.getValue();
-		const bool terminal = ::isatty(STDERR_FILENO);
-		const auto summary = avm::io::convertTumToRawlog(
-			argDir.getValue(), argOut.getValue(), opt, [bar, terminal](std::size_t done, std::size_t total) {
-				if (!bar || (!terminal && done != total)) return;
-				std::fprintf(
-					stderr, "\r%s %zu/%zu", mrpt::system::progress(double(done) / total, 40).c_str(), done, total);
-				if (done == total) std::fputc('\n', stderr);
-			});
+			avm::io::TumConversionOptions opt;
+			opt.camera = avm::io::cameraPreset(argCamera.getValue());
+			auto& K = opt.camera.intrinsics;
+			K.setIntrinsicParamsFromValues(argFx.isSet() ? argFx.getValue() : K.fx(),
+				argFy.isSet() ? argFy.getValue() : K.fy(), argCx.isSet() ? argCx.getValue() : K.cx(),
+				argCy.isSet() ? argCy.getValue() : K.cy());
+			if (argDepthFactor.isSet())
+			{
+				if (!(argDepthFactor.getValue() > 0)) throw std::runtime_error("--depth-factor must be > 0");
+				opt.camera.depthFactor = argDepthFactor.getValue();
+			}
+			if (!(argTolerance.getValue() > 0)) throw std::runtime_error("--max-dt must be > 0");
+			opt.maxTimeDifference = argTolerance.getValue();
+			opt.groundTruthBodyToCamera = avm::io::groundTruthBodyToCamera(argBody.getValue());
+			opt.useGroundTruth = !argNoGt.getValue();
+			opt.trimToGroundTruth = argTrim.getValue();
+			opt.embedImages = argEmbed.getValue();
+			opt.compressionLevel = argCompression.getValue();
 
-		std::cout << "frames:       " << summary.frames << "\n"
-				  << "rawlog:       " << summary.rawlog.string() << "\n";
-		if (!opt.embedImages) std::cout << "images:       " << summary.imagesDir.string() << "\n";
-		std::cout << "ground truth: "
-				  << (summary.withGroundTruth ? summary.groundTruthFile.string() : std::string("none")) << "\n"
-				  << "skipped:      " << summary.skipped.size() << "\n";
-		for (const auto& s : summary.skipped) std::cout << "  " << s << "\n";
-		return 0;
-	});
+			// Redraw the bar in a terminal; in a log, only the final line.
+			const bool bar = !argQuiet.getValue();
+			const bool terminal = ::isatty(STDERR_FILENO);
+			const auto summary = avm::io::convertTumToRawlog(argDir.getValue(), argOut.getValue(), opt,
+				[bar, terminal](std::size_t done, std::size_t total)
+				{
+					if (!bar || (!terminal && done != total)) return;
+					std::fprintf(
+						stderr, "\r%s %zu/%zu", mrpt::system::progress(double(done) / total, 40).c_str(), done, total);
+					if (done == total) std::fputc('\n', stderr);
+				});
+
+			std::cout << "frames:       " << summary.frames << "\n"
+					  << "rawlog:       " << summary.rawlog.string() << "\n";
+			if (!opt.embedImages) std::cout << "images:       " << summary.imagesDir.string() << "\n";
+			std::cout << "ground truth: "
+					  << (summary.withGroundTruth ? summary.groundTruthFile.string() : std::string("none")) << "\n"
+					  << "skipped:      " << summary.skipped.size() << "\n";
+			for (const auto& s : summary.skipped) std::cout << "  " << s << "\n";
+			return 0;
+		});
 }

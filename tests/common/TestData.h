@@ -26,9 +26,8 @@ inline std::filesystem::path sharedFile(const std::string& relative)
 {
 	const auto p = sharedDir() / relative;
 	if (!std::filesystem::exists(p))
-		throw std::runtime_error(
-			"test data missing: " + p.string() +
-			" (the tests need ../shared beside the repository, or AVM_SHARED_DIR)");
+		throw std::runtime_error("test data missing: " + p.string() +
+								 " (the tests need ../shared beside the repository, or AVM_SHARED_DIR)");
 	return p;
 }
 inline std::filesystem::path bonnDatasetDir() { return sharedFile("datasets/bonn_crowd_sub300"); }
@@ -53,10 +52,7 @@ inline std::filesystem::path scratchDir(const std::string& name)
 	std::filesystem::create_directories(p);
 	return p;
 }
-inline std::filesystem::path binary(const std::string& name)
-{
-	return std::filesystem::path(AVM_BIN_DIR) / name;
-}
+inline std::filesystem::path binary(const std::string& name) { return std::filesystem::path(AVM_BIN_DIR) / name; }
 
 struct CommandResult
 {

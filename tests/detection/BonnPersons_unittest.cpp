@@ -23,13 +23,13 @@ io::RgbdFrame bonnFrame(std::size_t index)
 	throw std::runtime_error("no frame " + std::to_string(index));
 }
 
-
 std::vector<Detection> personsIn(const io::RgbdFrame& f)
 {
 	return personsOnly(createDetector(test::yoloxOptions())->detect(io::colourImage(*f.observation)));
 }
 
-persons::SightingEstimate sightingOf(const Detection& p, const io::RgbdFrame& f, const mrpt::obs::CObservation3DRangeScan& obs)
+persons::SightingEstimate sightingOf(
+	const Detection& p, const io::RgbdFrame& f, const mrpt::obs::CObservation3DRangeScan& obs)
 {
 	const cv::Size size(static_cast<int>(obs.rangeImage.cols()), static_cast<int>(obs.rangeImage.rows()));
 	return persons::estimateSighting(obs, *f.groundTruth + obs.sensorPose, personPixels(p, size), {});
@@ -50,15 +50,9 @@ std::vector<mrpt::math::TPoint3D> cornersInCamera(const mrpt::math::TBoundingBox
 }
 }  // namespace
 
-TEST(BonnPersons, NoPersonInTheFirstFrame)
-{
-	EXPECT_TRUE(personsIn(bonnFrame(0)).empty());
-}
+TEST(BonnPersons, NoPersonInTheFirstFrame) { EXPECT_TRUE(personsIn(bonnFrame(0)).empty()); }
 
-TEST(BonnPersons, PersonInFrame150)
-{
-	EXPECT_FALSE(personsIn(bonnFrame(150)).empty());
-}
+TEST(BonnPersons, PersonInFrame150) { EXPECT_FALSE(personsIn(bonnFrame(150)).empty()); }
 
 // "In front" is along the optical axis (camera z), "tall" along the camera's
 // -y axis: the Bonn motion-capture world need not have z up.

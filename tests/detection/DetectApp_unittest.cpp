@@ -20,9 +20,8 @@ TEST(AvmDetectApp, ImagePrintsOneLinePerPersonAndWritesTheAnnotatedPng)
 {
 	const auto dir = test::scratchDir("det-app-image");
 	const auto png = dir / "bus-annotated.png";
-	const auto r = test::runAvmDetect(
-		test::yoloxModelArgument() + " --image " +
-			test::sharedFile("images/bus.jpg").string() + " --annotate " + png.string(),
+	const auto r = test::runAvmDetect(test::yoloxModelArgument() + " --image " +
+										  test::sharedFile("images/bus.jpg").string() + " --annotate " + png.string(),
 		dir);
 	EXPECT_EQ(r.exitCode, 0) << r.err;
 	EXPECT_GE(lines(r.out), 3u) << r.out;
@@ -67,7 +66,8 @@ TEST(AvmDetectApp, UnknownIniKeyIsWarnedAbout)
 {
 	const auto dir = test::scratchDir("det-app-typo");
 	std::ofstream(dir / "typo.ini") << "[detection]\nmodel = \"\"\nscore_treshold = 0.2\n";
-	const auto r = test::runAvmDetect("--config " + (dir / "typo.ini").string() + " --image " + test::sharedFile("images/person.jpg").string(), dir);
+	const auto r = test::runAvmDetect(
+		"--config " + (dir / "typo.ini").string() + " --image " + test::sharedFile("images/person.jpg").string(), dir);
 	EXPECT_EQ(r.exitCode, 0) << r.err;
 	EXPECT_NE(r.err.find("unknown key [detection] score_treshold"), std::string::npos) << r.err;
 }
@@ -75,9 +75,8 @@ TEST(AvmDetectApp, UnknownIniKeyIsWarnedAbout)
 TEST(AvmDetectApp, ProjectIniLoadsWithoutWarnings)
 {
 	const auto dir = test::scratchDir("det-app-ini");
-	const auto r = test::runAvmDetect(
-		"--config " + (fs::path(AVM_SOURCE_DIR) / "ini/detect.ini").string() + " --model '' --image " +
-			test::sharedFile("images/person.jpg").string(),
+	const auto r = test::runAvmDetect("--config " + (fs::path(AVM_SOURCE_DIR) / "ini/detect.ini").string() +
+										  " --model '' --image " + test::sharedFile("images/person.jpg").string(),
 		dir);
 	EXPECT_EQ(r.exitCode, 0) << r.err;
 	EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;

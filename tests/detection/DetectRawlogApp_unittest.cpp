@@ -12,7 +12,9 @@ TEST(AvmDetectRawlog, WritesLabelledRawlogDetectionsAndOneProgressLineInALog)
 {
 	const auto dir = test::scratchDir("det-app-rawlog");
 	const auto out = dir / "labelled.rawlog";
-	const auto r = test::runAvmDetect(test::yoloxModelArgument() + " --rawlog " + test::bonnRawlog().string() + " --out " + out.string() + " --every 100", dir);
+	const auto r = test::runAvmDetect(test::yoloxModelArgument() + " --rawlog " + test::bonnRawlog().string() +
+										  " --out " + out.string() + " --every 100",
+		dir);
 	ASSERT_EQ(r.exitCode, 0) << r.err;
 	EXPECT_NE(r.out.find("frames:             300"), std::string::npos) << r.out;
 	EXPECT_NE(r.out.find("detected frames:    3"), std::string::npos) << r.out;
@@ -23,7 +25,11 @@ TEST(AvmDetectRawlog, WritesLabelledRawlogDetectionsAndOneProgressLineInALog)
 	EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\r'), 1) << r.err;
 
 	// A second run over the same output replaces it.
-	EXPECT_EQ(test::runAvmDetect(test::yoloxModelArgument() + " --rawlog " + test::bonnRawlog().string() + " --out " + out.string() + " --every 100 -q", dir).exitCode, 0);
+	EXPECT_EQ(test::runAvmDetect(test::yoloxModelArgument() + " --rawlog " + test::bonnRawlog().string() + " --out " +
+									 out.string() + " --every 100 -q",
+				  dir)
+				  .exitCode,
+		0);
 }
 
 TEST(AvmDetectRawlog, RawlogWithoutOutOrBenchIsAnError)
@@ -37,7 +43,8 @@ TEST(AvmDetectRawlog, RawlogWithoutOutOrBenchIsAnError)
 TEST(AvmDetectRawlog, BenchPrintsOneRowPerThreadCount)
 {
 	const auto dir = test::scratchDir("det-app-bench");
-	const auto r = test::runAvmDetect(test::yoloxModelArgument() + " --rawlog " + test::bonnRawlog().string() + " --bench --bench-frames 3", dir);
+	const auto r = test::runAvmDetect(
+		test::yoloxModelArgument() + " --rawlog " + test::bonnRawlog().string() + " --bench --bench-frames 3", dir);
 	ASSERT_EQ(r.exitCode, 0) << r.err;
 	EXPECT_NE(r.out.find("\n| 1 | 3 | "), std::string::npos) << r.out;
 	EXPECT_NE(r.out.find("\n| 2 | 3 | "), std::string::npos) << r.out;

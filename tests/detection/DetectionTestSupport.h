@@ -23,10 +23,7 @@ inline detection::TDetectorOptions yoloxOptions()
 }
 
 /** The avm-detect argument selecting the shared YOLOX-Nano model. */
-inline std::string yoloxModelArgument()
-{
-	return "--model " + sharedFile("models/yolox_nano.onnx").string();
-}
+inline std::string yoloxModelArgument() { return "--model " + sharedFile("models/yolox_nano.onnx").string(); }
 
 struct AppRun
 {

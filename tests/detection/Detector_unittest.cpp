@@ -110,8 +110,8 @@ TEST(YoloxDetector, ExportedScoresAreProbabilitiesAndSizesAreLogarithms)
 	cv::minMaxLoc(m.colRange(2, 4), &minLogSize, &maxLogSize);
 	EXPECT_GE(minScore, 0.0);
 	EXPECT_LE(maxScore, 1.0);
-	EXPECT_GT(maxScore, 0.5);     // some cell is sure about a person
-	EXPECT_LT(minLogSize, 0.0);   // exp() still to be applied
+	EXPECT_GT(maxScore, 0.5);    // some cell is sure about a person
+	EXPECT_LT(minLogSize, 0.0);  // exp() still to be applied
 }
 
 TEST(HogDetector, FallbackWithoutModelFindsAPersonInPersonJpg)
@@ -183,7 +183,8 @@ TEST(YoloxDetector, InstancesOnTwoThreadsMatchSerialResults)
 	const cv::Mat bus = image("bus.jpg"), person = image("person.jpg");
 	const auto expectedBus = createDetector(test::yoloxOptions())->detect(bus);
 	const auto expectedPerson = createDetector(test::yoloxOptions())->detect(person);
-	auto run = [](cv::Mat img) {
+	auto run = [](cv::Mat img)
+	{
 		auto det = createDetector(test::yoloxOptions());
 		std::vector<Detection> last;
 		for (int i = 0; i < 5; ++i) last = det->detect(img);

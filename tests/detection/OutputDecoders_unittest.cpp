@@ -13,7 +13,10 @@ namespace
 const cv::Size kInput(64, 64);
 constexpr int kCells = 84;
 
-cv::Mat zeros(std::vector<int> shape) { return cv::Mat(static_cast<int>(shape.size()), shape.data(), CV_32F, cv::Scalar(0)); }
+cv::Mat zeros(std::vector<int> shape)
+{
+	return cv::Mat(static_cast<int>(shape.size()), shape.data(), CV_32F, cv::Scalar(0));
+}
 
 void expectBox(const Detection& d, float x, float y, float w, float h)
 {
@@ -58,7 +61,7 @@ TEST(OutputDecoders, YoloxGridCellDecodesToExactImageBox)
 TEST(OutputDecoders, YoloxScoreIsObjectnessTimesClassAndThresholded)
 {
 	cv::Mat out = zeros({1, kCells, 85});
-	setYolox(out, 0, 0.5f, 0.5f, 1, 1, 0.5f, 0, 0.5f);  // 0.25 < 0.3
+	setYolox(out, 0, 0.5f, 0.5f, 1, 1, 0.5f, 0, 0.5f);    // 0.25 < 0.3
 	setYolox(out, 10, 0.5f, 0.5f, 1, 1, 0.7f, 16, 0.5f);  // dog, 0.35
 	const auto dets = decodeYolox(out, Letterbox::topLeft(kInput, kInput), allClasses());
 	ASSERT_EQ(dets.size(), 1u);
@@ -94,7 +97,8 @@ TEST(OutputDecoders, NmsDropsTheWeakerOverlappingBoxOfTheSameClassOnly)
 TEST(OutputDecoders, Yolov5DecodedBoxesWithCentredLetterbox)
 {
 	cv::Mat out = zeros({1, 3 * kCells, 85});
-	auto set = [&](int row, float cx, float cy, float w, float h, float obj, int cls, float s) {
+	auto set = [&](int row, float cx, float cy, float w, float h, float obj, int cls, float s)
+	{
 		float* r = out.ptr<float>(0, row);
 		r[0] = cx, r[1] = cy, r[2] = w, r[3] = h, r[4] = obj, r[5 + cls] = s;
 	};
@@ -117,7 +121,8 @@ TEST(OutputDecoders, Yolov8ChannelsFirstNoObjectness)
 {
 	const int n = kCells;
 	cv::Mat out = zeros({1, 84, n});
-	auto set = [&](int i, float cx, float cy, float w, float h, int cls, float s) {
+	auto set = [&](int i, float cx, float cy, float w, float h, int cls, float s)
+	{
 		float* m = out.ptr<float>(0);
 		m[0 * n + i] = cx, m[1 * n + i] = cy, m[2 * n + i] = w, m[3 * n + i] = h, m[(4 + cls) * n + i] = s;
 	};

@@ -52,8 +52,14 @@ TEST(RawlogLabels, PersonLabelsSurviveARawlogRoundTripWithTheSameImages)
 			fresh.pixelLabels.reset();
 			writePersonLabels(fresh, persons);
 			EXPECT_EQ(cv::countNonZero(mask != personLabelMask(fresh)), 0) << "frame " << f->index;
-			if (f->index == 0) { EXPECT_EQ(cv::countNonZero(mask), 0); }
-			if (f->index == 150) { EXPECT_GT(cv::countNonZero(mask), 5000); }
+			if (f->index == 0)
+			{
+				EXPECT_EQ(cv::countNonZero(mask), 0);
+			}
+			if (f->index == 150)
+			{
+				EXPECT_GT(cv::countNonZero(mask), 5000);
+			}
 		}
 		// The images are read through the link to the input's images folder.
 		EXPECT_EQ(cv::norm(io::colourImage(*f->observation), io::colourImage(*g->observation), cv::NORM_INF), 0);

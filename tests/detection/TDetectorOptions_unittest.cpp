@@ -33,9 +33,8 @@ TEST(TDetectorOptions, SaveAndLoadRoundTripWithTheSameKeys)
 
 TEST(TDetectorOptions, BadValuesNameSectionAndKey)
 {
-	const std::pair<const char*, const char*> bad[] = {
-		{"score_threshold", "1.5"}, {"nms_threshold", "0"}, {"input_width", "400"}, {"layout", "yolov9"},
-		{"classes", "person, unicorn"}, {"threads", "-2"}};
+	const std::pair<const char*, const char*> bad[] = {{"score_threshold", "1.5"}, {"nms_threshold", "0"},
+		{"input_width", "400"}, {"layout", "yolov9"}, {"classes", "person, unicorn"}, {"threads", "-2"}};
 	for (const auto& [key, value] : bad)
 	{
 		mrpt::config::CConfigFileMemory cfg(std::string("[det]\n") + key + " = " + value + "\n");
@@ -86,8 +85,8 @@ TEST(TDetectorOptions, ValuesThatAreNotNumbersAreReportedAsSuch)
 			const std::string what = e.what();
 			EXPECT_EQ(what.rfind(std::string("[detection] ") + key + " = ", 0), 0u) << what;
 			EXPECT_TRUE(what.find("not a number") != std::string::npos ||
-				what.find("not a whole number") != std::string::npos ||
-				what.find("empty value") != std::string::npos)
+						what.find("not a whole number") != std::string::npos ||
+						what.find("empty value") != std::string::npos)
 				<< what;
 		}
 	}

@@ -138,9 +138,11 @@ TEST(AvmEval, ReportsOnFilesAndFailsOnBadInput)
 {
 	const auto dir = test::scratchDir("avm-eval");
 	const auto gtFile = test::bonnDatasetDir() / "groundtruth.txt";
-	const auto run = [&](const std::string& args) {
+	const auto run = [&](const std::string& args)
+	{
 		const auto out = dir / "out.txt";
-		const int rc = std::system((test::binary("avm-eval").string() + " " + args + " > " + out.string() + " 2>&1").c_str());
+		const int rc =
+			std::system((test::binary("avm-eval").string() + " " + args + " > " + out.string() + " 2>&1").c_str());
 		std::ifstream in(out);
 		return std::make_pair(rc, std::string(std::istreambuf_iterator<char>(in), {}));
 	};

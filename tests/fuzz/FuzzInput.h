@@ -15,8 +15,7 @@ class InputFile
 {
    public:
 	InputFile(const uint8_t* data, size_t size, const std::string& extension)
-		: m_path(std::filesystem::temp_directory_path() /
-				 ("avm-fuzz-" + std::to_string(::getpid()) + extension))
+		: m_path(std::filesystem::temp_directory_path() / ("avm-fuzz-" + std::to_string(::getpid()) + extension))
 	{
 		std::ofstream(m_path, std::ios::binary).write(reinterpret_cast<const char*>(data), size);
 	}

@@ -27,14 +27,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 	cv::Mat output = layout == OutputLayout::Yolov8 ? cv::Mat(width, rows, CV_32F) : cv::Mat(rows, width, CV_32F);
 	const std::size_t bytes = output.total() * sizeof(float), payload = size - 2;
 	for (std::size_t i = 0; i < bytes; ++i) output.data[i] = data[2 + i % payload];
-	const Letterbox lb = layout == OutputLayout::Yolox ? Letterbox::topLeft(image, input) : Letterbox::centred(image, input);
+	const Letterbox lb =
+		layout == OutputLayout::Yolox ? Letterbox::topLeft(image, input) : Letterbox::centred(image, input);
 	DecodeParams params;
 	params.classIds = selector & 8 ? std::vector<int>{} : std::vector<int>{0};
 	try
 	{
 		for (const auto& d : decodeOutput(layout, output, lb, params))
 			if (!(d.box.x >= 0 && d.box.y >= 0 && d.box.x + d.box.width <= image.width + 1e-3 &&
-				  d.box.y + d.box.height <= image.height + 1e-3 && std::isfinite(d.score)))
+					d.box.y + d.box.height <= image.height + 1e-3 && std::isfinite(d.score)))
 				__builtin_trap();  // a decoded box outside the image is a bug
 	}
 	catch (const std::invalid_argument&)

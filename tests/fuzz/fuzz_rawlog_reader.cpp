@@ -14,7 +14,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 		avm::io::useImagesFolderOf(file.path());
 		avm::io::RawlogFrameReader reader(file.path());
 		reader.setMinLoggingLevel(mrpt::system::LVL_ERROR);
-		for (int frames = 0; frames < 16 && reader.next(); ++frames) {}
+		for (int frames = 0; frames < 16 && reader.next(); ++frames)
+		{
+		}
 	}
 	catch (const std::exception&)
 	{

@@ -9,7 +9,8 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 {
 	const avm::fuzz::InputFile file(data, size, ".txt");
-	const auto attempt = [](auto&& parse) {
+	const auto attempt = [](auto&& parse)
+	{
 		try
 		{
 			parse();
@@ -18,15 +19,19 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 		{
 		}
 	};
-	attempt([&] {
-		const auto list = avm::io::readTumFileList(file.path());
-		avm::io::associateNearest(list, list, 0.02);
-	});
+	attempt(
+		[&]
+		{
+			const auto list = avm::io::readTumFileList(file.path());
+			avm::io::associateNearest(list, list, 0.02);
+		});
 	attempt([&] { avm::io::readAssociations(file.path()); });
-	attempt([&] {
-		const auto t = avm::io::readTumTrajectory(file.path());
-		if (!t.empty()) avm::io::interpolatePose(t, 0.5 * (t.front().timestamp + t.back().timestamp));
-	});
+	attempt(
+		[&]
+		{
+			const auto t = avm::io::readTumTrajectory(file.path());
+			if (!t.empty()) avm::io::interpolatePose(t, 0.5 * (t.front().timestamp + t.back().timestamp));
+		});
 	attempt([&] { avm::io::readRigidTransformFile(file.path()); });
 	return 0;
 }

@@ -80,8 +80,7 @@ TEST(IniValues, ReadIniValueKeepsTheDefaultOfAnAbsentKey)
 
 TEST(ErrorMessages, MrptsCallStackAndLocationAreLeftOut)
 {
-	for (auto thrower : {throwsInsideMrpt, throwsPlain})
-		try
+	for (auto thrower : {throwsInsideMrpt, throwsPlain}) try
 		{
 			wrappedByMrpt(thrower);
 			FAIL() << "nothing thrown";
@@ -89,8 +88,8 @@ TEST(ErrorMessages, MrptsCallStackAndLocationAreLeftOut)
 		catch (const std::exception& e)
 		{
 			ASSERT_NE(std::string(e.what()).find("Call stack backtrace"), std::string::npos) << e.what();
-			EXPECT_EQ(io::errorMessage(e), thrower == throwsPlain ? "[s] k = 2: a plain error"
-																	: "[s] k = 1: thrown by THROW_EXCEPTION");
+			EXPECT_EQ(io::errorMessage(e),
+				thrower == throwsPlain ? "[s] k = 2: a plain error" : "[s] k = 1: thrown by THROW_EXCEPTION");
 		}
 }
 

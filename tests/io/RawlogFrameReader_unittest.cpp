@@ -102,8 +102,7 @@ TEST(RawlogFrameReader, UncompressedRawlogCutInsideAnEntryIsReported)
 	fs::copy_file(whole, cut);
 	fs::resize_file(cut, fs::file_size(whole) * 3 / 4);
 	io::RawlogFrameReader reader(cut);
-	EXPECT_THROW(
-		while (reader.next()) {}, std::runtime_error);
+	EXPECT_THROW(while (reader.next()){}, std::runtime_error);
 }
 
 TEST(RawlogFrameReader, GarbageFileIsReportedAsCorrupt)

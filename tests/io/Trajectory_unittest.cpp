@@ -27,8 +27,7 @@ TEST(Trajectory, TumRoundTripKeepsPoses)
 TEST(Trajectory, InterpolationIsHalfwayInTranslationAndRotation)
 {
 	using mrpt::DEG2RAD;
-	const io::Trajectory t = {
-		{10.0, CPose3D(0, 0, 0, 0, 0, 0)}, {11.0, CPose3D(2, 0, 0, DEG2RAD(90.0), 0, 0)}};
+	const io::Trajectory t = {{10.0, CPose3D(0, 0, 0, 0, 0, 0)}, {11.0, CPose3D(2, 0, 0, DEG2RAD(90.0), 0, 0)}};
 	const auto mid = io::interpolatePose(t, 10.5, /*maxGap=*/2.0);
 	ASSERT_TRUE(mid);
 	EXPECT_NEAR(mid->x(), 1.0, 1e-12);
@@ -40,7 +39,8 @@ TEST(Trajectory, InterpolationIsHalfwayInTranslationAndRotation)
 TEST(Trajectory, BadLinesNameFileAndLine)
 {
 	const auto dir = test::scratchDir("trajectory-bad");
-	const auto check = [&](const std::string& text, const std::string& expected) {
+	const auto check = [&](const std::string& text, const std::string& expected)
+	{
 		const auto file = dir / "t.txt";
 		std::ofstream(file) << text;
 		try

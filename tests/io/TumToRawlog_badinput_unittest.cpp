@@ -124,7 +124,8 @@ TEST(TumToRawlogBadInput, PlainRawlogWithEmbeddedImagesHasTheSameFrames)
 	EXPECT_GT(fs::file_size(plain), 3u * 640 * 480 * 5) << "3 frames of raw depth (2 B) and colour (3 B) a pixel";
 
 	// One reader at a time: MRPT's folder of external images is process-wide.
-	const auto framesOf = [](const fs::path& rawlog) {
+	const auto framesOf = [](const fs::path& rawlog)
+	{
 		io::useImagesFolderOf(rawlog);
 		io::RawlogFrameReader reader(rawlog);
 		std::vector<io::RgbdFrame> out;
@@ -272,7 +273,8 @@ TEST(TumToRawlogBadInput, TrimToGroundTruthLeavesOutTheFramesBeforeIt)
 	for (std::size_t i = 0; i < frames.size(); ++i)
 	{
 		EXPECT_TRUE(frames[i].groundTruth) << "frame " << i;
-		EXPECT_NEAR(mrpt::Clock::toDouble(frames[i].observation->timestamp), depthOf(ds, static_cast<int>(i) + 1).first, 1e-4);
+		EXPECT_NEAR(
+			mrpt::Clock::toDouble(frames[i].observation->timestamp), depthOf(ds, static_cast<int>(i) + 1).first, 1e-4);
 	}
 	EXPECT_EQ(io::readTumTrajectory(ds.parent_path() / "trimmed_groundtruth.txt").size(), 2u);
 }

@@ -123,8 +123,7 @@ TEST(TumToRawlog, GroundTruthCameraPosesAlignCloudsOneSecondApart)
 	// the static background overlaps; with the raw mocap body poses it does not.
 	const auto frames = readFrames({0, 30});
 	ASSERT_EQ(frames.size(), 2u);
-	const double withTransform = medianNearestNeighbour(
-		worldCloud(*frames[1].observation, *frames[1].groundTruth, 4),
+	const double withTransform = medianNearestNeighbour(worldCloud(*frames[1].observation, *frames[1].groundTruth, 4),
 		worldCloud(*frames[0].observation, *frames[0].groundTruth, 2));
 	EXPECT_LT(withTransform, 0.04);
 
@@ -132,9 +131,9 @@ TEST(TumToRawlog, GroundTruthCameraPosesAlignCloudsOneSecondApart)
 	const auto b0 = io::interpolatePose(body, frames[0].timestamp());
 	const auto b1 = io::interpolatePose(body, frames[1].timestamp());
 	ASSERT_TRUE(b0 && b1);
-	const double withoutTransform = medianNearestNeighbour(
-		worldCloud(*frames[1].observation, *b1, 4), worldCloud(*frames[0].observation, *b0, 2));
+	const double withoutTransform =
+		medianNearestNeighbour(worldCloud(*frames[1].observation, *b1, 4), worldCloud(*frames[0].observation, *b0, 2));
 	EXPECT_GT(withoutTransform, 0.06);
-	std::cout << "median NN distance: " << withTransform << " m with the Bonn transform, "
-			  << withoutTransform << " m without\n";
+	std::cout << "median NN distance: " << withTransform << " m with the Bonn transform, " << withoutTransform
+			  << " m without\n";
 }

@@ -21,7 +21,7 @@ struct MapFrame
 {
 	std::size_t index;
 	mrpt::obs::CObservation3DRangeScan::Ptr obs;
-	mrpt::poses::CPose3D pose;	//!< ground truth, camera optical frame
+	mrpt::poses::CPose3D pose;  //!< ground truth, camera optical frame
 };
 
 /** Every `step`-th frame among the first `count` with ground truth. */

@@ -77,7 +77,8 @@ void expectSameTree(const octomap::OcTree* a, const octomap::OcTree* b)
 	std::size_t n = 0;
 	for (auto it = b->begin_leafs(); it != b->end_leafs(); ++it, ++n)
 	{
-		const auto found = leaves.find({it.getKey()[0], it.getKey()[1], it.getKey()[2], static_cast<int>(it.getDepth())});
+		const auto found =
+			leaves.find({it.getKey()[0], it.getKey()[1], it.getKey()[2], static_cast<int>(it.getDepth())});
 		ASSERT_NE(found, leaves.end());
 		ASSERT_EQ(found->second, it->getLogOdds());
 	}
@@ -130,9 +131,14 @@ TEST(CAdaptiveOctoMapBonn, PaperPolicyKeepsHighLeavesOutOfLowSpace)
 	EXPECT_EQ(inLowSpace, 0u);
 	// What the map shows agrees: every occupied high voxel it reports answers
 	// as high.
-	map.forEachLeaf(Resolution::High, [&](const avm::TLeafVoxel& v) {
-		if (v.occupied) { EXPECT_EQ(map.query(v.center).tree, Resolution::High); }
-	});
+	map.forEachLeaf(Resolution::High,
+		[&](const avm::TLeafVoxel& v)
+		{
+			if (v.occupied)
+			{
+				EXPECT_EQ(map.query(v.center).tree, Resolution::High);
+			}
+		});
 }
 
 // Region policy: region space lives in the high tree only, the rest in the
@@ -175,8 +181,8 @@ TEST(CAdaptiveOctoMapBonn, RegionPolicyMatchesSingleResolutionOctoMapsInsideAndO
 	const double iouInside = avm::test::intersectionOverUnion(highMine, highRef);
 	const double iouOutside = avm::test::intersectionOverUnion(lowMine, lowRef);
 	std::cout << "inside the region: " << highMine.size() << " occupied 0.05 m voxels vs " << highRef.size()
-			  << " in the reference, IoU " << iouInside << "\noutside: " << lowMine.size() << " occupied 0.20 m voxels vs "
-			  << lowRef.size() << ", IoU " << iouOutside << "\n";
+			  << " in the reference, IoU " << iouInside << "\noutside: " << lowMine.size()
+			  << " occupied 0.20 m voxels vs " << lowRef.size() << ", IoU " << iouOutside << "\n";
 	EXPECT_GT(highRef.size(), 100u) << "the region holds too little surface for a meaningful comparison";
 	EXPECT_GE(iouInside, 0.9);
 	EXPECT_GE(iouOutside, 0.9);
@@ -546,8 +552,10 @@ TEST(CAdaptiveOctoMapBonn, PointCloudInputsMapLikeDepthImages)
 	for (const auto which : {Resolution::Low, Resolution::High})
 	{
 		const auto ref = avm::test::occupiedVoxels(*fromDepth.tree(which), all);
-		const double iouCloud = avm::test::intersectionOverUnion(avm::test::occupiedVoxels(*fromCloud.tree(which), all), ref);
-		const double iouWorld = avm::test::intersectionOverUnion(avm::test::occupiedVoxels(*fromWorld.tree(which), all), ref);
+		const double iouCloud =
+			avm::test::intersectionOverUnion(avm::test::occupiedVoxels(*fromCloud.tree(which), all), ref);
+		const double iouWorld =
+			avm::test::intersectionOverUnion(avm::test::occupiedVoxels(*fromWorld.tree(which), all), ref);
 		std::cout << (which == Resolution::Low ? "low" : "high") << " tree: IoU cloud " << iouCloud << ", world points "
 				  << iouWorld << " (" << ref.size() << " occupied voxels from depth)\n";
 		EXPECT_GT(ref.size(), 100u);

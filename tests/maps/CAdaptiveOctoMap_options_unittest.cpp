@@ -81,7 +81,7 @@ TEST(CAdaptiveOctoMapOptions, MapDefinitionFromIniCreatesTheMapWithItsValues)
 	EXPECT_DOUBLE_EQ(c.low.resolution, 0.4);
 	EXPECT_DOUBLE_EQ(c.low.probHit, 0.75);
 	EXPECT_DOUBLE_EQ(c.low.maxRange, 4.5);
-	EXPECT_DOUBLE_EQ(c.low.probMiss, 0.4);	// default kept
+	EXPECT_DOUBLE_EQ(c.low.probMiss, 0.4);  // default kept
 	EXPECT_DOUBLE_EQ(c.high.resolution, 0.1);
 	EXPECT_DOUBLE_EQ(c.high.probMiss, 0.35);
 	EXPECT_DOUBLE_EQ(c.high.clampingThresMin, 0.15);
@@ -137,7 +137,8 @@ TEST(CAdaptiveOctoMapOptions, SaveThenLoadGivesTheSameOptionsAndKeySet)
 
 TEST(CAdaptiveOctoMapOptions, RejectsBadValuesNamingTheKey)
 {
-	auto expectKeyInError = [](const std::string& ini, const std::string& key) {
+	auto expectKeyInError = [](const std::string& ini, const std::string& key)
+	{
 		const auto msg = loadError(ini);
 		EXPECT_NE(msg.find(key), std::string::npos) << "error for " << key << " was: " << msg;
 	};
@@ -236,10 +237,9 @@ TEST(CAdaptiveOctoMapOptions, RegionsNeverMergeAndAlignToTheLowGrid)
 TEST(CAdaptiveOctoMapOptions, ExampleIniFilesCreateTheMap)
 {
 	const std::filesystem::path dir = std::filesystem::path(AVM_SOURCE_DIR) / "ini";
-	for (const auto& [file, section] : std::vector<std::pair<std::string, std::string>>{
-			 {"map-observations2map.ini", "MappingApplication"},
-			 {"map-icp-slam.ini", "MappingApplication"},
-			 {"map-RawLogViewer.ini", "map"}})
+	for (const auto& [file, section] :
+		std::vector<std::pair<std::string, std::string>>{{"map-observations2map.ini", "MappingApplication"},
+			{"map-icp-slam.ini", "MappingApplication"}, {"map-RawLogViewer.ini", "map"}})
 	{
 		mrpt::config::CConfigFile cfg((dir / file).string());
 		mrpt::maps::TSetOfMetricMapInitializers inits;

@@ -46,9 +46,11 @@ std::vector<avm::persons::PixelSet> personsOn(std::size_t i)
 	const int rows = obs.rangeImage.rows(), cols = obs.rangeImage.cols();
 	std::vector<avm::persons::PixelSet> out;
 	if (i >= 3 && i <= 9)
-		out.push_back(avm::persons::pixelsOfBox(cols / 2 - 30, rows / 2 - 60, cols / 2 + 30, rows / 2 + 60, cols, rows));
+		out.push_back(
+			avm::persons::pixelsOfBox(cols / 2 - 30, rows / 2 - 60, cols / 2 + 30, rows / 2 + 60, cols, rows));
 	if ((i >= 5 && i <= 12) || (i >= 20 && i <= 22))
-		out.push_back(avm::persons::pixelsOfBox(cols / 2 - 200, rows / 2 - 60, cols / 2 - 140, rows / 2 + 60, cols, rows));
+		out.push_back(
+			avm::persons::pixelsOfBox(cols / 2 - 200, rows / 2 - 60, cols / 2 - 140, rows / 2 + 60, cols, rows));
 	return out;
 }
 
@@ -126,7 +128,10 @@ void expectSameMap(const CAdaptiveOctoMap& a, const CAdaptiveOctoMap& b, const s
 		SCOPED_TRACE(which == Resolution::Low ? "low tree" : "high tree");
 		ASSERT_EQ(a.tree(which) == nullptr, b.tree(which) == nullptr);
 		EXPECT_EQ(leaves(a, which), leaves(b, which));
-		if (a.tree(which)) { EXPECT_EQ(a.tree(which)->size(), b.tree(which)->size()); }
+		if (a.tree(which))
+		{
+			EXPECT_EQ(a.tree(which)->size(), b.tree(which)->size());
+		}
 		// What a run reports of the map (run summary): the same too.
 		const auto sa = which == Resolution::Low ? a.lowResolutionStats() : a.highResolutionStats();
 		const auto sb = which == Resolution::Low ? b.lowResolutionStats() : b.highResolutionStats();
@@ -172,7 +177,8 @@ RunFacts runAndResume(CAdaptiveOctoMap& original, CAdaptiveOctoMap& reused)
 	CAdaptiveOctoMap* current = nullptr;
 	for (std::size_t i = 0; i < end; i++)
 	{
-		const std::string where = "frame " + std::to_string(frames().at(i).index) + " (index " + std::to_string(i) + ")";
+		const std::string where =
+			"frame " + std::to_string(frames().at(i).index) + " (index " + std::to_string(i) + ")";
 		const auto before = regionIds(original);
 		step(original, i);
 		if (current) step(*current, i);
@@ -186,7 +192,8 @@ RunFacts runAndResume(CAdaptiveOctoMap& original, CAdaptiveOctoMap& reused)
 		EXPECT_TRUE(restored);
 		if (!restored) return facts;
 		expectSameMap(original, *restored, "restored after " + where);
-		if (current) expectSameMap(original, *current, "resumed at index " + std::to_string(kCheckpoint) + ", after " + where);
+		if (current)
+			expectSameMap(original, *current, "resumed at index " + std::to_string(kCheckpoint) + ", after " + where);
 		if (::testing::Test::HasFailure()) return facts;  // the first frame that differs says most
 		if (i == kCheckpoint)
 		{
@@ -214,8 +221,8 @@ CAdaptiveOctoMap usedMap()
 	other.tracking.gate = 0.3;
 	CAdaptiveOctoMap map({}, other, {});
 	const auto& f = frames().back();
-	map.addHighResolutionRegion({f.pose.translation() - mrpt::math::TPoint3D(1, 1, 1),
-		f.pose.translation() + mrpt::math::TPoint3D(1, 1, 1)});
+	map.addHighResolutionRegion(
+		{f.pose.translation() - mrpt::math::TPoint3D(1, 1, 1), f.pose.translation() + mrpt::math::TPoint3D(1, 1, 1)});
 	map.observePersons(*f.obs, f.pose, personsOn(7), f.index);
 	for (std::size_t i = frames().size() - 3; i < frames().size(); i++)
 		EXPECT_TRUE(map.insertObservation(*frames()[i].obs, frames()[i].pose));

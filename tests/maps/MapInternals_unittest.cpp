@@ -255,10 +255,10 @@ TEST(ResolutionPolicy, AVoxelIsCoveredExactlyWhenItsCentreIsInABox)
 					std::uint64_t k = 0;
 					ASSERT_TRUE(packedKeyOf(x, y, z, 1 / res, k));
 					const auto c = centreOf(k, res);
-					const bool expected = std::any_of(boxes.begin(), boxes.end(), [&](const TBoundingBox& b) {
-						return Region{b}.contains(c.x, c.y, c.z);
-					});
-					ASSERT_EQ(space.covers(k, ratio), expected) << c.x << " " << c.y << " " << c.z << " ratio " << ratio;
+					const bool expected = std::any_of(boxes.begin(), boxes.end(),
+						[&](const TBoundingBox& b) { return Region{b}.contains(c.x, c.y, c.z); });
+					ASSERT_EQ(space.covers(k, ratio), expected)
+						<< c.x << " " << c.y << " " << c.z << " ratio " << ratio;
 					inside += expected;
 				}
 		EXPECT_GT(inside, 0u);
@@ -389,7 +389,8 @@ TEST(SurfaceSketch, SameEntriesSameBytesWhateverTheHistory)
 	for (unsigned i = 0; i < 600; i++) grown.take(packKey(octomap::OcTreeKey(32768 + i, 32768, 32768)));
 	SurfaceSketch pruned = grown;
 	pruned.prune([](std::uint64_t, std::uint64_t) { return true; });
-	const auto bytesOf = [](const SurfaceSketch& s) {
+	const auto bytesOf = [](const SurfaceSketch& s)
+	{
 		mrpt::io::CMemoryStream buf;
 		auto arch = mrpt::serialization::archiveFrom(buf);
 		s.serializeTo(arch);
@@ -447,18 +448,22 @@ TEST(RayIntegrator, AWallSplitsAtTheRegionFaces)
 	ASSERT_TRUE(map.insertObservation(wallScan(false), mrpt::poses::CPose3D()));
 
 	std::size_t highWall = 0, lowWall = 0;
-	map.forEachLeaf(Resolution::High, [&](const TLeafVoxel& v) {
-		if (!v.occupied) return;
-		++highWall;
-		EXPECT_NEAR(v.center.x, 3.025, 1e-4) << "the wall's 5 cm layer";
-		EXPECT_TRUE(region.containsPoint(v.center));
-	});
-	map.forEachLeaf(Resolution::Low, [&](const TLeafVoxel& v) {
-		if (!v.occupied) return;
-		++lowWall;
-		EXPECT_NEAR(v.center.x, 3.1, 1e-4) << "the wall's 20 cm layer";
-		EXPECT_FALSE(region.containsPoint(v.center));
-	});
+	map.forEachLeaf(Resolution::High,
+		[&](const TLeafVoxel& v)
+		{
+			if (!v.occupied) return;
+			++highWall;
+			EXPECT_NEAR(v.center.x, 3.025, 1e-4) << "the wall's 5 cm layer";
+			EXPECT_TRUE(region.containsPoint(v.center));
+		});
+	map.forEachLeaf(Resolution::Low,
+		[&](const TLeafVoxel& v)
+		{
+			if (!v.occupied) return;
+			++lowWall;
+			EXPECT_NEAR(v.center.x, 3.1, 1e-4) << "the wall's 20 cm layer";
+			EXPECT_FALSE(region.containsPoint(v.center));
+		});
 	// The region's face of the wall is 0.8 x 0.8 m: 16 x 16 high voxels.
 	EXPECT_EQ(highWall, 16u * 16u);
 	EXPECT_GT(lowWall, 20u);
@@ -613,7 +618,8 @@ TEST(TreeOps, SetNodeValuesGivesOctomapsTreeKeyByKey)
 			reference.setNodeValue(octomap::OcTreeKey(near(rng), near(rng), near(rng)), 0.5f * value(rng) - 0.7f);
 		reference.prune();
 		std::vector<octomap::OcTreeKey> keys;
-		auto addIfUnknown = [&](const octomap::OcTreeKey& k) {
+		auto addIfUnknown = [&](const octomap::OcTreeKey& k)
+		{
 			if (!reference.search(k) && std::find(keys.begin(), keys.end(), k) == keys.end()) keys.push_back(k);
 		};
 		for (unsigned x = 0; x < 8; x++)

@@ -67,18 +67,20 @@ const fs::path& shortRawlogDir()
 {
 	static fs::path dir;
 	static std::once_flag once;
-	std::call_once(once, [] {
-		dir = avm::test::scratchDir(
-			std::string("stock-apps-") + ::testing::UnitTest::GetInstance()->current_test_info()->name());
-		const auto source = avm::test::bonnRawlog();
-		const auto r = run("cd " + quoted(source.parent_path()) + " && " + stockApp("rawlog-edit") +
-			" --cut --from-index 0 --to-index 39 -i " + quoted(source.filename()) + " -o " +
-			quoted(dir / "bonn_short.rawlog"));
-		if (r.exitCode != 0 || !fs::exists(dir / "bonn_short.rawlog"))
-			throw std::runtime_error("rawlog-edit --cut failed:\n" + r.output);
-		fs::create_directory_symlink(
-			fs::absolute(source.parent_path() / (source.stem().string() + "_Images")), dir / "bonn_short_Images");
-	});
+	std::call_once(once,
+		[]
+		{
+			dir = avm::test::scratchDir(
+				std::string("stock-apps-") + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+			const auto source = avm::test::bonnRawlog();
+			const auto r = run("cd " + quoted(source.parent_path()) + " && " + stockApp("rawlog-edit") +
+							   " --cut --from-index 0 --to-index 39 -i " + quoted(source.filename()) + " -o " +
+							   quoted(dir / "bonn_short.rawlog"));
+			if (r.exitCode != 0 || !fs::exists(dir / "bonn_short.rawlog"))
+				throw std::runtime_error("rawlog-edit --cut failed:\n" + r.output);
+			fs::create_directory_symlink(
+				fs::absolute(source.parent_path() / (source.stem().string() + "_Images")), dir / "bonn_short_Images");
+		});
 	return dir;
 }
 
@@ -100,7 +102,8 @@ TEST(StockApps, RawlogEditLoadsThePlugin)
 	EXPECT_EQ(ok.output.find("Error loading"), std::string::npos) << ok.output;
 	EXPECT_NE(ok.output.find("Observations format"), std::string::npos) << ok.output;
 	// The same check catches a plugin that does not load.
-	const auto bad = run("cd " + quoted(dir) + " && " + app + " -p /nonexistent/libnothing.so --info -i bonn_short.rawlog");
+	const auto bad =
+		run("cd " + quoted(dir) + " && " + app + " -p /nonexistent/libnothing.so --info -i bonn_short.rawlog");
 	EXPECT_NE(bad.output.find("Error loading"), std::string::npos) << bad.output;
 }
 
@@ -112,8 +115,8 @@ TEST(StockApps, RawLogViewerLoadsThePluginAndKeepsRunning)
 	const auto pidFile = dir / "rawlogviewer.pid", log = dir / "rawlogviewer.log";
 	fs::remove(pidFile);
 	const std::string cmd = "cd " + quoted(dir) + " && (" + stockApp("xvfb-run") + " -a sh -c 'echo $$ > " +
-		pidFile.string() + "; exec " + stockApp("RawLogViewer") + " -l " + kPlugin.string() +
-		" bonn_short.rawlog' > " + quoted(log) + " 2>&1 &)";
+							pidFile.string() + "; exec " + stockApp("RawLogViewer") + " -l " + kPlugin.string() +
+							" bonn_short.rawlog' > " + quoted(log) + " 2>&1 &)";
 	ASSERT_EQ(std::system(cmd.c_str()), 0);
 
 	const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
@@ -123,7 +126,9 @@ TEST(StockApps, RawLogViewerLoadsThePluginAndKeepsRunning)
 	{
 		std::this_thread::sleep_for(std::chrono::milliseconds(200));
 		if (!pid && fs::exists(pidFile)) std::ifstream(pidFile) >> pid;
-		if (pid) mapped = readFile("/proc/" + std::to_string(pid) + "/maps").find(kPlugin.filename().string()) != std::string::npos;
+		if (pid)
+			mapped = readFile("/proc/" + std::to_string(pid) + "/maps").find(kPlugin.filename().string()) !=
+					 std::string::npos;
 	}
 	ASSERT_GT(pid, 0) << "RawLogViewer did not start:\n" << readFile(log);
 	EXPECT_TRUE(mapped) << "the plugin never appeared in RawLogViewer's memory map:\n" << readFile(log);
@@ -155,7 +160,7 @@ TEST(StockApps, Observations2MapBuildsTheSameMapAsInProcess)
 	const auto ini = kIniDir / "map-observations2map.ini";
 	fs::create_directories(dir / "o2m");
 	const auto r = run("cd " + quoted(dir) + " && LD_PRELOAD=" + quoted(kPlugin) + " " + stockApp("observations2map") +
-		" " + quoted(ini) + " bonn_gt.simplemap o2m/bonn < /dev/null");
+					   " " + quoted(ini) + " bonn_gt.simplemap o2m/bonn < /dev/null");
 	ASSERT_EQ(r.exitCode, 0) << r.output;
 	const auto prefix = dir / "o2m" / "bonn_avm__CAdaptiveOctoMap_00";
 	for (const auto* suffix : {"_low.bt", "_high.bt", ".3Dscene"})
@@ -184,11 +189,11 @@ TEST(StockApps, IcpSlamRunsWithTheAdaptiveMap)
 {
 	const auto& dir = shortRawlogDir();
 	const auto gen = run("cd " + quoted(dir) + " && " + stockApp("rawlog-edit") +
-		" --generate-3d-pointclouds -i bonn_short.rawlog -o bonn_short_pts.rawlog");
+						 " --generate-3d-pointclouds -i bonn_short.rawlog -o bonn_short_pts.rawlog");
 	ASSERT_EQ(gen.exitCode, 0) << gen.output;
 	fs::remove_all(dir / "LOG_ICP-SLAM");
 	const auto r = run("cd " + quoted(dir) + " && LD_PRELOAD=" + quoted(kPlugin) + " " + stockApp("icp-slam") + " " +
-		quoted(kIniDir / "map-icp-slam.ini") + " bonn_short_pts.rawlog");
+					   quoted(kIniDir / "map-icp-slam.ini") + " bonn_short_pts.rawlog");
 	ASSERT_EQ(r.exitCode, 0) << r.output;
 	EXPECT_NE(r.output.find("Fit:"), std::string::npos) << "icp-slam never ran ICP:\n" << r.output;
 	const auto prefix = dir / "LOG_ICP-SLAM" / "_finalmaps_.txt_avm__CAdaptiveOctoMap_00";

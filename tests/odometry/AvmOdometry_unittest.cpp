@@ -15,7 +15,8 @@ namespace
 std::pair<int, std::string> run(const std::filesystem::path& dir, const std::string& args)
 {
 	const auto out = dir / "console.txt";
-	const int rc = std::system((test::binary("avm-odometry").string() + " " + args + " > " + out.string() + " 2>&1").c_str());
+	const int rc =
+		std::system((test::binary("avm-odometry").string() + " " + args + " > " + out.string() + " 2>&1").c_str());
 	std::ifstream in(out);
 	return {rc, std::string(std::istreambuf_iterator<char>(in), {})};
 }
@@ -25,9 +26,9 @@ TEST(AvmOdometry, WritesTrajectoryStatsAndTiming)
 {
 	const auto dir = test::scratchDir("avm-odometry");
 	const auto traj = dir / "vo.txt", stats = dir / "vo.csv";
-	const auto [rc, text] = run(
-		dir, test::bonnRawlog().string() + " " + traj.string() + " --persons none --max-frames 20 --stats " +
-				 stats.string() + " --config " + AVM_SOURCE_DIR + "/ini/odometry.ini");
+	const auto [rc, text] =
+		run(dir, test::bonnRawlog().string() + " " + traj.string() + " --persons none --max-frames 20 --stats " +
+					 stats.string() + " --config " + AVM_SOURCE_DIR + "/ini/odometry.ini");
 	ASSERT_EQ(rc, 0) << text;
 	EXPECT_NE(text.find("frames 20, lost 0"), std::string::npos) << text;
 	EXPECT_NE(text.find("cpu  ms/frame: mean"), std::string::npos) << text;
@@ -43,10 +44,10 @@ TEST(AvmOdometry, BadInputNamesTheProblem)
 	const auto dir = test::scratchDir("avm-odometry-bad");
 	const auto rawlog = test::bonnRawlog().string(), out = (dir / "vo.txt").string();
 	std::ofstream(dir / "bad.ini") << "[odometry]\nhuber_delta = -1\n";
-	const auto cases = {
-		std::make_pair((dir / "missing.rawlog").string() + " " + out + " --persons none", std::string("missing.rawlog")),
+	const auto cases = {std::make_pair((dir / "missing.rawlog").string() + " " + out + " --persons none",
+							std::string("missing.rawlog")),
 		std::make_pair(rawlog + " " + out + " --persons none -c " + (dir / "bad.ini").string(),
-					   std::string("[odometry] huber_delta = -1")),
+			std::string("[odometry] huber_delta = -1")),
 		std::make_pair(rawlog + " " + out + " --model " + (dir / "none.onnx").string(), std::string("none.onnx")),
 		std::make_pair(rawlog + " " + out + " --persons everyone", std::string("--persons"))};
 	for (const auto& [args, expected] : cases)

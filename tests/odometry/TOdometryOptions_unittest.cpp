@@ -56,7 +56,8 @@ TEST(TOdometryOptions, BadValueNamesSectionAndKey)
 TEST(TOdometryOptions, ProjectIniLoadsWithoutUnknownKeys)
 {
 	std::vector<std::string> unknown;
-	const auto o = odometry::loadOdometryOptions(std::string(AVM_SOURCE_DIR) + "/ini/odometry.ini", "odometry", unknown);
+	const auto o =
+		odometry::loadOdometryOptions(std::string(AVM_SOURCE_DIR) + "/ini/odometry.ini", "odometry", unknown);
 	EXPECT_TRUE(unknown.empty()) << unknown.front();
 	EXPECT_TRUE(o.mask_people);
 

@@ -27,7 +27,8 @@ namespace
 /** Person boxes of every frame, detected once for all the runs. */
 const std::map<std::size_t, std::vector<cv::Rect>>& bonnPersonBoxes()
 {
-	static const auto boxes = [] {
+	static const auto boxes = []
+	{
 		detection::TDetectorOptions opt;
 		opt.model = test::sharedFile("models/yolox_nano.onnx").string();
 		const auto detector = detection::createDetector(opt);
@@ -58,9 +59,8 @@ odometry::OdometryRun runBonn(bool maskPeople)
 /** The masked run with frames [first, last] spoilt by `spoil` (no person
  *  boxes there: the detector would not see one either). Per frame: the
  *  estimate. */
-std::vector<odometry::OdometryEstimate> runBonnSpoilt(
-	std::size_t first, std::size_t last, const std::function<void(mrpt::obs::CObservation3DRangeScan&)>& spoil,
-	io::Trajectory& trajectory)
+std::vector<odometry::OdometryEstimate> runBonnSpoilt(std::size_t first, std::size_t last,
+	const std::function<void(mrpt::obs::CObservation3DRangeScan&)>& spoil, io::Trajectory& trajectory)
 {
 	std::optional<odometry::VisualOdometry> vo;
 	std::vector<odometry::OdometryEstimate> estimates;

@@ -172,10 +172,11 @@ TEST(VisualOdometry, PersonBoxesFromPixelLabels)
 TEST(VisualOdometry, ReportedFeaturesShowWhatAPersonBoxMasks)
 {
 	odometry::TOdometryOptions opt;
-	opt.person_depth_band = 0;	// the whole box is masked: a sharp line to test against
+	opt.person_depth_band = 0;  // the whole box is masked: a sharp line to test against
 	const auto f0 = bonnFrame(0), f1 = bonnFrame(1);
 	const cv::Rect box(200, 100, 200, 250);
-	const auto grown = [&](const cv::Point2f& p) {
+	const auto grown = [&](const cv::Point2f& p)
+	{
 		return p.x >= box.x - opt.person_box_margin && p.x < box.br().x + opt.person_box_margin &&
 			   p.y >= box.y - opt.person_box_margin && p.y < box.br().y + opt.person_box_margin;
 	};

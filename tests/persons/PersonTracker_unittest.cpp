@@ -84,7 +84,8 @@ TEST(PersonTracker, APersonOutOfViewAndBackNearTheSamePlaceKeepsTheId)
 
 TEST(PersonTracker, TheSameSightingsGiveTheSameIdsAndSurviveSerialization)
 {
-	auto run = [](PersonTracker& t) {
+	auto run = [](PersonTracker& t)
+	{
 		std::vector<std::uint32_t> all;
 		for (int k = 0; k < 20; k++)
 			for (auto id : t.update({at(0.1 * k, 1.0), at(3 - 0.1 * k, 1.5), at(1.5, 5.0)}, k, kStep * k))

@@ -61,9 +61,11 @@ TEST(PipelineCheckpoint, AResumedRunEndsLikeARunThatWasNeverStopped)
 	const auto stopped = dir / "stopped";
 	std::atomic<bool> stop{false};
 	const auto first = pipeline::MappingPipeline(ini, AVM_SOURCE_DIR)
-						   .run(test::bonnRawlog(), stopped, &stop, [&](double, std::size_t frames) {
-							   if (frames == 100) stop = true;
-						   });
+						   .run(test::bonnRawlog(), stopped, &stop,
+							   [&](double, std::size_t frames)
+							   {
+								   if (frames == 100) stop = true;
+							   });
 	ASSERT_TRUE(first.interrupted);
 	EXPECT_EQ(first.frames, 100u);
 	EXPECT_GE(first.checkpoint.count, 3u) << "before the first frame, at least one on the way, after the last";
@@ -97,7 +99,8 @@ TEST(PipelineCheckpoint, AMissingOrDamagedCheckpointIsNamedAndNothingIsWritten)
 	}
 	catch (const std::runtime_error& e)
 	{
-		EXPECT_NE(std::string(e.what()).find((empty / "checkpoint.bin").string() + ": no checkpoint"), std::string::npos)
+		EXPECT_NE(
+			std::string(e.what()).find((empty / "checkpoint.bin").string() + ": no checkpoint"), std::string::npos)
 			<< e.what();
 	}
 
@@ -145,28 +148,35 @@ TEST(PipelineCheckpoint, AResumedMapIsTheUninterruptedMapAfterEveryFrame)
 	std::map<std::size_t, std::string> uninterrupted;  // frames mapped -> the map then
 	{
 		pipeline::MappingPipeline p(ini, AVM_SOURCE_DIR);
-		p.run(test::bonnRawlog(), dir / "uninterrupted", nullptr, [&](double, std::size_t frames) {
-			if (frames > kStopAfter) uninterrupted[frames] = serialized(p.map());
-		});
+		p.run(test::bonnRawlog(), dir / "uninterrupted", nullptr,
+			[&](double, std::size_t frames)
+			{
+				if (frames > kStopAfter) uninterrupted[frames] = serialized(p.map());
+			});
 	}
 	ASSERT_EQ(uninterrupted.size(), kFrames - kStopAfter);
 
 	ini.write("pipeline", "checkpoint_interval_s", "1000");  // one before the first frame, one after the last
 	const auto stopped = dir / "stopped";
 	std::atomic<bool> stop{false};
-	pipeline::MappingPipeline(ini, AVM_SOURCE_DIR).run(test::bonnRawlog(), stopped, &stop, [&](double, std::size_t frames) {
-		if (frames == kStopAfter) stop = true;
-	});
+	pipeline::MappingPipeline(ini, AVM_SOURCE_DIR)
+		.run(test::bonnRawlog(), stopped, &stop,
+			[&](double, std::size_t frames)
+			{
+				if (frames == kStopAfter) stop = true;
+			});
 
 	pipeline::MappingPipeline resumedPipeline(ini, AVM_SOURCE_DIR);
 	std::size_t compared = 0;
 	std::optional<std::size_t> firstDifference;
-	const auto resumed = resumedPipeline.resume(stopped, nullptr, [&](double, std::size_t frames) {
-		const auto it = uninterrupted.find(frames);
-		if (it == uninterrupted.end()) return;
-		++compared;
-		if (!firstDifference && serialized(resumedPipeline.map()) != it->second) firstDifference = frames;
-	});
+	const auto resumed = resumedPipeline.resume(stopped, nullptr,
+		[&](double, std::size_t frames)
+		{
+			const auto it = uninterrupted.find(frames);
+			if (it == uninterrupted.end()) return;
+			++compared;
+			if (!firstDifference && serialized(resumedPipeline.map()) != it->second) firstDifference = frames;
+		});
 	ASSERT_TRUE(resumed.resumedAfterFrame);
 	EXPECT_EQ(*resumed.resumedAfterFrame, kStopAfter - 1);
 	EXPECT_FALSE(resumedPipeline.map().highResolutionRegions().empty()) << "the test needs persons' regions";

@@ -71,8 +71,8 @@ void expectDocumented(const IniComments& docs, const mrpt::config::CConfigFileBa
 			ADD_FAILURE() << "ini/default.ini does not document [" << section << "] " << key.key << "; its line:\n"
 						  << key.key << " = " << key.defaultText << "  // " << key.comment();
 		else
-			EXPECT_EQ(line->second, key.comment()) << "[" << section << "] " << key.key
-												   << ": the comment in ini/default.ini is not the declaration's";
+			EXPECT_EQ(line->second, key.comment())
+				<< "[" << section << "] " << key.key << ": the comment in ini/default.ini is not the declaration's";
 	}
 	std::vector<std::string> present;
 	ini.getAllKeys(section, present);
@@ -94,7 +94,6 @@ TEST(IniDocumentation, DefaultIniDocumentsEveryKeyWithItsDefault)
 	const std::string prefix = "map_adaptiveOctoMap_00_";
 	expectDocumented(docs, ini, prefix + "creationOpts", map.creationOptions().iniKeys(), map.creationOptions());
 	expectDocumented(docs, ini, prefix + "insertOpts", map.insertionOptions.iniKeys(), map.insertionOptions);
-	expectDocumented(
-		docs, ini, prefix + "likelihoodOpts", map.likelihoodOptions.iniKeys(), map.likelihoodOptions);
+	expectDocumented(docs, ini, prefix + "likelihoodOpts", map.likelihoodOptions.iniKeys(), map.likelihoodOptions);
 	expectDocumented(docs, ini, prefix + "renderOpts", map.renderingOptions.iniKeys(), map.renderingOptions);
 }

@@ -39,7 +39,8 @@ void expectFailureWithoutOutputs(const test::CommandResult& r, const fs::path& o
 TEST(MappingPipelineBadInput, MissingRawlog)
 {
 	const auto dir = test::scratchDir("map-bad-missing");
-	const auto r = runMap(quickConfig() + " -r " + (dir / "none.rawlog").string() + " -o " + (dir / "out").string(), dir);
+	const auto r =
+		runMap(quickConfig() + " -r " + (dir / "none.rawlog").string() + " -o " + (dir / "out").string(), dir);
 	expectFailureWithoutOutputs(r, dir / "out", "none.rawlog: rawlog not found");
 }
 
@@ -59,21 +60,26 @@ TEST(MappingPipelineBadInput, MissingImageFolder)
 {
 	const auto dir = test::scratchDir("map-bad-images");
 	fs::create_symlink(test::bonnRawlog(), dir / "alone.rawlog");
-	const auto r = runMap(quickConfig() + " -r " + (dir / "alone.rawlog").string() + " -o " + (dir / "out").string(), dir);
+	const auto r =
+		runMap(quickConfig() + " -r " + (dir / "alone.rawlog").string() + " -o " + (dir / "out").string(), dir);
 	expectFailureWithoutOutputs(r, dir / "out", "alone_Images not found");
 }
 
 TEST(MappingPipelineBadInput, BadIniValueNamesSectionAndKey)
 {
 	const auto dir = test::scratchDir("map-bad-ini");
-	const auto r = runMap(quickConfig("-s pipeline:detect_every_n=-2") + " -r " + test::bonnRawlog().string() + " -o " + (dir / "out").string(), dir);
+	const auto r = runMap(quickConfig("-s pipeline:detect_every_n=-2") + " -r " + test::bonnRawlog().string() + " -o " +
+							  (dir / "out").string(),
+		dir);
 	expectFailureWithoutOutputs(r, dir / "out", "[pipeline] detect_every_n");
 }
 
 TEST(MappingPipelineBadInput, MissingIniFile)
 {
 	const auto dir = test::scratchDir("map-bad-ini-file");
-	const auto r = runMap("-c " + (dir / "nope.ini").string() + " -r " + test::bonnRawlog().string() + " -o " + (dir / "out").string(), dir);
+	const auto r = runMap(
+		"-c " + (dir / "nope.ini").string() + " -r " + test::bonnRawlog().string() + " -o " + (dir / "out").string(),
+		dir);
 	expectFailureWithoutOutputs(r, dir / "out", "nope.ini: ini file not found");
 }
 
@@ -83,14 +89,17 @@ TEST(MappingPipelineBadInput, UnwritableOutputFolder)
 	// file cannot be created by anyone.
 	const auto dir = test::scratchDir("map-bad-out");
 	std::ofstream(dir / "a-file") << "x";
-	const auto r = runMap(quickConfig() + " -r " + test::bonnRawlog().string() + " -o " + (dir / "a-file" / "out").string(), dir);
+	const auto r =
+		runMap(quickConfig() + " -r " + test::bonnRawlog().string() + " -o " + (dir / "a-file" / "out").string(), dir);
 	expectFailureWithoutOutputs(r, dir / "a-file" / "out", "cannot create the output folder");
 }
 
 TEST(MappingPipelineBadInput, UnknownKeyIsWarnedAbout)
 {
 	const auto dir = test::scratchDir("map-unknown-key");
-	const auto r = runMap(quickConfig("-s pipeline:max_frames=3 -s pipeline:detect_evry_n=2") + " -r " + test::bonnRawlog().string() + " -o " + (dir / "out").string(), dir);
+	const auto r = runMap(quickConfig("-s pipeline:max_frames=3 -s pipeline:detect_evry_n=2") + " -r " +
+							  test::bonnRawlog().string() + " -o " + (dir / "out").string(),
+		dir);
 	EXPECT_EQ(r.exitCode, 0) << r.output;
 	EXPECT_NE(r.output.find("unknown key [pipeline] detect_evry_n"), std::string::npos) << r.output;
 }

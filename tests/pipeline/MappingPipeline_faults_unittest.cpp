@@ -65,41 +65,49 @@ int waitFor(pid_t pid)
 int expectCompleteOutputs(const fs::path& out, const std::string& when)
 {
 	int present = 0;
-	const auto check = [&](const char* name, auto&& loads) {
+	const auto check = [&](const char* name, auto&& loads)
+	{
 		if (!fs::exists(out / name)) return;
 		++present;
 		EXPECT_TRUE(loads(out / name)) << name << " is damaged " << when;
 	};
-	const auto loadTree = [](const fs::path& f) {
+	const auto loadTree = [](const fs::path& f)
+	{
 		octomap::OcTree t(0.1);
 		return t.readBinary(f.string());
 	};
 	check("map_low.bt", loadTree);
 	check("map_high.bt", loadTree);
-	check("map.3Dscene", [](const fs::path& f) {
-		mrpt::opengl::COpenGLScene scene;
-		return scene.loadFromFile(f.string());
-	});
-	check("stats.json", [](const fs::path& f) {
-		try
+	check("map.3Dscene",
+		[](const fs::path& f)
 		{
-			return mrpt::containers::yaml::FromFile(f.string())["frames"].as<int>() > 0;
-		}
-		catch (const std::exception&)
+			mrpt::opengl::COpenGLScene scene;
+			return scene.loadFromFile(f.string());
+		});
+	check("stats.json",
+		[](const fs::path& f)
 		{
-			return false;
-		}
-	});
-	check("trajectory.txt", [](const fs::path& f) {
-		try
+			try
+			{
+				return mrpt::containers::yaml::FromFile(f.string())["frames"].as<int>() > 0;
+			}
+			catch (const std::exception&)
+			{
+				return false;
+			}
+		});
+	check("trajectory.txt",
+		[](const fs::path& f)
 		{
-			return !io::readTumTrajectory(f).empty();
-		}
-		catch (const std::exception&)
-		{
-			return false;
-		}
-	});
+			try
+			{
+				return !io::readTumTrajectory(f).empty();
+			}
+			catch (const std::exception&)
+			{
+				return false;
+			}
+		});
 	check("map_top.png", [](const fs::path& f) { return !cv::imread(f.string()).empty(); });
 	return present;
 }
@@ -168,7 +176,8 @@ TEST(MappingPipelineFaults, NanPosesAndEmptyDepthNeverReachTheMap)
 			out << *f->observation << *pose;
 		}
 	}
-	const auto runOn = [&](const std::string& maxFrames) {
+	const auto runOn = [&](const std::string& maxFrames)
+	{
 		mrpt::config::CConfigFileMemory ini(
 			"[pipeline]\npose_source=gt\ndetect_every_n=0\npicture_size=0\nmax_frames=" + maxFrames +
 			"\n[map]\nadaptiveOctoMap_count=1\n");

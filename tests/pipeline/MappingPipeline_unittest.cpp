@@ -69,18 +69,20 @@ const DefaultRun& defaultRun()
 {
 	static DefaultRun run;
 	static std::once_flag once;
-	std::call_once(once, [] {
-		run.out = test::scratchDir(
-			std::string("pipeline-gt-") + ::testing::UnitTest::GetInstance()->current_test_info()->name());
-		// ini/default.ini as shipped, with the model of ../shared: the tests
-		// do not depend on scripts/get-data.sh having been run.
-		mrpt::config::CConfigFileMemory ini;
-		ini.setContent(mrpt::io::file_get_contents((fs::path(AVM_SOURCE_DIR) / "ini/default.ini").string()));
-		ini.write("detection", "model", test::sharedFile("models/yolox_nano.onnx").string());
-		pipeline::MappingPipeline p(ini, AVM_SOURCE_DIR);
-		p.setPoseSource(pipeline::PoseSource::GroundTruth);
-		run.summary = p.run(test::bonnRawlog(), run.out);
-	});
+	std::call_once(once,
+		[]
+		{
+			run.out = test::scratchDir(
+				std::string("pipeline-gt-") + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+			// ini/default.ini as shipped, with the model of ../shared: the tests
+			// do not depend on scripts/get-data.sh having been run.
+			mrpt::config::CConfigFileMemory ini;
+			ini.setContent(mrpt::io::file_get_contents((fs::path(AVM_SOURCE_DIR) / "ini/default.ini").string()));
+			ini.write("detection", "model", test::sharedFile("models/yolox_nano.onnx").string());
+			pipeline::MappingPipeline p(ini, AVM_SOURCE_DIR);
+			p.setPoseSource(pipeline::PoseSource::GroundTruth);
+			run.summary = p.run(test::bonnRawlog(), run.out);
+		});
 	return run;
 }
 }  // namespace
@@ -105,8 +107,8 @@ TEST(PipelineOnBonn, EachSightingPlacesItsPersonsRegionAroundThePerson)
 	// The 3D point at the centre of a detected person's box, placed with that
 	// frame's ground truth, lies inside the region that detection placed.
 	auto persons = personsIn(out / "detections.txt");
-	persons.erase(std::remove_if(persons.begin(), persons.end(), [](const auto& p) { return !p.personId; }),
-		persons.end());
+	persons.erase(
+		std::remove_if(persons.begin(), persons.end(), [](const auto& p) { return !p.personId; }), persons.end());
 	ASSERT_GT(persons.size(), 20u);
 	io::RawlogFrameReader reader(test::bonnRawlog());
 	std::size_t checked = 0, inside = 0;
@@ -114,7 +116,9 @@ TEST(PipelineOnBonn, EachSightingPlacesItsPersonsRegionAroundThePerson)
 	{
 		const auto& target = persons[i];
 		std::optional<io::RgbdFrame> frame;
-		while ((frame = reader.next()) && frame->index != target.frame) {}
+		while ((frame = reader.next()) && frame->index != target.frame)
+		{
+		}
 		ASSERT_TRUE(frame && frame->groundTruth);
 		const cv::Mat depth = io::depthInMetres(*frame->observation);
 		const auto& K = frame->observation->cameraParams;
@@ -129,7 +133,8 @@ TEST(PipelineOnBonn, EachSightingPlacesItsPersonsRegionAroundThePerson)
 		const double d = ds[ds.size() / 2], u = target.x + target.w / 2, v = target.y + target.h / 2;
 		const auto p = frame->groundTruth->composePoint({(u - K.cx()) * d / K.fx(), (v - K.cy()) * d / K.fy(), d});
 		++checked;
-		if (target.region.containsPoint(p)) ++inside;
+		if (target.region.containsPoint(p))
+			++inside;
 		else
 			std::cout << "person at " << p.asString() << " (frame " << target.frame << ") outside its region "
 					  << target.region.asString() << "\n";
@@ -185,7 +190,8 @@ TEST(PipelineOnBonn, PersonTracksCrossTheViewAndLieInTheMappedSpace)
 	ASSERT_FALSE(boxes.empty()) << "people are in view at the end of the sequence";
 	// Space held once: every high leaf lies in a region of the end, every low
 	// leaf outside them (what left a region went back to the low tree).
-	const auto inRegions = [&](double x, double y, double z) {
+	const auto inRegions = [&](double x, double y, double z)
+	{
 		for (const auto& b : boxes)
 			if (x > b.min.x && x < b.max.x && y > b.min.y && y < b.max.y && z > b.min.z && z < b.max.z) return true;
 		return false;
@@ -205,8 +211,7 @@ TEST(PipelineOnBonn, AllOutputsExistAndLoad)
 {
 	const auto& [out, summary] = defaultRun();
 	for (const char* name : {"map_low.bt", "map_high.bt", "map.3Dscene", "trajectory.txt", "trajectory_status.txt",
-							 "detections.txt", "persons.csv", "stats.json", "map_top.png", "map_perspective.png",
-							 "avm-map.log"})
+			 "detections.txt", "persons.csv", "stats.json", "map_top.png", "map_perspective.png", "avm-map.log"})
 		EXPECT_TRUE(fs::exists(out / name)) << name;
 	// One status line per pose: 1 tracked, 0 bridged (the default run loses no frame).
 	std::istringstream status(test::fileBytes(out / "trajectory_status.txt"));
@@ -267,10 +272,12 @@ TEST(PipelineReadAhead, SameFramesInTheSameOrderAsReadingInTheLoop)
 	// boundary and is stopped mid-sequence. Its map and trajectory must be
 	// those of reading on the loop's thread, byte for byte.
 	const auto dir = test::scratchDir("pipeline-read-ahead");
-	const auto runWith = [&](const std::string& readAhead) {
+	const auto runWith = [&](const std::string& readAhead)
+	{
 		mrpt::config::CConfigFileMemory ini(
 			"[pipeline]\npose_source=gt\ndetect_every_n=0\npicture_size=0\nrepeat=2\nmax_frames=400\n"
-			"read_ahead_frames=" + readAhead + "\n[map]\nadaptiveOctoMap_count=1\n");
+			"read_ahead_frames=" +
+			readAhead + "\n[map]\nadaptiveOctoMap_count=1\n");
 		pipeline::MappingPipeline p(ini, AVM_SOURCE_DIR);
 		const auto out = dir / ("read-ahead-" + readAhead);
 		EXPECT_EQ(p.run(test::bonnRawlog(), out).frames, 400u);
@@ -290,10 +297,12 @@ TEST(PipelineAsyncMapping, SameMapAsInsertingInTheLoop)
 	// frames they are added before, the same in both runs; the mapping thread
 	// must not change the map, byte for byte, high-resolution tree included.
 	const auto dir = test::scratchDir("pipeline-async-mapping");
-	const auto runWith = [&](const std::string& async) {
+	const auto runWith = [&](const std::string& async)
+	{
 		mrpt::config::CConfigFileMemory ini(
 			"[pipeline]\npose_source=gt\ndetect_every_n=3\nasync_detection=false\npicture_size=0\nmax_frames=150\n"
-			"async_mapping=" + async + "\n[detection]\nmodel=" + test::sharedFile("models/yolox_nano.onnx").string() +
+			"async_mapping=" +
+			async + "\n[detection]\nmodel=" + test::sharedFile("models/yolox_nano.onnx").string() +
 			"\ninput_width=320\ninput_height=256\n[map]\nadaptiveOctoMap_count=1\n");
 		pipeline::MappingPipeline p(ini, AVM_SOURCE_DIR);
 		const auto out = dir / ("async-mapping-" + async);
@@ -317,7 +326,8 @@ TEST(PipelineAsyncMapping, SameMapAsInsertingInTheLoop)
 TEST(PipelineDeterminism, TheSameRawlogGivesTheSameRun)
 {
 	const auto dir = test::scratchDir("pipeline-determinism");
-	const auto runOnce = [&](const std::string& name) {
+	const auto runOnce = [&](const std::string& name)
+	{
 		mrpt::config::CConfigFileMemory ini;
 		ini.setContent(mrpt::io::file_get_contents((fs::path(AVM_SOURCE_DIR) / "ini/default.ini").string()));
 		ini.write("detection", "model", test::sharedFile("models/yolox_nano.onnx").string());

@@ -61,10 +61,9 @@ std::string mapIni(const std::string& creation, const std::string& insertion = "
 
 test::CommandResult runMap(const fs::path& ini, const std::string& extra = "")
 {
-	return test::runCommand(
-		test::binary("avm-map").string() + " --config '" + ini.string() + "' --rawlog '" +
-			(ini.parent_path() / "none.rawlog").string() + "' --out '" + (ini.parent_path() / "out").string() + "' " +
-			extra,
+	return test::runCommand(test::binary("avm-map").string() + " --config '" + ini.string() + "' --rawlog '" +
+								(ini.parent_path() / "none.rawlog").string() + "' --out '" +
+								(ini.parent_path() / "out").string() + "' " + extra,
 		ini.parent_path());
 }
 
@@ -98,12 +97,14 @@ TEST_P(Program, AnUnknownArgumentIsOneLine)
 	expectOneLineError(r, GetParam() + ": error: --no-such-option: unknown argument (see " + GetParam() + " --help)");
 }
 
-INSTANTIATE_TEST_SUITE_P(AllPrograms, Program, ::testing::ValuesIn(kPrograms), [](const auto& info) {
-	std::string name = info.param;
-	for (auto& c : name)
-		if (c == '-') c = '_';
-	return name;
-});
+INSTANTIATE_TEST_SUITE_P(AllPrograms, Program, ::testing::ValuesIn(kPrograms),
+	[](const auto& info)
+	{
+		std::string name = info.param;
+		for (auto& c : name)
+			if (c == '-') c = '_';
+		return name;
+	});
 
 TEST(ProgramErrors, MissingRequiredArgumentsAreNamed)
 {
@@ -114,8 +115,10 @@ TEST(ProgramErrors, MissingRequiredArgumentsAreNamed)
 		"rawlog and folder)");
 	const auto empty = test::scratchDir("resume-without-checkpoint");
 	expectOneLineError(run("avm-map", "--resume '" + empty.string() + "'", "resume-nothing"),
-		"avm-map: error: " + (empty / "checkpoint.bin").string() + ": no checkpoint (the run was stopped before its "
-		"first frame, or " + empty.string() + " is not an avm-map output folder)");
+		"avm-map: error: " + (empty / "checkpoint.bin").string() +
+			": no checkpoint (the run was stopped before its "
+			"first frame, or " +
+			empty.string() + " is not an avm-map output folder)");
 	expectOneLineError(run("avm-tum2rawlog", "", "missing-tum"),
 		"avm-tum2rawlog: error: missing required argument <DATASET_DIR>, <OUT.rawlog> (see avm-tum2rawlog --help)");
 }
@@ -123,7 +126,8 @@ TEST(ProgramErrors, MissingRequiredArgumentsAreNamed)
 TEST(ProgramErrors, ABadArgumentValueIsOneLine)
 {
 	expectOneLineError(run("avm-tum2rawlog", "--compression abc in out.rawlog", "bad-argument"),
-		"avm-tum2rawlog: error: --compression: Couldn't read argument value from string 'abc' (see avm-tum2rawlog --help)");
+		"avm-tum2rawlog: error: --compression: Couldn't read argument value from string 'abc' (see avm-tum2rawlog "
+		"--help)");
 }
 
 TEST(ProgramErrors, ANonNumberIsCalledOne)

@@ -217,8 +217,9 @@ TEST(MapViewLive, AMapBeingBuiltIsDrawnWithoutHoldingUpTheLoop)
 	auto last = avm::viewer::snapshotOf(map);
 	last.trajectory = trajectory;
 	last.camera = trajectory.back();
-	std::printf("viewer: %zu frames in %.1f s, %zu snapshots (gui_fps %.0f), snapshotOf mean %.2f ms max %.2f ms "
-				"(final map: %zu low + %zu high occupied voxels), show() median %.3f ms max %.3f ms\n",
+	std::printf(
+		"viewer: %zu frames in %.1f s, %zu snapshots (gui_fps %.0f), snapshotOf mean %.2f ms max %.2f ms "
+		"(final map: %zu low + %zu high occupied voxels), show() median %.3f ms max %.3f ms\n",
 		trajectory.size(), seconds, snapshots, opt.fps, snapshots ? snapshotMsSum / snapshots : 0.0, snapshotMsMax,
 		last.lowOccupied.size(), last.highOccupied.size(), median(showMs), showMsMax);
 	EXPECT_GT(snapshots, 0u);
@@ -245,9 +246,10 @@ TEST(AvmView, ShowsAFinishedRunInTheScreenshot)
 {
 	const auto& x = xserver();
 	const auto dir = avm::test::scratchDir("viewer-avm-view");
-	const auto run = avm::test::runCommand(avm::test::binary("avm-map").string() + " -q -c " +
-			(fs::path(AVM_SOURCE_DIR) / "ini/default.ini").string() + " -r " + avm::test::bonnRawlog().string() +
-			" -o " + (dir / "run").string() + " --poses gt --set pipeline:max_frames=120" +
+	const auto run = avm::test::runCommand(
+		avm::test::binary("avm-map").string() + " -q -c " + (fs::path(AVM_SOURCE_DIR) / "ini/default.ini").string() +
+			" -r " + avm::test::bonnRawlog().string() + " -o " + (dir / "run").string() +
+			" --poses gt --set pipeline:max_frames=120" +
 			" --set detection:model=" + avm::test::sharedFile("models/yolox_nano.onnx").string(),
 		dir);
 	ASSERT_EQ(run.exitCode, 0) << run.output;
@@ -255,12 +257,13 @@ TEST(AvmView, ShowsAFinishedRunInTheScreenshot)
 
 	const auto shot = dir / "avm-view.png";
 	const auto view = avm::test::runCommand("DISPLAY=" + x.display() + " " + avm::test::binary("avm-view").string() +
-			" " + (dir / "run").string() + " --screenshot " + shot.string(),
+												" " + (dir / "run").string() + " --screenshot " + shot.string(),
 		dir);
 	ASSERT_EQ(view.exitCode, 0) << view.output;
 	expectMapOnScreen(shot);
 
-	const auto missing = avm::test::runCommand(avm::test::binary("avm-view").string() + " " + dir.string() + "/none", dir);
+	const auto missing =
+		avm::test::runCommand(avm::test::binary("avm-view").string() + " " + dir.string() + "/none", dir);
 	EXPECT_EQ(missing.exitCode, 1);
 	EXPECT_NE(missing.output.find("avm-view: error: "), std::string::npos) << missing.output;
 	EXPECT_NE(missing.output.find("map_low.bt"), std::string::npos) << missing.output;
@@ -274,10 +277,11 @@ TEST(AvmMapGui, TheLiveViewShowsTheMapGrowing)
 	const auto& x = xserver();
 	const auto dir = avm::test::scratchDir("viewer-avm-map-gui");
 	const auto shot = dir / "avm-map-gui.png";
-	const auto run = avm::test::runCommand("DISPLAY=" + x.display() + " " + avm::test::binary("avm-map").string() +
-			" -q -c " + (fs::path(AVM_SOURCE_DIR) / "ini/default.ini").string() + " -r " +
-			avm::test::bonnRawlog().string() + " -o " + (dir / "run").string() +
-			" --poses gt --gui --gui-screenshot " + shot.string() + " --set pipeline:max_frames=120" +
+	const auto run = avm::test::runCommand(
+		"DISPLAY=" + x.display() + " " + avm::test::binary("avm-map").string() + " -q -c " +
+			(fs::path(AVM_SOURCE_DIR) / "ini/default.ini").string() + " -r " + avm::test::bonnRawlog().string() +
+			" -o " + (dir / "run").string() + " --poses gt --gui --gui-screenshot " + shot.string() +
+			" --set pipeline:max_frames=120" +
 			" --set detection:model=" + avm::test::sharedFile("models/yolox_nano.onnx").string(),
 		dir);
 	ASSERT_EQ(run.exitCode, 0) << run.output;
@@ -287,7 +291,8 @@ TEST(AvmMapGui, TheLiveViewShowsTheMapGrowing)
 	expectMapOnScreen(shot);
 
 	// Without a display the view cannot open: one line, no run.
-	const auto noDisplay = avm::test::runCommand("env -u DISPLAY " + avm::test::binary("avm-map").string() + " -q -c " +
+	const auto noDisplay = avm::test::runCommand(
+		"env -u DISPLAY " + avm::test::binary("avm-map").string() + " -q -c " +
 			(fs::path(AVM_SOURCE_DIR) / "ini/default.ini").string() + " -r " + avm::test::bonnRawlog().string() +
 			" -o " + (dir / "nodisplay").string() + " --gui --set pipeline:max_frames=5" +
 			" --set detection:model=" + avm::test::sharedFile("models/yolox_nano.onnx").string(),

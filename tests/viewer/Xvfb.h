@@ -25,7 +25,7 @@ class XvfbServer
 		if (m_pid == 0)
 		{
 			::close(fds[0]);
-			::prctl(PR_SET_PDEATHSIG, SIGTERM);	 // the server ends with the test process
+			::prctl(PR_SET_PDEATHSIG, SIGTERM);  // the server ends with the test process
 			const std::string fd = std::to_string(fds[1]);
 			::execlp("Xvfb", "Xvfb", "-displayfd", fd.c_str(), "-screen", "0", screen.c_str(), "-nolisten", "tcp",
 				static_cast<char*>(nullptr));

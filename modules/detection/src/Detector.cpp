@@ -22,7 +22,7 @@ std::vector<Detection> personsOnly(const std::vector<Detection>& detections)
 {
 	std::vector<Detection> persons;
 	std::copy_if(detections.begin(), detections.end(), std::back_inserter(persons),
-				 [](const Detection& d) { return d.className == "person"; });
+		[](const Detection& d) { return d.className == "person"; });
 	return persons;
 }
 
@@ -41,10 +41,7 @@ std::string shapeString(const std::vector<int>& shape)
 	return s;
 }
 
-std::vector<int> shapeOf(const cv::Mat& m)
-{
-	return std::vector<int>(m.size.p, m.size.p + m.dims);
-}
+std::vector<int> shapeOf(const cv::Mat& m) { return std::vector<int>(m.size.p, m.size.p + m.dims); }
 
 /** A YOLO-family ONNX model run by cv::dnn on the CPU. */
 class DnnDetector : public DetectorBase
@@ -57,9 +54,9 @@ class DnnDetector : public DetectorBase
 		m_params.scoreThreshold = static_cast<float>(o.score_threshold);
 		m_params.nmsThreshold = static_cast<float>(o.nms_threshold);
 		if (!fs::exists(m_file))
-			throw std::runtime_error(
-				m_file.string() + ": model file not found (run scripts/get-data.sh to fetch the default model, "
-								  "or set [detection] model; model = \"\" uses the HOG people detector)");
+			throw std::runtime_error(m_file.string() +
+									 ": model file not found (run scripts/get-data.sh to fetch the default model, "
+									 "or set [detection] model; model = \"\" uses the HOG people detector)");
 		if (!fs::is_regular_file(m_file)) throw std::runtime_error(m_file.string() + ": model path is not a file");
 		try
 		{
@@ -110,28 +107,26 @@ class DnnDetector : public DetectorBase
 		}
 		catch (const cv::Exception& e)
 		{
-			throw std::runtime_error(
-				m_file.string() + ": the model does not run on a " + std::to_string(m_input.width) + "x" +
-				std::to_string(m_input.height) + " input (check [detection] input_width/input_height): " +
-				firstLine(e.what()));
+			throw std::runtime_error(m_file.string() + ": the model does not run on a " +
+									 std::to_string(m_input.width) + "x" + std::to_string(m_input.height) +
+									 " input (check [detection] input_width/input_height): " + firstLine(e.what()));
 		}
 		const auto recognised = recogniseLayout(shapeOf(out), m_input);
 		if (wanted == OutputLayout::Auto)
 		{
 			if (!recognised)
 				throw std::runtime_error(
-					m_file.string() + ": output shape " + shapeString(shapeOf(out)) +
-					" is not a known layout for a " + std::to_string(m_input.width) + "x" +
-					std::to_string(m_input.height) + " input (expected " + expectedShape(OutputLayout::Auto, m_input) +
-					"); set [detection] layout and the input size");
+					m_file.string() + ": output shape " + shapeString(shapeOf(out)) + " is not a known layout for a " +
+					std::to_string(m_input.width) + "x" + std::to_string(m_input.height) + " input (expected " +
+					expectedShape(OutputLayout::Auto, m_input) + "); set [detection] layout and the input size");
 			m_layout = *recognised;
 		}
 		else
 		{
 			if (recognised != wanted)
-				throw std::runtime_error(
-					m_file.string() + ": output shape " + shapeString(shapeOf(out)) + " does not fit [detection] layout = " +
-					toString(wanted) + " (expected " + expectedShape(wanted, m_input) + ")");
+				throw std::runtime_error(m_file.string() + ": output shape " + shapeString(shapeOf(out)) +
+										 " does not fit [detection] layout = " + toString(wanted) + " (expected " +
+										 expectedShape(wanted, m_input) + ")");
 			m_layout = wanted;
 		}
 	}
@@ -162,7 +157,8 @@ class HogPeopleDetector : public DetectorBase
 
 	std::vector<Detection> detect(const cv::Mat& bgr) override
 	{
-		if (bgr.empty() || bgr.type() != CV_8UC3) throw std::invalid_argument("detector input must be a non-empty BGR CV_8UC3 image");
+		if (bgr.empty() || bgr.type() != CV_8UC3)
+			throw std::invalid_argument("detector input must be a non-empty BGR CV_8UC3 image");
 		std::vector<cv::Rect> found;
 		std::vector<double> weights;
 		m_hog.detectMultiScale(bgr, found, weights, m_hitThreshold, cv::Size(8, 8), cv::Size(), 1.05, 2.0);
@@ -174,7 +170,8 @@ class HogPeopleDetector : public DetectorBase
 			if (box.empty()) continue;
 			out.push_back({cv::Rect2f(box), 0, "person", i < weights.size() ? static_cast<float>(weights[i]) : 0.f});
 		}
-		std::stable_sort(out.begin(), out.end(), [](const Detection& a, const Detection& b) { return a.score > b.score; });
+		std::stable_sort(
+			out.begin(), out.end(), [](const Detection& a, const Detection& b) { return a.score > b.score; });
 		return out;
 	}
 

@@ -30,7 +30,8 @@ cv::Mat asMatrix(const cv::Mat& output, int expectedCols, const char* layout)
 {
 	if (output.type() != CV_32F) throw std::invalid_argument(std::string(layout) + " output is not CV_32F");
 	if (output.total() % static_cast<std::size_t>(expectedCols) != 0 || output.total() == 0)
-		throw std::invalid_argument(std::string(layout) + " output size is not a multiple of " + std::to_string(expectedCols));
+		throw std::invalid_argument(
+			std::string(layout) + " output size is not a multiple of " + std::to_string(expectedCols));
 	cv::Mat m = output.isContinuous() ? output : output.clone();
 	return m.reshape(1, static_cast<int>(m.total() / static_cast<std::size_t>(expectedCols)));
 }
@@ -41,8 +42,7 @@ bool wanted(const DecodeParams& p, int classId)
 }
 
 /** Best wanted class of one candidate given its class scores (times a common factor). */
-void addCandidate(
-	std::vector<Detection>& out, const float* classScores, int numClasses, int classStep, float factor,
+void addCandidate(std::vector<Detection>& out, const float* classScores, int numClasses, int classStep, float factor,
 	float cx, float cy, float w, float h, const Letterbox& lb, const DecodeParams& p)
 {
 	int best = -1;
@@ -55,8 +55,7 @@ void addCandidate(
 	if (best < 0 || bestScore < p.scoreThreshold) return;
 	// A broken model can output NaN or infinities; such a box has no place in
 	// the image (found by fuzzing: NaN passed std::clamp into the boxes).
-	if (!std::isfinite(bestScore) || !std::isfinite(cx) || !std::isfinite(cy) || !std::isfinite(w) ||
-		!std::isfinite(h))
+	if (!std::isfinite(bestScore) || !std::isfinite(cx) || !std::isfinite(cy) || !std::isfinite(w) || !std::isfinite(h))
 		return;
 	const cv::Rect2f box = lb.toImage(cx, cy, w, h);
 	if (box.width <= 0 || box.height <= 0) return;
@@ -99,7 +98,8 @@ Letterbox letterboxFor(OutputLayout layout, cv::Size image, cv::Size input)
 
 cv::Mat makeInputBlob(const cv::Mat& bgr, OutputLayout layout, cv::Size input, Letterbox& lb)
 {
-	if (bgr.empty() || bgr.type() != CV_8UC3) throw std::invalid_argument("detector input must be a non-empty BGR CV_8UC3 image");
+	if (bgr.empty() || bgr.type() != CV_8UC3)
+		throw std::invalid_argument("detector input must be a non-empty BGR CV_8UC3 image");
 	lb = letterboxFor(layout, bgr.size(), input);
 	const cv::Size scaled(
 		static_cast<int>(std::round(bgr.cols * lb.scale)), static_cast<int>(std::round(bgr.rows * lb.scale)));
@@ -129,21 +129,26 @@ std::string expectedShape(OutputLayout layout, cv::Size input)
 	const int cells = gridCells(input);
 	switch (layout)
 	{
-		case OutputLayout::Yolox: return "1x" + std::to_string(cells) + "x85";
-		case OutputLayout::Yolov5: return "1x" + std::to_string(3 * cells) + "x85";
-		case OutputLayout::Yolov8: return "1x84x" + std::to_string(cells);
-		case OutputLayout::Auto: break;
+		case OutputLayout::Yolox:
+			return "1x" + std::to_string(cells) + "x85";
+		case OutputLayout::Yolov5:
+			return "1x" + std::to_string(3 * cells) + "x85";
+		case OutputLayout::Yolov8:
+			return "1x84x" + std::to_string(cells);
+		case OutputLayout::Auto:
+			break;
 	}
-	return "1x" + std::to_string(cells) + "x85 (yolox), 1x" + std::to_string(3 * cells) + "x85 (yolov5) or 1x84xN (yolov8)";
+	return "1x" + std::to_string(cells) + "x85 (yolox), 1x" + std::to_string(3 * cells) +
+		   "x85 (yolov5) or 1x84xN (yolov8)";
 }
 
 std::vector<Detection> decodeYolox(const cv::Mat& output, const Letterbox& lb, const DecodeParams& p)
 {
 	const cv::Mat m = asMatrix(output, 85, "YOLOX");
 	if (m.rows != gridCells(lb.input))
-		throw std::invalid_argument(
-			"YOLOX output has " + std::to_string(m.rows) + " rows, the " + std::to_string(lb.input.width) + "x" +
-			std::to_string(lb.input.height) + " grids have " + std::to_string(gridCells(lb.input)));
+		throw std::invalid_argument("YOLOX output has " + std::to_string(m.rows) + " rows, the " +
+									std::to_string(lb.input.width) + "x" + std::to_string(lb.input.height) +
+									" grids have " + std::to_string(gridCells(lb.input)));
 	std::vector<Detection> candidates;
 	int row = 0;
 	for (int stride : kStrides)
@@ -190,14 +195,19 @@ std::vector<Detection> decodeYolov8(const cv::Mat& output, const Letterbox& lb, 
 	return nonMaximumSuppression(candidates, p.nmsThreshold);
 }
 
-std::vector<Detection> decodeOutput(OutputLayout layout, const cv::Mat& output, const Letterbox& lb, const DecodeParams& p)
+std::vector<Detection> decodeOutput(
+	OutputLayout layout, const cv::Mat& output, const Letterbox& lb, const DecodeParams& p)
 {
 	switch (layout)
 	{
-		case OutputLayout::Yolox: return decodeYolox(output, lb, p);
-		case OutputLayout::Yolov5: return decodeYolov5(output, lb, p);
-		case OutputLayout::Yolov8: return decodeYolov8(output, lb, p);
-		case OutputLayout::Auto: break;
+		case OutputLayout::Yolox:
+			return decodeYolox(output, lb, p);
+		case OutputLayout::Yolov5:
+			return decodeYolov5(output, lb, p);
+		case OutputLayout::Yolov8:
+			return decodeYolov8(output, lb, p);
+		case OutputLayout::Auto:
+			break;
 	}
 	throw std::logic_error("decodeOutput needs a resolved layout");
 }
@@ -216,7 +226,8 @@ std::vector<Detection> nonMaximumSuppression(const std::vector<Detection>& candi
 		cv::dnn::NMSBoxes(boxes, scores, 0.f, iouThreshold, keep);
 		for (int k : keep) kept.push_back(candidates[members[static_cast<std::size_t>(k)]]);
 	}
-	std::stable_sort(kept.begin(), kept.end(), [](const Detection& a, const Detection& b) { return a.score > b.score; });
+	std::stable_sort(
+		kept.begin(), kept.end(), [](const Detection& a, const Detection& b) { return a.score > b.score; });
 	return kept;
 }
 }  // namespace avm::detection

@@ -60,9 +60,9 @@ void writePersonLabels(mrpt::obs::CObservation3DRangeScan& obs, const std::vecto
 	}
 	auto& labels = *obs.pixelLabels;
 	if (const cv::Size size = labelMatrixSize(labels); size != depthSize)
-		throw std::runtime_error(
-			"pixelLabels are " + std::to_string(size.width) + "x" + std::to_string(size.height) + ", the depth image " +
-			std::to_string(depthSize.width) + "x" + std::to_string(depthSize.height));
+		throw std::runtime_error("pixelLabels are " + std::to_string(size.width) + "x" + std::to_string(size.height) +
+								 ", the depth image " + std::to_string(depthSize.width) + "x" +
+								 std::to_string(depthSize.height));
 	const auto free = clearPersonLabels(labels, depthSize);
 	if (free.empty())
 		throw std::runtime_error("pixelLabels: all " + std::to_string(8u * labels.BITFIELD_BYTES) +

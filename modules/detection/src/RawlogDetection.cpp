@@ -31,9 +31,8 @@ bool linkImagesFolder(const fs::path& target, const fs::path& link)
 	if (fs::exists(link) || fs::is_symlink(link))
 	{
 		if (fs::exists(link) && fs::equivalent(link, target)) return false;
-		throw std::runtime_error(
-			link.string() + ": exists and is not the input's images folder " + target.string() +
-			" (remove it or choose another output name)");
+		throw std::runtime_error(link.string() + ": exists and is not the input's images folder " + target.string() +
+								 " (remove it or choose another output name)");
 	}
 	fs::create_directory_symlink(fs::absolute(target), link);
 	return true;
@@ -93,7 +92,8 @@ class LabellingPass
 				const auto z = persons::estimateSighting(obs, {}, personPixels(d, size), {}).sighting;
 				char line[64];
 				std::snprintf(line, sizeof(line), "%zu %.6f ", index, mrpt::Clock::toDouble(obs.timestamp));
-				m_lines << line << formatDetection(d) << " " << (z ? std::to_string(z->depth) : std::string("nan")) << "\n";
+				m_lines << line << formatDetection(d) << " " << (z ? std::to_string(z->depth) : std::string("nan"))
+						<< "\n";
 			}
 		}
 		catch (const std::exception& e)
@@ -118,17 +118,15 @@ class LabellingPass
 std::string formatDetection(const Detection& d)
 {
 	char buf[160];
-	std::snprintf(
-		buf, sizeof(buf), "%s %.3f %.1f %.1f %.1f %.1f", d.className.c_str(), d.score, d.box.x, d.box.y, d.box.width,
-		d.box.height);
+	std::snprintf(buf, sizeof(buf), "%s %.3f %.1f %.1f %.1f %.1f", d.className.c_str(), d.score, d.box.x, d.box.y,
+		d.box.width, d.box.height);
 	std::string s = buf;
 	std::replace(s.begin(), s.begin() + static_cast<long>(d.className.size()), ' ', '_');  // "traffic light"
 	return s;
 }
 
-LabelRawlogSummary labelRawlog(
-	DetectorBase& detector, const TDetectorOptions& options, const fs::path& in, const fs::path& out,
-	std::size_t every, const std::function<void(double)>& progress)
+LabelRawlogSummary labelRawlog(DetectorBase& detector, const TDetectorOptions& options, const fs::path& in,
+	const fs::path& out, std::size_t every, const std::function<void(double)>& progress)
 {
 	if (every == 0) throw std::invalid_argument("detection interval must be >= 1 frame");
 	// A first pass finds a missing or damaged input before anything is
@@ -150,26 +148,34 @@ LabelRawlogSummary labelRawlog(
 	LabellingPass pass(detector, options, every, summary);
 	try
 	{
-		io::writeFileAtomically(out, [&](const fs::path& tmp) {
-			mrpt::io::CFileGZOutputStream outFile(tmp.string());
-			auto writer = mrpt::serialization::archiveFrom(outFile);
-			forEachEntry(in, [&](mrpt::serialization::CSerializable& obj) {
-				const auto scans = rgbdObservations(obj);
-				for (auto* scan : scans) pass.process(*scan);
-				writer << obj;
-				if (progress && !scans.empty()) progress(double(summary.frames) / std::max<std::size_t>(1, total));
+		io::writeFileAtomically(out,
+			[&](const fs::path& tmp)
+			{
+				mrpt::io::CFileGZOutputStream outFile(tmp.string());
+				auto writer = mrpt::serialization::archiveFrom(outFile);
+				forEachEntry(in,
+					[&](mrpt::serialization::CSerializable& obj)
+					{
+						const auto scans = rgbdObservations(obj);
+						for (auto* scan : scans) pass.process(*scan);
+						writer << obj;
+						if (progress && !scans.empty())
+							progress(double(summary.frames) / std::max<std::size_t>(1, total));
+					});
 			});
-		});
-		const std::string header =
-			"# avm-detect: " + detector.description() + "\n# input " + in.string() +
-			"\n# frame timestamp class score x y w h depth   (box [px] in the colour image; depth [m] = robust person depth)\n";
-		io::writeFileAtomically(summary.detectionsFile, [&](const fs::path& tmp) {
-			std::FILE* f = std::fopen(tmp.c_str(), "w");
-			if (!f) throw std::runtime_error(tmp.string() + ": cannot write");
-			const std::string text = header + pass.text();
-			const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
-			if (std::fclose(f) != 0 || !ok) throw std::runtime_error(summary.detectionsFile.string() + ": write failed");
-		});
+		const std::string header = "# avm-detect: " + detector.description() + "\n# input " + in.string() +
+								   "\n# frame timestamp class score x y w h depth   (box [px] in the colour image; "
+								   "depth [m] = robust person depth)\n";
+		io::writeFileAtomically(summary.detectionsFile,
+			[&](const fs::path& tmp)
+			{
+				std::FILE* f = std::fopen(tmp.c_str(), "w");
+				if (!f) throw std::runtime_error(tmp.string() + ": cannot write");
+				const std::string text = header + pass.text();
+				const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+				if (std::fclose(f) != 0 || !ok)
+					throw std::runtime_error(summary.detectionsFile.string() + ": write failed");
+			});
 	}
 	catch (...)
 	{

@@ -33,10 +33,14 @@ std::string toString(OutputLayout layout)
 {
 	switch (layout)
 	{
-		case OutputLayout::Auto: return "auto";
-		case OutputLayout::Yolox: return "yolox";
-		case OutputLayout::Yolov5: return "yolov5";
-		case OutputLayout::Yolov8: return "yolov8";
+		case OutputLayout::Auto:
+			return "auto";
+		case OutputLayout::Yolox:
+			return "yolox";
+		case OutputLayout::Yolov5:
+			return "yolov5";
+		case OutputLayout::Yolov8:
+			return "yolov8";
 	}
 	return "auto";
 }

@@ -162,7 +162,8 @@ std::string formatReport(const TrajectoryErrors& e)
 {
 	std::ostringstream s;
 	s << std::fixed;
-	const auto line = [&](const char* name, const ErrorStatistics& st, const char* unit, int precision) {
+	const auto line = [&](const char* name, const ErrorStatistics& st, const char* unit, int precision)
+	{
 		s << std::setprecision(precision) << name << " rmse " << st.rmse << " mean " << st.mean << " median "
 		  << st.median << " max " << st.max << " " << unit << " (" << st.count << ")\n";
 	};

@@ -12,8 +12,8 @@ namespace fs = std::filesystem;
 
 fs::path temporaryPathFor(const fs::path& target)
 {
-	const std::string name = "." + target.stem().string() + ".partial-" +
-							 std::to_string(::getpid()) + target.extension().string();
+	const std::string name =
+		"." + target.stem().string() + ".partial-" + std::to_string(::getpid()) + target.extension().string();
 	return target.parent_path() / name;
 }
 

@@ -42,7 +42,8 @@ std::optional<T> whole(std::string_view text, std::errc& error)
 	return v;
 }
 
-[[noreturn]] void reject(const std::string& section, const std::string& key, const std::string& text, const std::string& why)
+[[noreturn]] void reject(
+	const std::string& section, const std::string& key, const std::string& text, const std::string& why)
 {
 	throw iniValueError(section, key, text, why);
 }
@@ -84,7 +85,8 @@ T parseIniValue(const std::string& section, const std::string& key, const std::s
 		{
 			// Anything else whole is written as a real number (1e3).
 			if (*real != std::floor(*real)) reject(section, key, text, "not a whole number");
-			if (beyondT || *real < double(std::numeric_limits<T>::min()) || *real > double(std::numeric_limits<T>::max()))
+			if (beyondT || *real < double(std::numeric_limits<T>::min()) ||
+				*real > double(std::numeric_limits<T>::max()))
 				reject(section, key, text, "out of range (" + rangeOf<T>() + ")");
 			return static_cast<T>(*real);
 		}
@@ -98,8 +100,7 @@ template std::int64_t parseIniValue<std::int64_t>(const std::string&, const std:
 template double parseIniValue<double>(const std::string&, const std::string&, const std::string&);
 
 std::vector<std::string> unknownKeys(
-	const mrpt::config::CConfigFileBase& ini, const std::string& section,
-	const mrpt::config::CLoadableOptions& options)
+	const mrpt::config::CConfigFileBase& ini, const std::string& section, const mrpt::config::CLoadableOptions& options)
 {
 	mrpt::config::CConfigFileMemory known;
 	options.saveToConfigFile(known, section);

@@ -97,7 +97,8 @@ void CommandLine::rejectUnknownOptions(int argc, const char** argv)
 	// ("avm-eval --typo" reads a trajectory named --typo); a word that looks
 	// like an option must be one. Values of options (e.g. --max-dt -1) and
 	// everything after "--" are left alone.
-	const auto find = [&](const std::string& word) -> const TCLAP::Arg* {
+	const auto find = [&](const std::string& word) -> const TCLAP::Arg*
+	{
 		for (const TCLAP::Arg* a : getArgList())
 			if ((word.rfind("--", 0) == 0 && word.substr(2) == a->getName()) ||
 				(!a->getFlag().empty() && word == "-" + a->getFlag()))
@@ -137,8 +138,7 @@ void useImagesFolderOf(const std::filesystem::path& rawlog)
 	mrpt::img::CImage::setImagesPathBase(imagesDirectoryOf(rawlog).string());
 }
 
-int runProgram(
-	const std::string& name, const std::string& description, const std::function<int(CommandLine&)>& body)
+int runProgram(const std::string& name, const std::string& description, const std::function<int(CommandLine&)>& body)
 {
 	CommandLine cmd(name, description);
 	try

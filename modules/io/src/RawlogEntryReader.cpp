@@ -71,9 +71,8 @@ mrpt::serialization::CSerializable::Ptr RawlogEntryReader::next()
 	}
 	catch (const std::exception& e)
 	{
-		throw std::runtime_error(
-			m_path.string() + ": corrupt or truncated rawlog at entry " + std::to_string(m_entries) + " (" +
-			std::string(e.what()).substr(0, 300) + ")");
+		throw std::runtime_error(m_path.string() + ": corrupt or truncated rawlog at entry " +
+								 std::to_string(m_entries) + " (" + std::string(e.what()).substr(0, 300) + ")");
 	}
 	// A stored null would read as the end of the data.
 	if (!obj) throw std::runtime_error(m_path.string() + ": empty object at entry " + std::to_string(m_entries));

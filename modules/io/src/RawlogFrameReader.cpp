@@ -22,8 +22,7 @@ constexpr double kSameTimeTolerance = 1e-3;  // [s]
 
 bool sameTime(const CObservation& a, const CObservation& b)
 {
-	return std::abs(mrpt::Clock::toDouble(a.timestamp) - mrpt::Clock::toDouble(b.timestamp)) <
-		   kSameTimeTolerance;
+	return std::abs(mrpt::Clock::toDouble(a.timestamp) - mrpt::Clock::toDouble(b.timestamp)) < kSameTimeTolerance;
 }
 
 bool hasExternalImages(const CObservation3DRangeScan& scan)
@@ -123,10 +122,9 @@ std::optional<RgbdFrame> RawlogFrameReader::next()
 		if (!m_loadImages) return frame;
 		// Another rawlog's folder could hold files of the same names.
 		if (hasExternalImages(*scan) && !mrptReadsImagesFrom(m_imagesDir))
-			throw std::logic_error(
-				m_path.string() + ": its external images are in " + m_imagesDir.string() +
-				" but MRPT reads them from " + mrpt::img::CImage::getImagesPathBase() +
-				" (the program must call io::useImagesFolderOf first)");
+			throw std::logic_error(m_path.string() + ": its external images are in " + m_imagesDir.string() +
+								   " but MRPT reads them from " + mrpt::img::CImage::getImagesPathBase() +
+								   " (the program must call io::useImagesFolderOf first)");
 		try
 		{
 			scan->load();
@@ -135,12 +133,11 @@ std::optional<RgbdFrame> RawlogFrameReader::next()
 		catch (const std::exception& e)
 		{
 			// One missing image costs one frame; a missing folder costs them all.
-			if (scan->hasIntensityImage && scan->intensityImage.isExternallyStored() &&
-				!fs::is_directory(m_imagesDir))
+			if (scan->hasIntensityImage && scan->intensityImage.isExternallyStored() && !fs::is_directory(m_imagesDir))
 				throw std::runtime_error(
 					m_path.string() + ": external images folder " + m_imagesDir.string() + " not found");
-			const std::string why = "frame " + std::to_string(frame.index) + " skipped: " +
-									std::string(e.what()).substr(0, 300);
+			const std::string why =
+				"frame " + std::to_string(frame.index) + " skipped: " + std::string(e.what()).substr(0, 300);
 			m_skipped.push_back(why);
 			logStr(mrpt::system::LVL_WARN, why + "\n");
 			continue;

@@ -8,10 +8,7 @@
 
 namespace avm::io
 {
-double RgbdFrame::timestamp() const
-{
-	return observation ? mrpt::Clock::toDouble(observation->timestamp) : 0.0;
-}
+double RgbdFrame::timestamp() const { return observation ? mrpt::Clock::toDouble(observation->timestamp) : 0.0; }
 
 mrpt::poses::CPose3D opticalToSensorPose()
 {

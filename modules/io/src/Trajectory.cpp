@@ -37,33 +37,35 @@ Eigen::Quaterniond quaternionOf(const mrpt::poses::CPose3D& p)
 
 mrpt::poses::CPose3D poseOf(const Eigen::Vector3d& t, const Eigen::Quaterniond& q)
 {
-	return mrpt::poses::CPose3D(mrpt::poses::CPose3DQuat(
-		t.x(), t.y(), t.z(), mrpt::math::CQuaternionDouble(q.w(), q.x(), q.y(), q.z())));
+	return mrpt::poses::CPose3D(
+		mrpt::poses::CPose3DQuat(t.x(), t.y(), t.z(), mrpt::math::CQuaternionDouble(q.w(), q.x(), q.y(), q.z())));
 }
 }  // namespace
 
 Trajectory readTumTrajectory(const fs::path& file)
 {
 	Trajectory out;
-	detail::forEachDataLine(file, [&](std::istream& ss, std::size_t lineNo) {
-		double v[8];
-		for (double& x : v)
+	detail::forEachDataLine(file,
+		[&](std::istream& ss, std::size_t lineNo)
 		{
-			// strtod, unlike operator>>, reads "nan" and "inf", so they are
-			// reported as such rather than as a malformed line.
-			std::string token;
-			char* end = nullptr;
-			if (!(ss >> token) || (x = std::strtod(token.c_str(), &end), *end != '\0'))
-				detail::failAt(file, lineNo, "expected 'timestamp tx ty tz qx qy qz qw'");
-		}
-		if (!std::all_of(std::begin(v), std::end(v), [](double x) { return std::isfinite(x); }))
-			detail::failAt(file, lineNo, "non-finite value");
-		Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
-		if (std::abs(q.norm() - 1.0) > 1e-2)
-			detail::failAt(file, lineNo, "quaternion is not of unit norm (" + std::to_string(q.norm()) + ")");
-		if (!out.empty() && v[0] <= out.back().timestamp) detail::failAt(file, lineNo, "timestamps out of order");
-		out.push_back({v[0], poseOf({v[1], v[2], v[3]}, q.normalized())});
-	});
+			double v[8];
+			for (double& x : v)
+			{
+				// strtod, unlike operator>>, reads "nan" and "inf", so they are
+				// reported as such rather than as a malformed line.
+				std::string token;
+				char* end = nullptr;
+				if (!(ss >> token) || (x = std::strtod(token.c_str(), &end), *end != '\0'))
+					detail::failAt(file, lineNo, "expected 'timestamp tx ty tz qx qy qz qw'");
+			}
+			if (!std::all_of(std::begin(v), std::end(v), [](double x) { return std::isfinite(x); }))
+				detail::failAt(file, lineNo, "non-finite value");
+			Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
+			if (std::abs(q.norm() - 1.0) > 1e-2)
+				detail::failAt(file, lineNo, "quaternion is not of unit norm (" + std::to_string(q.norm()) + ")");
+			if (!out.empty() && v[0] <= out.back().timestamp) detail::failAt(file, lineNo, "timestamps out of order");
+			out.push_back({v[0], poseOf({v[1], v[2], v[3]}, q.normalized())});
+		});
 	return out;
 }
 
@@ -71,30 +73,30 @@ std::string toTumLine(const TimedPose& p)
 {
 	const auto q = quaternionOf(p.pose);
 	char buf[256];
-	std::snprintf(
-		buf, sizeof(buf), "%.6f %.6f %.6f %.6f %.7f %.7f %.7f %.7f", p.timestamp, p.pose.x(),
-		p.pose.y(), p.pose.z(), q.x(), q.y(), q.z(), q.w());
+	std::snprintf(buf, sizeof(buf), "%.6f %.6f %.6f %.6f %.7f %.7f %.7f %.7f", p.timestamp, p.pose.x(), p.pose.y(),
+		p.pose.z(), q.x(), q.y(), q.z(), q.w());
 	return buf;
 }
 
 void writeTumTrajectory(const fs::path& file, const Trajectory& poses, const std::string& header)
 {
-	writeFileAtomically(file, [&](const fs::path& tmp) {
-		std::ofstream out(tmp);
-		if (!out) throw std::runtime_error(file.string() + ": cannot write trajectory");
-		out << "# " << (header.empty() ? "trajectory" : header) << "\n";
-		out << "# timestamp tx ty tz qx qy qz qw\n";
-		for (const auto& p : poses) out << toTumLine(p) << "\n";
-		if (!out.flush()) throw std::runtime_error(file.string() + ": write failed");
-	});
+	writeFileAtomically(file,
+		[&](const fs::path& tmp)
+		{
+			std::ofstream out(tmp);
+			if (!out) throw std::runtime_error(file.string() + ": cannot write trajectory");
+			out << "# " << (header.empty() ? "trajectory" : header) << "\n";
+			out << "# timestamp tx ty tz qx qy qz qw\n";
+			for (const auto& p : poses) out << toTumLine(p) << "\n";
+			if (!out.flush()) throw std::runtime_error(file.string() + ": write failed");
+		});
 }
 
 std::optional<mrpt::poses::CPose3D> interpolatePose(const Trajectory& poses, double t, double maxGap)
 {
 	if (poses.empty() || t < poses.front().timestamp || t > poses.back().timestamp) return {};
 	const auto after = std::lower_bound(
-		poses.begin(), poses.end(), t,
-		[](const TimedPose& p, double time) { return p.timestamp < time; });
+		poses.begin(), poses.end(), t, [](const TimedPose& p, double time) { return p.timestamp < time; });
 	if (after->timestamp == t) return after->pose;
 	const auto before = std::prev(after);
 	const double gap = after->timestamp - before->timestamp;

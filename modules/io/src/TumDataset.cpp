@@ -23,26 +23,31 @@ bool readEntry(std::istream& ss, TumListEntry& e)
 std::vector<TumListEntry> readTumFileList(const fs::path& file)
 {
 	std::vector<TumListEntry> out;
-	detail::forEachDataLine(file, [&](std::istream& ss, std::size_t line) {
-		TumListEntry e;
-		if (!readEntry(ss, e)) detail::failAt(file, line, "expected 'timestamp filename'");
-		if (!out.empty() && e.timestamp <= out.back().timestamp) detail::failAt(file, line, "timestamps out of order");
-		out.push_back(std::move(e));
-	});
+	detail::forEachDataLine(file,
+		[&](std::istream& ss, std::size_t line)
+		{
+			TumListEntry e;
+			if (!readEntry(ss, e)) detail::failAt(file, line, "expected 'timestamp filename'");
+			if (!out.empty() && e.timestamp <= out.back().timestamp)
+				detail::failAt(file, line, "timestamps out of order");
+			out.push_back(std::move(e));
+		});
 	return out;
 }
 
 std::vector<RgbdPair> readAssociations(const fs::path& file)
 {
 	std::vector<RgbdPair> out;
-	detail::forEachDataLine(file, [&](std::istream& ss, std::size_t line) {
-		RgbdPair p;
-		if (!readEntry(ss, p.rgb) || !readEntry(ss, p.depth))
-			detail::failAt(file, line, "expected 't_rgb rgb_file t_depth depth_file'");
-		if (!out.empty() && p.rgb.timestamp <= out.back().rgb.timestamp)
-			detail::failAt(file, line, "timestamps out of order");
-		out.push_back(std::move(p));
-	});
+	detail::forEachDataLine(file,
+		[&](std::istream& ss, std::size_t line)
+		{
+			RgbdPair p;
+			if (!readEntry(ss, p.rgb) || !readEntry(ss, p.depth))
+				detail::failAt(file, line, "expected 't_rgb rgb_file t_depth depth_file'");
+			if (!out.empty() && p.rgb.timestamp <= out.back().rgb.timestamp)
+				detail::failAt(file, line, "timestamps out of order");
+			out.push_back(std::move(p));
+		});
 	return out;
 }
 
@@ -108,17 +113,15 @@ mrpt::poses::CPose3D groundTruthBodyToCamera(const std::string& presetOrFile)
 	if (presetOrFile == "bonn")
 	{
 		// T_ros * T_m from the Bonn RGB-D Dynamic dataset page.
-		static const double T_ros_T_m[16] = {
-			-1.0157, -0.1828, 0.2389,  -0.0113,  //
-			-0.3009, 0.6147,  -0.8085, 0.0111,   //
-			0.0009,  -0.8431, -0.6413, -0.0098,  //
-			0,       0,       0,       1};
+		static const double T_ros_T_m[16] = {-1.0157, -0.1828, 0.2389, -0.0113,  //
+			-0.3009, 0.6147, -0.8085, 0.0111,                                    //
+			0.0009, -0.8431, -0.6413, -0.0098,                                   //
+			0, 0, 0, 1};
 		return rigidTransformFromMatrix(T_ros_T_m);
 	}
 	if (!fs::exists(presetOrFile))
 		throw std::runtime_error(
-			"ground-truth body transform '" + presetOrFile +
-			"' is neither a preset (bonn, none) nor an existing file");
+			"ground-truth body transform '" + presetOrFile + "' is neither a preset (bonn, none) nor an existing file");
 	return readRigidTransformFile(presetOrFile);
 }
 }  // namespace avm::io

@@ -31,8 +31,7 @@ std::vector<RgbdPair> readPairs(const fs::path& dir, double maxDifference, std::
 		if (!fs::exists(dir / list))
 			throw std::runtime_error(
 				(dir / list).string() + ": not found (need associations.txt, or rgb.txt and depth.txt)");
-	auto assoc = associateNearest(
-		readTumFileList(dir / "rgb.txt"), readTumFileList(dir / "depth.txt"), maxDifference);
+	auto assoc = associateNearest(readTumFileList(dir / "rgb.txt"), readTumFileList(dir / "depth.txt"), maxDifference);
 	skipped = std::move(assoc.skipped);
 	return std::move(assoc.pairs);
 }
@@ -44,21 +43,20 @@ cv::Mat readImage(const fs::path& file, int flags, int expectedType, const mrpt:
 	if (img.empty()) throw std::runtime_error(file.string() + ": unreadable image");
 	if (img.type() != expectedType)
 		throw std::runtime_error(
-			file.string() + (expectedType == CV_16UC1 ? ": depth image is not 16-bit single channel"
-													  : ": colour image is not 8-bit"));
+			file.string() +
+			(expectedType == CV_16UC1 ? ": depth image is not 16-bit single channel" : ": colour image is not 8-bit"));
 	if (img.cols != static_cast<int>(cam.ncols) || img.rows != static_cast<int>(cam.nrows))
 	{
 		std::ostringstream s;
-		s << file.string() << ": image is " << img.cols << "x" << img.rows << ", the camera is "
-		  << cam.ncols << "x" << cam.nrows;
+		s << file.string() << ": image is " << img.cols << "x" << img.rows << ", the camera is " << cam.ncols << "x"
+		  << cam.nrows;
 		throw std::runtime_error(s.str());
 	}
 	return img;
 }
 
-mrpt::obs::CObservation3DRangeScan::Ptr makeObservation(
-	const RgbdPair& pair, const fs::path& dir, const TumConversionOptions& opt,
-	const std::optional<fs::path>& imagesDir)
+mrpt::obs::CObservation3DRangeScan::Ptr makeObservation(const RgbdPair& pair, const fs::path& dir,
+	const TumConversionOptions& opt, const std::optional<fs::path>& imagesDir)
 {
 	const auto& cam = opt.camera.intrinsics;
 	const cv::Mat depth = readImage(dir / pair.depth.file, cv::IMREAD_ANYDEPTH, CV_16UC1, cam);
@@ -108,8 +106,8 @@ std::string timeText(double t, bool duration = false)
 
 /** With trimToGroundTruth: `pairs` without the frames outside the span of
  *  `groundTruth`, each listed in `skipped`. */
-std::vector<RgbdPair> trimmedToGroundTruth(
-	std::vector<RgbdPair> pairs, const Trajectory& groundTruth, const fs::path& gtFile, std::vector<std::string>& skipped)
+std::vector<RgbdPair> trimmedToGroundTruth(std::vector<RgbdPair> pairs, const Trajectory& groundTruth,
+	const fs::path& gtFile, std::vector<std::string>& skipped)
 {
 	const double first = groundTruth.front().timestamp, last = groundTruth.back().timestamp;
 	std::vector<RgbdPair> kept;
@@ -119,15 +117,14 @@ std::vector<RgbdPair> trimmedToGroundTruth(
 		if (t >= first && t <= last)
 			kept.push_back(pairs[i]);
 		else
-			skipped.push_back(
-				"frame " + std::to_string(i) + " (" + pairs[i].depth.file + ", t=" + timeText(t) + "): " +
-				(t < first ? "before" : "after") + " the ground truth (--trim-to-ground-truth)");
+			skipped.push_back("frame " + std::to_string(i) + " (" + pairs[i].depth.file + ", t=" + timeText(t) +
+							  "): " + (t < first ? "before" : "after") + " the ground truth (--trim-to-ground-truth)");
 	}
 	if (kept.empty())
-		throw std::runtime_error(
-			gtFile.string() + ": ground truth (" + timeText(first) + " .. " + timeText(last) + ") covers none of the " +
-			std::to_string(pairs.size()) + " frames (" + timeText(pairs.front().depth.timestamp) + " .. " +
-			timeText(pairs.back().depth.timestamp) + ")");
+		throw std::runtime_error(gtFile.string() + ": ground truth (" + timeText(first) + " .. " + timeText(last) +
+								 ") covers none of the " + std::to_string(pairs.size()) + " frames (" +
+								 timeText(pairs.front().depth.timestamp) + " .. " +
+								 timeText(pairs.back().depth.timestamp) + ")");
 	return kept;
 }
 
@@ -139,8 +136,7 @@ void replace(const fs::path& from, const fs::path& to)
 }
 }  // namespace
 
-TumConversionSummary convertTumToRawlog(
-	const fs::path& dir, const fs::path& outRawlog, const TumConversionOptions& opt,
+TumConversionSummary convertTumToRawlog(const fs::path& dir, const fs::path& outRawlog, const TumConversionOptions& opt,
 	const std::function<void(std::size_t, std::size_t)>& progress)
 {
 	if (opt.compressionLevel < 0 || opt.compressionLevel > 9)
@@ -160,9 +156,9 @@ TumConversionSummary convertTumToRawlog(
 	if (opt.trimToGroundTruth)
 	{
 		if (!groundTruth)
-			throw std::invalid_argument(
-				opt.useGroundTruth ? gtFile.string() + ": not found; trimming to the ground truth needs it"
-								   : std::string("trimming to the ground truth needs it, not --no-gt"));
+			throw std::invalid_argument(opt.useGroundTruth
+											? gtFile.string() + ": not found; trimming to the ground truth needs it"
+											: std::string("trimming to the ground truth needs it, not --no-gt"));
 		pairs = trimmedToGroundTruth(std::move(pairs), *groundTruth, gtFile, summary.skipped);
 	}
 
@@ -183,49 +179,53 @@ TumConversionSummary convertTumToRawlog(
 	Trajectory cameraTrajectory;
 	try
 	{
-		writeFileAtomically(outRawlog, [&](const fs::path& tmp) {
-			std::unique_ptr<mrpt::io::CStream> file;
-			if (opt.compressionLevel > 0)
+		writeFileAtomically(outRawlog,
+			[&](const fs::path& tmp)
 			{
-				auto gz = std::make_unique<mrpt::io::CFileGZOutputStream>();
-				if (gz->open(tmp.string(), opt.compressionLevel)) file = std::move(gz);
-			}
-			else if (auto plain = std::make_unique<mrpt::io::CFileOutputStream>(); plain->open(tmp.string()))
-				file = std::move(plain);
-			if (!file) throw std::runtime_error(outRawlog.string() + ": cannot write");
-			auto out = mrpt::serialization::archiveFrom(*file);
-			for (std::size_t i = 0; i < pairs.size(); ++i)
-			{
-				auto obs = makeObservation(pairs[i], dir, opt, partialImages);
-				out << *obs;
-				if (groundTruth)
+				std::unique_ptr<mrpt::io::CStream> file;
+				if (opt.compressionLevel > 0)
 				{
-					const double t = pairs[i].depth.timestamp;
-					const auto body = interpolatePose(*groundTruth, t);
-					if (!body)
-					{
-						const double first = groundTruth->front().timestamp, last = groundTruth->back().timestamp;
-						const bool outside = t < first || t > last;
-						throw std::runtime_error(
-							gtFile.string() + ": ground truth (" + timeText(first) + " .. " + timeText(last) +
-							") does not cover frame " + std::to_string(i) + " (" + (dir / pairs[i].depth.file).string() +
-							", t=" + timeText(t) + "): " +
-							(outside ? std::string("the frame is ") + timeText(t < first ? first - t : t - last, true) +
-										   " s " + (t < first ? "before its first" : "after its last") +
-										   " pose; --trim-to-ground-truth leaves out the frames outside the ground truth"
-									 : std::string("a gap in the ground truth around it")));
-					}
-					const mrpt::poses::CPose3D camera = *body + opt.groundTruthBodyToCamera;
-					auto gt = mrpt::obs::CObservationRobotPose::Create();
-					gt->sensorLabel = "GROUND_TRUTH";
-					gt->timestamp = obs->timestamp;
-					gt->pose = mrpt::poses::CPose3DPDFGaussian(camera);
-					out << *gt;
-					cameraTrajectory.push_back({t, camera});
+					auto gz = std::make_unique<mrpt::io::CFileGZOutputStream>();
+					if (gz->open(tmp.string(), opt.compressionLevel)) file = std::move(gz);
 				}
-				if (progress) progress(i + 1, pairs.size());
-			}
-		});
+				else if (auto plain = std::make_unique<mrpt::io::CFileOutputStream>(); plain->open(tmp.string()))
+					file = std::move(plain);
+				if (!file) throw std::runtime_error(outRawlog.string() + ": cannot write");
+				auto out = mrpt::serialization::archiveFrom(*file);
+				for (std::size_t i = 0; i < pairs.size(); ++i)
+				{
+					auto obs = makeObservation(pairs[i], dir, opt, partialImages);
+					out << *obs;
+					if (groundTruth)
+					{
+						const double t = pairs[i].depth.timestamp;
+						const auto body = interpolatePose(*groundTruth, t);
+						if (!body)
+						{
+							const double first = groundTruth->front().timestamp, last = groundTruth->back().timestamp;
+							const bool outside = t < first || t > last;
+							throw std::runtime_error(
+								gtFile.string() + ": ground truth (" + timeText(first) + " .. " + timeText(last) +
+								") does not cover frame " + std::to_string(i) + " (" +
+								(dir / pairs[i].depth.file).string() + ", t=" + timeText(t) + "): " +
+								(outside ? std::string("the frame is ") +
+											   timeText(t < first ? first - t : t - last, true) + " s " +
+											   (t < first ? "before its first" : "after its last") +
+											   " pose; --trim-to-ground-truth leaves out the frames outside the ground "
+											   "truth"
+										 : std::string("a gap in the ground truth around it")));
+						}
+						const mrpt::poses::CPose3D camera = *body + opt.groundTruthBodyToCamera;
+						auto gt = mrpt::obs::CObservationRobotPose::Create();
+						gt->sensorLabel = "GROUND_TRUTH";
+						gt->timestamp = obs->timestamp;
+						gt->pose = mrpt::poses::CPose3DPDFGaussian(camera);
+						out << *gt;
+						cameraTrajectory.push_back({t, camera});
+					}
+					if (progress) progress(i + 1, pairs.size());
+				}
+			});
 	}
 	catch (...)
 	{
@@ -235,8 +235,7 @@ TumConversionSummary convertTumToRawlog(
 	if (partialImages) replace(*partialImages, summary.imagesDir);
 	if (groundTruth)
 	{
-		writeTumTrajectory(
-			summary.groundTruthFile, cameraTrajectory,
+		writeTumTrajectory(summary.groundTruthFile, cameraTrajectory,
 			"camera optical-frame ground truth of " + outRawlog.filename().string());
 		summary.withGroundTruth = true;
 	}

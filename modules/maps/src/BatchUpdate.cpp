@@ -42,9 +42,8 @@ inline std::uint64_t mortonOf(const octomap::OcTreeKey& k)
 
 inline octomap::OcTreeKey keyOfMorton(std::uint64_t morton)
 {
-	return octomap::OcTreeKey(
-		static_cast<octomap::key_type>(compact3(morton)), static_cast<octomap::key_type>(compact3(morton >> 1)),
-		static_cast<octomap::key_type>(compact3(morton >> 2)));
+	return octomap::OcTreeKey(static_cast<octomap::key_type>(compact3(morton)),
+		static_cast<octomap::key_type>(compact3(morton >> 1)), static_cast<octomap::key_type>(compact3(morton >> 2)));
 }
 
 /** Child index at `depth` (root = 0) of the key with this Morton code. */
@@ -90,9 +89,8 @@ void BatchUpdate::applyTo(octomap::OcTree& tree)
 	sortByMorton();
 	const float hitLog = tree.getProbHitLog(), missLog = tree.getProbMissLog();
 	const float clampMax = tree.getClampingThresMaxLog(), clampMin = tree.getClampingThresMinLog();
-	auto saturated = [&](const octomap::OcTreeNode* n, bool hit) {
-		return hit ? n->getLogOdds() >= clampMax : n->getLogOdds() <= clampMin;
-	};
+	auto saturated = [&](const octomap::OcTreeNode* n, bool hit)
+	{ return hit ? n->getLogOdds() >= clampMax : n->getLogOdds() <= clampMin; };
 
 	std::size_t begin = 0;
 	if (!tree.getRoot())
@@ -112,7 +110,8 @@ void BatchUpdate::applyTo(octomap::OcTree& tree)
 	unsigned reached = 0;
 	// Inner nodes of the path below `depth` are complete: prune them or give
 	// them their children's maximum, deepest first.
-	auto finishBelow = [&](unsigned depth) {
+	auto finishBelow = [&](unsigned depth)
+	{
 		for (unsigned d = reached; d-- > depth;)
 		{
 			auto* n = path[d].node;

@@ -28,10 +28,7 @@ MAP_DEFINITION_REGISTER("avm::CAdaptiveOctoMap,adaptiveOctoMap", avm::CAdaptiveO
 
 // A plugin loaded by dlopen must register its class itself, or MRPT cannot
 // deserialize it (CMultiMetricMap copies maps by serializing them).
-MRPT_INITIALIZER(avm_register_CAdaptiveOctoMap)
-{
-	mrpt::rtti::registerClass(CLASS_ID(avm::CAdaptiveOctoMap));
-}
+MRPT_INITIALIZER(avm_register_CAdaptiveOctoMap) { mrpt::rtti::registerClass(CLASS_ID(avm::CAdaptiveOctoMap)); }
 
 CAdaptiveOctoMap::TMapDefinition::TMapDefinition() = default;
 
@@ -63,8 +60,7 @@ void CAdaptiveOctoMap::TMapDefinition::dumpToTextStream_map_specific(std::ostrea
 	renderOpts.dumpToTextStream(out);
 }
 
-mrpt::maps::CMetricMap* CAdaptiveOctoMap::internal_CreateFromMapDefinition(
-	const mrpt::maps::TMetricMapInitializer& def)
+mrpt::maps::CMetricMap* CAdaptiveOctoMap::internal_CreateFromMapDefinition(const mrpt::maps::TMetricMapInitializer& def)
 {
 	const auto& d = dynamic_cast<const TMapDefinition&>(def);
 	if (!d.loadError.empty()) throw std::invalid_argument(d.loadError);
@@ -73,7 +69,9 @@ mrpt::maps::CMetricMap* CAdaptiveOctoMap::internal_CreateFromMapDefinition(
 	return map;
 }
 
-CAdaptiveOctoMap::CAdaptiveOctoMap() : CAdaptiveOctoMap(TCreationOptions(), TInsertionOptions(), TLikelihoodOptions()) {}
+CAdaptiveOctoMap::CAdaptiveOctoMap() : CAdaptiveOctoMap(TCreationOptions(), TInsertionOptions(), TLikelihoodOptions())
+{
+}
 
 CAdaptiveOctoMap::CAdaptiveOctoMap(
 	const TCreationOptions& creation, const TInsertionOptions& insertion, const TLikelihoodOptions& likelihood)
@@ -160,9 +158,8 @@ void CAdaptiveOctoMap::addHighResolutionRegion(const mrpt::math::TBoundingBox& w
 	applyRegionChanges();
 }
 
-std::vector<TPersonObservation> CAdaptiveOctoMap::observePersons(
-	const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& robotPose,
-	const std::vector<persons::PixelSet>& persons, std::size_t frameIndex)
+std::vector<TPersonObservation> CAdaptiveOctoMap::observePersons(const mrpt::obs::CObservation3DRangeScan& obs,
+	const mrpt::poses::CPose3D& robotPose, const std::vector<persons::PixelSet>& persons, std::size_t frameIndex)
 {
 	std::vector<TPersonObservation> out(persons.size());
 	if (persons.empty()) return out;
@@ -219,7 +216,8 @@ void CAdaptiveOctoMap::ageRegions(const mrpt::obs::CObservation3DRangeScan& obs,
 	const double range = m_creation.low.maxRange;
 	// In view: the centre of the person's latest box is in the image and
 	// within the sensor's range (occlusion is not considered).
-	const auto inView = [&](const mrpt::math::TBoundingBox& box) {
+	const auto inView = [&](const mrpt::math::TBoundingBox& box)
+	{
 		const auto p = sensorPose.inverseComposePoint((box.min + box.max) * 0.5);
 		return p.x <= range && camera.project(p).has_value();
 	};
@@ -285,10 +283,12 @@ void CAdaptiveOctoMap::finishInsertion()
 	// hold a surface not seen through: forget the others now and then.
 	constexpr std::size_t kSketchPruneEvery = 30;  // insertions
 	if (m_insertions % kSketchPruneEvery == kSketchPruneEvery - 1)
-		m_sketch->prune([&](std::uint64_t lowKey, std::uint64_t bits) {
-			const auto* node = m_low->search(detail::unpackKey(lowKey));
-			return node && (bits != 0 || m_low->isNodeOccupied(node));
-		});
+		m_sketch->prune(
+			[&](std::uint64_t lowKey, std::uint64_t bits)
+			{
+				const auto* node = m_low->search(detail::unpackKey(lowKey));
+				return node && (bits != 0 || m_low->isNodeOccupied(node));
+			});
 	++m_insertions;
 	m_pointsCacheValid = false;
 }
@@ -299,7 +299,8 @@ bool CAdaptiveOctoMap::internal_insertObservation(
 	const mrpt::poses::CPose3D robot = robotPose ? *robotPose : mrpt::poses::CPose3D();
 	for (int i = 0; i < 6; i++)
 		if (!std::isfinite(robot[i]))
-			throw std::invalid_argument("CAdaptiveOctoMap::insertObservation: non-finite robot pose " + robot.asString());
+			throw std::invalid_argument(
+				"CAdaptiveOctoMap::insertObservation: non-finite robot pose " + robot.asString());
 
 	if (const auto* scan = dynamic_cast<const mrpt::obs::CObservation3DRangeScan*>(&obs))
 	{
@@ -327,7 +328,8 @@ bool CAdaptiveOctoMap::internal_insertObservation(
 	return false;
 }
 
-bool CAdaptiveOctoMap::insertPointCloud(const mrpt::maps::CPointsMap& worldPoints, const mrpt::math::TPoint3D& sensorOrigin)
+bool CAdaptiveOctoMap::insertPointCloud(
+	const mrpt::maps::CPointsMap& worldPoints, const mrpt::math::TPoint3D& sensorOrigin)
 {
 	if (worldPoints.empty()) return false;
 	if (!std::isfinite(sensorOrigin.x) || !std::isfinite(sensorOrigin.y) || !std::isfinite(sensorOrigin.z))
@@ -339,7 +341,4 @@ bool CAdaptiveOctoMap::insertPointCloud(const mrpt::maps::CPointsMap& worldPoint
 	return true;
 }
 
-bool CAdaptiveOctoMap::isEmpty() const
-{
-	return m_low->size() == 0 && (!m_high || m_high->size() == 0);
-}
+bool CAdaptiveOctoMap::isEmpty() const { return m_low->size() == 0 && (!m_high || m_high->size() == 0); }

@@ -41,8 +41,7 @@ void writeTree(mrpt::serialization::CArchive& out, const octomap::OcTree* tree)
 	if (tree && tree->size() > 0) tree->writeData(s);
 	out << s.str();
 }
-std::unique_ptr<octomap::OcTree> readTree(
-	mrpt::serialization::CArchive& in, const CAdaptiveOctoMap::TTreeOptions& o)
+std::unique_ptr<octomap::OcTree> readTree(mrpt::serialization::CArchive& in, const CAdaptiveOctoMap::TTreeOptions& o)
 {
 	std::string data;
 	in >> data;
@@ -58,9 +57,11 @@ std::unique_ptr<octomap::OcTree> readTree(
 
 void writeAtomically(const std::string& file, const std::function<bool(const std::string&)>& write)
 {
-	avm::io::writeFileAtomically(file, [&](const std::filesystem::path& tmp) {
-		if (!write(tmp.string())) throw std::runtime_error("CAdaptiveOctoMap: cannot write " + file);
-	});
+	avm::io::writeFileAtomically(file,
+		[&](const std::filesystem::path& tmp)
+		{
+			if (!write(tmp.string())) throw std::runtime_error("CAdaptiveOctoMap: cannot write " + file);
+		});
 }
 }  // namespace
 
@@ -141,14 +142,15 @@ std::size_t CAdaptiveOctoMap::serializedBytes() const
 void CAdaptiveOctoMap::saveMetricMapRepresentationToFile(const std::string& prefix) const
 {
 	writeAtomically(prefix + "_low.bt", [&](const std::string& tmp) { return m_low->writeBinaryConst(tmp); });
-	writeAtomically(prefix + "_high.bt", [&](const std::string& tmp) {
-		return m_high ? m_high->writeBinaryConst(tmp) : detail::makeTree(m_creation.high)->writeBinaryConst(tmp);
-	});
-	writeAtomically(prefix + ".3Dscene", [&](const std::string& tmp) {
-		mrpt::opengl::COpenGLScene scene;
-		auto objs = mrpt::opengl::CSetOfObjects::Create();
-		getVisualizationInto(*objs);
-		scene.insert(objs);
-		return scene.saveToFile(tmp);
-	});
+	writeAtomically(prefix + "_high.bt", [&](const std::string& tmp)
+		{ return m_high ? m_high->writeBinaryConst(tmp) : detail::makeTree(m_creation.high)->writeBinaryConst(tmp); });
+	writeAtomically(prefix + ".3Dscene",
+		[&](const std::string& tmp)
+		{
+			mrpt::opengl::COpenGLScene scene;
+			auto objs = mrpt::opengl::CSetOfObjects::Create();
+			getVisualizationInto(*objs);
+			scene.insert(objs);
+			return scene.saveToFile(tmp);
+		});
 }

@@ -15,7 +15,10 @@ using namespace avm;
 
 namespace
 {
-double logOccupancy(const TOccupancyQuery& q) { return q.state == OccupancyState::Unknown ? 0.0 : std::log(q.probability); }
+double logOccupancy(const TOccupancyQuery& q)
+{
+	return q.state == OccupancyState::Unknown ? 0.0 : std::log(q.probability);
+}
 }  // namespace
 
 bool CAdaptiveOctoMap::internal_canComputeObservationLikelihood(const mrpt::obs::CObservation& obs) const

@@ -30,11 +30,13 @@ TOccupancyQuery CAdaptiveOctoMap::query(const mrpt::math::TPoint3D& p) const
 {
 	if (m_policy->policy() == SwitchPolicy::Region)
 	{
-		if (m_high && m_policy->inHighResolutionSpace(p)) return answer(*m_high, m_high->search(p.x, p.y, p.z), Resolution::High);
+		if (m_high && m_policy->inHighResolutionSpace(p))
+			return answer(*m_high, m_high->search(p.x, p.y, p.z), Resolution::High);
 		return answer(*m_low, m_low->search(p.x, p.y, p.z), Resolution::Low);
 	}
 	// Paper: the low tree wins wherever it has a node (Algorithm 2).
-	if (!m_high || !detail::overlapFilterAdmits(*m_low, p)) return answer(*m_low, m_low->search(p.x, p.y, p.z), Resolution::Low);
+	if (!m_high || !detail::overlapFilterAdmits(*m_low, p))
+		return answer(*m_low, m_low->search(p.x, p.y, p.z), Resolution::Low);
 	return answer(*m_high, m_high->search(p.x, p.y, p.z), Resolution::High);
 }
 
@@ -81,9 +83,11 @@ std::optional<CAdaptiveOctoMap::TRayHit> CAdaptiveOctoMap::castRay(
 std::optional<mrpt::math::TBoundingBox> CAdaptiveOctoMap::knownSpaceBoundingBox() const
 {
 	std::optional<mrpt::math::TBoundingBox> box;
-	auto grow = [&](const TLeafVoxel& v) {
+	auto grow = [&](const TLeafVoxel& v)
+	{
 		const double h = 0.5 * v.size;
-		const mrpt::math::TBoundingBox b(v.center - mrpt::math::TPoint3D(h, h, h), v.center + mrpt::math::TPoint3D(h, h, h));
+		const mrpt::math::TBoundingBox b(
+			v.center - mrpt::math::TPoint3D(h, h, h), v.center + mrpt::math::TPoint3D(h, h, h));
 		box = box ? box->unionWith(b) : b;
 	};
 	forEachLeaf(Resolution::Low, grow);
@@ -113,9 +117,8 @@ CAdaptiveOctoMap::TTreeStats CAdaptiveOctoMap::highResolutionStats() const { ret
 std::string CAdaptiveOctoMap::asString() const
 {
 	std::ostringstream s;
-	s << "CAdaptiveOctoMap: policy " << toString(m_policy->policy()) << ", low " << m_creation.low.resolution
-	  << " m (" << m_low->size() << " nodes), high " << m_creation.high.resolution << " m ("
-	  << (m_high ? m_high->size() : 0) << " nodes), " << m_policy->regions().size() << " regions, "
-	  << m_insertions << " insertions";
+	s << "CAdaptiveOctoMap: policy " << toString(m_policy->policy()) << ", low " << m_creation.low.resolution << " m ("
+	  << m_low->size() << " nodes), high " << m_creation.high.resolution << " m (" << (m_high ? m_high->size() : 0)
+	  << " nodes), " << m_policy->regions().size() << " regions, " << m_insertions << " insertions";
 	return s.str();
 }

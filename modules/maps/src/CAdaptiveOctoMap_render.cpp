@@ -31,16 +31,20 @@ void CAdaptiveOctoMap::getVisualizationInto(mrpt::opengl::CSetOfObjects& outObj)
 	if (!genericMapParams.enableSaveAs3DObject) return;
 	auto voxels = mrpt::opengl::COctoMapVoxels::Create();
 	voxels->resizeVoxelSets(VoxelSetCount);
-	auto add = [&](Resolution which) {
+	auto add = [&](Resolution which)
+	{
 		const bool high = which == Resolution::High;
-		forEachLeaf(which, [&](const TLeafVoxel& v) {
-			if (v.occupied)
-				voxels->push_back_Voxel(high ? HighOccupied : LowOccupied,
-					mrpt::opengl::COctoMapVoxels::TVoxel(v.center, v.size, high ? kHighColour : kLowColour));
-			else if (renderingOptions.showFreeSpace)
-				voxels->push_back_Voxel(high ? HighFree : LowFree,
-					mrpt::opengl::COctoMapVoxels::TVoxel(v.center, v.size, high ? kHighFreeColour : kLowFreeColour));
-		});
+		forEachLeaf(which,
+			[&](const TLeafVoxel& v)
+			{
+				if (v.occupied)
+					voxels->push_back_Voxel(high ? HighOccupied : LowOccupied,
+						mrpt::opengl::COctoMapVoxels::TVoxel(v.center, v.size, high ? kHighColour : kLowColour));
+				else if (renderingOptions.showFreeSpace)
+					voxels->push_back_Voxel(
+						high ? HighFree : LowFree, mrpt::opengl::COctoMapVoxels::TVoxel(
+													   v.center, v.size, high ? kHighFreeColour : kLowFreeColour));
+			});
 	};
 	add(Resolution::Low);
 	add(Resolution::High);
@@ -71,7 +75,8 @@ const mrpt::maps::CSimplePointsMap* CAdaptiveOctoMap::getAsSimplePointsMap() con
 {
 	if (m_pointsCacheValid) return &m_pointsCache;
 	m_pointsCache.clear();
-	auto add = [&](const TLeafVoxel& v) {
+	auto add = [&](const TLeafVoxel& v)
+	{
 		if (v.occupied) m_pointsCache.insertPoint(v.center);
 	};
 	forEachLeaf(Resolution::Low, add);

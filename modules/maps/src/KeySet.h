@@ -136,7 +136,8 @@ class BoxKeySet
 	bool locate(std::uint64_t packed, std::size_t& word, std::uint64_t& bit) const
 	{
 		const auto k = unpackKey(packed);
-		const std::size_t x = std::size_t(k[0]) - m_lo[0], y = std::size_t(k[1]) - m_lo[1], z = std::size_t(k[2]) - m_lo[2];
+		const std::size_t x = std::size_t(k[0]) - m_lo[0], y = std::size_t(k[1]) - m_lo[1],
+						  z = std::size_t(k[2]) - m_lo[2];
 		// Below the box the subtraction wraps to a huge value.
 		if (x >= m_dim[0] || y >= m_dim[1] || z >= m_dim[2]) return false;
 		word = ((x >> 2) * m_bricks[1] + (y >> 2)) * m_bricks[2] + (z >> 2);

@@ -22,9 +22,8 @@ inline std::uint64_t packKey(const octomap::OcTreeKey& k)
 inline octomap::OcTreeKey unpackKey(std::uint64_t packed)
 {
 	const std::uint64_t v = packed - 1;
-	return octomap::OcTreeKey(
-		static_cast<octomap::key_type>(v >> 32), static_cast<octomap::key_type>((v >> 16) & 0xFFFF),
-		static_cast<octomap::key_type>(v & 0xFFFF));
+	return octomap::OcTreeKey(static_cast<octomap::key_type>(v >> 32),
+		static_cast<octomap::key_type>((v >> 16) & 0xFFFF), static_cast<octomap::key_type>(v & 0xFFFF));
 }
 
 /** octomap's coordToKey, packed; false when the point is outside the tree.
@@ -67,9 +66,8 @@ inline std::uint64_t coarserKeyOf(std::uint64_t packed, unsigned ratio)
 	const unsigned bias = static_cast<unsigned>(kKeyOffset) * (ratio - 1);
 	const bool pow2 = (ratio & (ratio - 1)) == 0;
 	const unsigned shift = static_cast<unsigned>(__builtin_ctz(ratio));
-	auto coarse = [&](unsigned v) {
-		return static_cast<octomap::key_type>(pow2 ? (v + bias) >> shift : (v + bias) / ratio);
-	};
+	auto coarse = [&](unsigned v)
+	{ return static_cast<octomap::key_type>(pow2 ? (v + bias) >> shift : (v + bias) / ratio); };
 	return packKey(octomap::OcTreeKey(coarse(k[0]), coarse(k[1]), coarse(k[2])));
 }
 

@@ -20,7 +20,8 @@ namespace
  *  the packed word, and the axis of each step is chosen without branches:
  *  which axis comes next is a coin toss on most rays. */
 template <typename Visit>
-bool forEachRayKey(const octomap::OcTree& tree, const octomap::point3d& origin, const octomap::point3d& end, Visit&& visit)
+bool forEachRayKey(
+	const octomap::OcTree& tree, const octomap::point3d& origin, const octomap::point3d& end, Visit&& visit)
 {
 	octomap::OcTreeKey first, last;
 	if (!tree.coordToKeyChecked(origin, first) || !tree.coordToKeyChecked(end, last)) return false;
@@ -73,9 +74,8 @@ bool forEachRayKey(const octomap::OcTree& tree, const octomap::point3d& origin, 
 
 /** Parameter interval [t0, t1] within [0, 1] where o + t d lies in the box
  *  (slab method); false if none. */
-inline bool clipToBox(
-	const mrpt::math::TPoint3D& o, const mrpt::math::TPoint3D& d, const mrpt::math::TBoundingBox& b, double& t0,
-	double& t1)
+inline bool clipToBox(const mrpt::math::TPoint3D& o, const mrpt::math::TPoint3D& d, const mrpt::math::TBoundingBox& b,
+	double& t0, double& t1)
 {
 	t0 = 0;
 	t1 = 1;
@@ -180,9 +180,9 @@ void RayIntegrator::castSegment(bool inside, double a, double b, bool extendStar
 	if (extendStart) a = std::max(0.0, a - eps);
 	if (extendEnd) b = std::min(1.0, b + eps);
 	const mrpt::math::TPoint3D& o = m_origin;
-	auto at = [&](double t) {
-		return octomap::point3d(
-			static_cast<float>(o.x + t * m_rayDir.x), static_cast<float>(o.y + t * m_rayDir.y),
+	auto at = [&](double t)
+	{
+		return octomap::point3d(static_cast<float>(o.x + t * m_rayDir.x), static_cast<float>(o.y + t * m_rayDir.y),
 			static_cast<float>(o.z + t * m_rayDir.z));
 	};
 	auto& tree = inside ? *m_targets.inside : *m_targets.outside;
@@ -237,11 +237,10 @@ void RayIntegrator::applyUpdates(
 {
 	// A voxel belongs to exactly one tree: region space to the high tree,
 	// the rest to the low tree.
-	const unsigned ratio = m_hasRegions
-		? static_cast<unsigned>(std::lround(m_outsideGrid.resolution / grid.resolution)) : 1;
-	auto belongs = [&](std::uint64_t packed) {
-		return !m_hasRegions || m_targets.regions->covers(packed, ratio) == keepInsideRegions;
-	};
+	const unsigned ratio =
+		m_hasRegions ? static_cast<unsigned>(std::lround(m_outsideGrid.resolution / grid.resolution)) : 1;
+	auto belongs = [&](std::uint64_t packed)
+	{ return !m_hasRegions || m_targets.regions->covers(packed, ratio) == keepInsideRegions; };
 	m_batch.clear();
 	for (const auto k : freeKeys.keys())
 		if (!occupiedKeys.contains(k) && belongs(k)) m_batch.add(k, false);
@@ -301,8 +300,7 @@ void RayIntegrator::finish()
 }
 
 void RayIntegrator::integrateDepthImage(
-	const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& sensorPose,
-	const ScanTargets& targets)
+	const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& sensorPose, const ScanTargets& targets)
 {
 	begin(sensorPose.translation(), targets);
 	const auto& img = obs.rangeImage;
@@ -322,9 +320,8 @@ void RayIntegrator::integrateDepthImage(
 			bool whole = false;
 			for (int corner = 0; corner < 8 && !whole; corner++)
 			{
-				const mrpt::math::TPoint3D w(
-					corner & 1 ? r.box.max.x : r.box.min.x, corner & 2 ? r.box.max.y : r.box.min.y,
-					corner & 4 ? r.box.max.z : r.box.min.z);
+				const mrpt::math::TPoint3D w(corner & 1 ? r.box.max.x : r.box.min.x,
+					corner & 2 ? r.box.max.y : r.box.min.y, corner & 4 ? r.box.max.z : r.box.min.z);
 				const auto s = sensorPose.inverseComposePoint(w);
 				if (s.x <= 1e-3)
 				{
@@ -386,9 +383,10 @@ void RayIntegrator::integrateDepthImage(
 		std::vector<std::thread> helpers;
 		const int per = (rows + static_cast<int>(m_bands.size()) - 1) / static_cast<int>(m_bands.size());
 		for (std::size_t i = 1; i < m_bands.size(); i++)
-			helpers.emplace_back([&, i] {
-				scanRows(rs, static_cast<int>(i) * per, std::min(rows, static_cast<int>(i + 1) * per), m_bands[i]);
-			});
+			helpers.emplace_back(
+				[&, i] {
+					scanRows(rs, static_cast<int>(i) * per, std::min(rows, static_cast<int>(i + 1) * per), m_bands[i]);
+				});
 		scanRows(rs, 0, std::min(rows, per), m_bands[0]);
 		for (auto& h : helpers) h.join();
 		for (std::size_t i = 1; i < m_bands.size(); i++)
@@ -403,9 +401,8 @@ void RayIntegrator::integrateDepthImage(
 	finish();
 }
 
-void RayIntegrator::forgetSketchSeenThrough(
-	const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& sensorPose,
-	const io::DepthCamera& camera)
+void RayIntegrator::forgetSketchSeenThrough(const mrpt::obs::CObservation3DRangeScan& obs,
+	const mrpt::poses::CPose3D& sensorPose, const io::DepthCamera& camera)
 {
 	// A single fine map frees the voxels its rays cross, so a person who walked
 	// through leaves nothing there once the wall behind is seen again. The low
@@ -428,33 +425,36 @@ void RayIntegrator::forgetSketchSeenThrough(
 		mrpt::math::TPoint3D(H - camera.cy, 0, camera.fy)};
 	for (auto& n : sides) n *= 1.0 / n.norm();
 	const double outsideBy = lowHalfDiagonal + 1e-6;
-	const auto outsideTheImage = [&](const mrpt::math::TPoint3D& c) {
-		return std::any_of(sides.begin(), sides.end(), [&](const auto& n) { return n.x * c.x + n.y * c.y + n.z * c.z < -outsideBy; });
+	const auto outsideTheImage = [&](const mrpt::math::TPoint3D& c)
+	{
+		return std::any_of(
+			sides.begin(), sides.end(), [&](const auto& n) { return n.x * c.x + n.y * c.y + n.z * c.z < -outsideBy; });
 	};
-	m_targets.sketch->updateBits([&](std::uint64_t lowKey, std::uint64_t bits) {
-		if (bits == 0) return bits;
-		const auto lowCentre = sensorPose.inverseComposePoint(centreOf(lowKey, fine * m_targets.sketch->ratio()));
-		if (lowCentre.x <= -lowHalfDiagonal || lowCentre.norm() > maxRange + lowHalfDiagonal) return bits;
-		if (outsideTheImage(lowCentre)) return bits;
-		for (std::uint64_t rest = bits; rest != 0; rest &= rest - 1)
+	m_targets.sketch->updateBits(
+		[&](std::uint64_t lowKey, std::uint64_t bits)
 		{
-			const auto bit = static_cast<unsigned>(__builtin_ctzll(rest));
-			const auto p = sensorPose.inverseComposePoint(centreOf(m_targets.sketch->highKeyOf(lowKey, bit), fine));
-			const double distance = p.norm();
-			if (distance > maxRange) continue;
-			const auto pixel = camera.project(p);
-			if (!pixel) continue;
-			const auto u = static_cast<int>(std::lround(pixel->x)), v = static_cast<int>(std::lround(pixel->y));
-			if (u >= camera.width || v >= camera.height) continue;
-			const std::uint16_t raw = img(v, u);
-			if (raw == 0) continue;
-			const double measured = raw * units, along = camera.rangeIsDepth ? p.x : distance;
-			if (measured > along + fine) bits &= ~(std::uint64_t(1) << bit);
-		}
-		return bits;
-	});
+			if (bits == 0) return bits;
+			const auto lowCentre = sensorPose.inverseComposePoint(centreOf(lowKey, fine * m_targets.sketch->ratio()));
+			if (lowCentre.x <= -lowHalfDiagonal || lowCentre.norm() > maxRange + lowHalfDiagonal) return bits;
+			if (outsideTheImage(lowCentre)) return bits;
+			for (std::uint64_t rest = bits; rest != 0; rest &= rest - 1)
+			{
+				const auto bit = static_cast<unsigned>(__builtin_ctzll(rest));
+				const auto p = sensorPose.inverseComposePoint(centreOf(m_targets.sketch->highKeyOf(lowKey, bit), fine));
+				const double distance = p.norm();
+				if (distance > maxRange) continue;
+				const auto pixel = camera.project(p);
+				if (!pixel) continue;
+				const auto u = static_cast<int>(std::lround(pixel->x)), v = static_cast<int>(std::lround(pixel->y));
+				if (u >= camera.width || v >= camera.height) continue;
+				const std::uint16_t raw = img(v, u);
+				if (raw == 0) continue;
+				const double measured = raw * units, along = camera.rangeIsDepth ? p.x : distance;
+				if (measured > along + fine) bits &= ~(std::uint64_t(1) << bit);
+			}
+			return bits;
+		});
 }
-
 
 void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band) const
 {
@@ -470,22 +470,23 @@ void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band
 	band.keys.assign(18 * n, -1);
 	band.near.resize(3 * n);
 	band.flags.assign(n + 8, 0);  // forEachFlagged reads whole words
-	auto rowKeys = [&](int row, int set) {
+	auto rowKeys = [&](int row, int set)
+	{
 		int* const base = band.keys.data() + (static_cast<std::size_t>(row & 1) * 9 + set * 3) * n;
 		return RowKeys{base, base + n, base + 2 * n};
 	};
 	float* const depth = band.near.data();
-	float* const insideF = depth + n;  // 1: the point lies in a region
+	float* const insideF = depth + n;    // 1: the point lies in a region
 	float* const crossTo = insideF + n;  // >= 0: depth where its ray leaves the farthest region it crosses
 	std::uint8_t* const flags = band.flags.data();
 
 	for (int v = v0; v < v1; v++)
 	{
 		const double b = (rs.cy - v) / rs.fy;
-		const RowRays rays{static_cast<float>(m_origin.x), static_cast<float>(m_origin.y), static_cast<float>(m_origin.z),
-			static_cast<float>(R(0, 0) + R(0, 2) * b), static_cast<float>(R(1, 0) + R(1, 2) * b),
-			static_cast<float>(R(2, 0) + R(2, 2) * b), static_cast<float>(R(0, 1)), static_cast<float>(R(1, 1)),
-			static_cast<float>(R(2, 1)), rs.colFactor};
+		const RowRays rays{static_cast<float>(m_origin.x), static_cast<float>(m_origin.y),
+			static_cast<float>(m_origin.z), static_cast<float>(R(0, 0) + R(0, 2) * b),
+			static_cast<float>(R(1, 0) + R(1, 2) * b), static_cast<float>(R(2, 0) + R(2, 2) * b),
+			static_cast<float>(R(0, 1)), static_cast<float>(R(1, 1)), static_cast<float>(R(2, 1)), rs.colFactor};
 		const RowKeys coarse = rowKeys(v, 0), coarseAbove = rowKeys(v + 1, 0);
 		// Fine keys of near pixels; outside this row's near columns they
 		// keep older rows' keys, all in the scan's sets already.
@@ -517,18 +518,23 @@ void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band
 			}
 			fineRowKeys(rays, depth, insideF, crossTo, fineInverse, nearFrom, nearEnd, fine, coarse.x);
 			flagNewVoxels(fine, fineAbove, nearFrom, nearEnd, flags);
-			forEachFlagged(flags, nearFrom, nearEnd, [&](int u) {
-				const bool inside = fine.x[u] >= kInsideTag;
-				const int x = fine.x[u] < 0 ? -1 : fine.x[u] & 0xFFFF;
-				if (const auto key = packedOrNone(x, fine.y[u], fine.z[u])) (inside ? band.inside : band.crossing)->insert(key);
-			});
+			forEachFlagged(flags, nearFrom, nearEnd,
+				[&](int u)
+				{
+					const bool inside = fine.x[u] >= kInsideTag;
+					const int x = fine.x[u] < 0 ? -1 : fine.x[u] & 0xFFFF;
+					if (const auto key = packedOrNone(x, fine.y[u], fine.z[u]))
+						(inside ? band.inside : band.crossing)->insert(key);
+				});
 			std::fill(flags + nearFrom, flags + nearEnd, 0);
 		}
 
 		flagNewVoxels(coarse, coarseAbove, 0, cols, flags);
-		forEachFlagged(flags, 0, cols, [&](int u) {
-			if (const auto key = packedOrNone(coarse.x[u], coarse.y[u], coarse.z[u])) band.outside->insert(key);
-		});
+		forEachFlagged(flags, 0, cols,
+			[&](int u)
+			{
+				if (const auto key = packedOrNone(coarse.x[u], coarse.y[u], coarse.z[u])) band.outside->insert(key);
+			});
 		if (m_targets.sketch)
 		{
 			// The high voxels of the points in low-tree space (no coarse key:
@@ -537,25 +543,25 @@ void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band
 			coarseRowKeys(rays, depth, sketchInverse, cols, sketch);
 			maskWhereNone(coarse.x, cols, sketch.x);
 			flagNewVoxels(sketch, sketchAbove, 0, cols, flags);
-			forEachFlagged(flags, 0, cols, [&](int u) {
-				if (const auto key = packedOrNone(sketch.x[u], sketch.y[u], sketch.z[u])) band.sketch->insert(key);
-			});
+			forEachFlagged(flags, 0, cols,
+				[&](int u)
+				{
+					if (const auto key = packedOrNone(sketch.x[u], sketch.y[u], sketch.z[u])) band.sketch->insert(key);
+				});
 		}
 	}
 }
 
-void RayIntegrator::integrateWorldPoints(
-	const float* xs, const float* ys, const float* zs, std::size_t n, const mrpt::math::TPoint3D& origin,
-	const ScanTargets& targets)
+void RayIntegrator::integrateWorldPoints(const float* xs, const float* ys, const float* zs, std::size_t n,
+	const mrpt::math::TPoint3D& origin, const ScanTargets& targets)
 {
 	begin(origin, targets);
 	for (std::size_t i = 0; i < n; i++) addPoint(xs[i], ys[i], zs[i], true);
 	finish();
 }
 
-void RayIntegrator::integrateSensorPoints(
-	const float* xs, const float* ys, const float* zs, std::size_t n, const mrpt::poses::CPose3D& sensorPose,
-	const ScanTargets& targets)
+void RayIntegrator::integrateSensorPoints(const float* xs, const float* ys, const float* zs, std::size_t n,
+	const mrpt::poses::CPose3D& sensorPose, const ScanTargets& targets)
 {
 	begin(sensorPose.translation(), targets);
 	for (std::size_t i = 0; i < n; i++)

@@ -45,17 +45,14 @@ class RayIntegrator
 {
    public:
 	/** Unprojects the depth image itself (no points3D needed). */
-	void integrateDepthImage(
-		const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& sensorPose,
+	void integrateDepthImage(const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& sensorPose,
 		const ScanTargets& targets);
 	/** Points in the world frame, rays from `origin`. */
-	void integrateWorldPoints(
-		const float* xs, const float* ys, const float* zs, std::size_t n, const mrpt::math::TPoint3D& origin,
-		const ScanTargets& targets);
+	void integrateWorldPoints(const float* xs, const float* ys, const float* zs, std::size_t n,
+		const mrpt::math::TPoint3D& origin, const ScanTargets& targets);
 	/** Points in the sensor frame, placed by `sensorPose`. */
-	void integrateSensorPoints(
-		const float* xs, const float* ys, const float* zs, std::size_t n, const mrpt::poses::CPose3D& sensorPose,
-		const ScanTargets& targets);
+	void integrateSensorPoints(const float* xs, const float* ys, const float* zs, std::size_t n,
+		const mrpt::poses::CPose3D& sensorPose, const ScanTargets& targets);
 
 	/** Threads for the depth-image pass (row bands); the rays and updates
 	 *  stay on the calling thread. */
@@ -108,8 +105,7 @@ class RayIntegrator
 	void finish();
 	/** Clears the sketch's bits of the high voxels that this depth image sees
 	 *  through. */
-	void forgetSketchSeenThrough(
-		const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& sensorPose,
+	void forgetSketchSeenThrough(const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& sensorPose,
 		const io::DepthCamera& camera);
 	/** Which part of a ray a cast maps: the part outside the regions (in
 	 *  the `outside` tree) or the parts inside them (in the high tree). */

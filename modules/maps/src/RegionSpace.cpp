@@ -60,8 +60,8 @@ void refineIntoHighTree(octomap::OcTree& low, octomap::OcTree& high, std::uint64
 	// single fine map. In a free low voxel (a chair's edge in a voxel of mostly air)
 	// the bit has had more rays around it: just occupied, and the voxel's
 	// other high voxels come back free.
-	const float surfaceValue = occupied ? std::min(value, high.getProbHitLog())
-										: high.getOccupancyThresLog() + kJustOccupied;
+	const float surfaceValue =
+		occupied ? std::min(value, high.getProbHitLog()) : high.getOccupancyThresLog() + kJustOccupied;
 	const auto range = highKeysOf(key, sketch ? sketch->ratio() : ratioOf(low, high));
 	unsigned bit = 0;
 	std::vector<octomap::OcTreeKey> sketched, others;

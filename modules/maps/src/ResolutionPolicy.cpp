@@ -74,7 +74,7 @@ void ResolutionPolicy::requireValid(const mrpt::math::TBoundingBox& box) const
 	for (int i = 0; i < 3; i++) voxels *= std::ceil((box.max[i] - box.min[i]) / m_lowResolution) + 1;
 	if (voxels > kMaxRegionVoxels)
 		throw std::invalid_argument("CAdaptiveOctoMap: region box " + box.asString() + " spans more than " +
-			std::to_string(static_cast<long>(kMaxRegionVoxels)) + " low voxels");
+									std::to_string(static_cast<long>(kMaxRegionVoxels)) + " low voxels");
 }
 
 void ResolutionPolicy::markSwitched(std::size_t insertionIndex)
@@ -102,9 +102,8 @@ void ResolutionPolicy::addFixedRegion(const mrpt::math::TBoundingBox& box, std::
 	regionsChanged();
 }
 
-void ResolutionPolicy::personSeen(
-	std::uint32_t personId, const mrpt::math::TBoundingBox& box, double time, RegionLifetime lifetime,
-	std::size_t insertionIndex)
+void ResolutionPolicy::personSeen(std::uint32_t personId, const mrpt::math::TBoundingBox& box, double time,
+	RegionLifetime lifetime, std::size_t insertionIndex)
 {
 	requireValid(box);
 	markSwitched(insertionIndex);
@@ -226,9 +225,8 @@ void ResolutionPolicy::updateCovered()
 	std::vector<KeyRange> spans;
 	constexpr unsigned kEnd = 2 * kKeyOffset;
 	// Beyond the tree nothing can be mapped: nothing to cover.
-	auto key = [this](double v) {
-		return static_cast<unsigned>(std::clamp<long>(gridKeyOf(v, m_lowResolution), 0, kEnd));
-	};
+	auto key = [this](double v)
+	{ return static_cast<unsigned>(std::clamp<long>(gridKeyOf(v, m_lowResolution), 0, kEnd)); };
 	KeyRange all{{kEnd, kEnd, kEnd}, {0, 0, 0}};
 	for (const auto& b : m_space.boxes)
 	{
@@ -268,8 +266,8 @@ SpaceChange ResolutionPolicy::takeSpaceChange()
 	auto covered = coveredInKeyOrder();
 	std::set_difference(covered.begin(), covered.end(), m_coveredApplied.begin(), m_coveredApplied.end(),
 		std::back_inserter(c.entered));
-	std::set_difference(m_coveredApplied.begin(), m_coveredApplied.end(), covered.begin(), covered.end(),
-		std::back_inserter(c.left));
+	std::set_difference(
+		m_coveredApplied.begin(), m_coveredApplied.end(), covered.begin(), covered.end(), std::back_inserter(c.left));
 	m_coveredApplied = std::move(covered);
 	m_treesCaughtUp = true;
 	return c;

@@ -34,8 +34,7 @@ struct Region
 	/** Half-open on the max side, as octree voxels are. */
 	bool contains(double x, double y, double z) const
 	{
-		return x >= box.min.x && x < box.max.x && y >= box.min.y && y < box.max.y && z >= box.min.z &&
-			   z < box.max.z;
+		return x >= box.min.x && x < box.max.x && y >= box.min.y && y < box.max.y && z >= box.min.z && z < box.max.z;
 	}
 };
 
@@ -82,8 +81,7 @@ class ResolutionPolicy
 	 *  included). Follow: the person's region moves to the box. Persist: the
 	 *  box joins the person's region. Either way its in-view clock restarts.
 	 *  Paper policy: a trigger. */
-	void personSeen(
-		std::uint32_t personId, const mrpt::math::TBoundingBox& box, double time, RegionLifetime lifetime,
+	void personSeen(std::uint32_t personId, const mrpt::math::TBoundingBox& box, double time, RegionLifetime lifetime,
 		std::size_t insertionIndex);
 	/** Follow lifetime: the camera looked from `from` to `to` [s] at each
 	 *  person region for which `inView(latest box)` holds; what of that came

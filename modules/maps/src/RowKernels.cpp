@@ -45,9 +45,8 @@ AVM_ROW_PASS void coarseRowKeys(const RowRays& r, const float* depth, float inve
 /** Slab method against one box, in depth units: inside[u] becomes 1 where
  *  the point lies in the box; crossTo[u] the depth where the ray leaves the
  *  box if the point lies beyond it (the farthest such box wins). */
-AVM_ROW_PASS void classifyAgainstBox(
-	const RowRays& r, const float* depth, const mrpt::math::TBoundingBox& box, int from, int to, float* inside,
-	float* crossTo)
+AVM_ROW_PASS void classifyAgainstBox(const RowRays& r, const float* depth, const mrpt::math::TBoundingBox& box,
+	int from, int to, float* inside, float* crossTo)
 {
 	auto relative = [](double bound, float origin) { return static_cast<float>(bound) - origin; };
 	const float minx = relative(box.min.x, r.ox), miny = relative(box.min.y, r.oy), minz = relative(box.min.z, r.oz);
@@ -76,9 +75,8 @@ AVM_ROW_PASS void classifyAgainstBox(
  *  crosses; -1 in x for neither. The category rides on the x key (above
  *  the tree's keys) so that a change of it is a change of voxel too. A
  *  point inside a region is no coarse endpoint: its coarse x becomes -1. */
-AVM_ROW_PASS void fineRowKeys(
-	const RowRays& r, const float* depth, const float* inside, const float* crossTo, float inverse, int from, int to,
-	RowKeys out, int* coarseX)
+AVM_ROW_PASS void fineRowKeys(const RowRays& r, const float* depth, const float* inside, const float* crossTo,
+	float inverse, int from, int to, RowKeys out, int* coarseX)
 {
 	const float offset = kKeyOffset;
 	int* const __restrict kx = out.x;
@@ -108,11 +106,10 @@ AVM_ROW_PASS void fineRowKeys(
  *  changes along the row. */
 AVM_ROW_PASS void flagNewVoxels(const RowKeys& row, const RowKeys& above, int from, int to, std::uint8_t* flags)
 {
-	const int *const __restrict x = row.x, *const __restrict y = row.y, *const __restrict z = row.z;
-	const int *const __restrict ax = above.x, *const __restrict ay = above.y, *const __restrict az = above.z;
-	auto differs = [&](int u, const int* ox, const int* oy, const int* oz, int w) {
-		return (x[u] != ox[w]) | (y[u] != oy[w]) | (z[u] != oz[w]);
-	};
+	const int* const __restrict x = row.x, * const __restrict y = row.y, * const __restrict z = row.z;
+	const int* const __restrict ax = above.x, * const __restrict ay = above.y, * const __restrict az = above.z;
+	auto differs = [&](int u, const int* ox, const int* oy, const int* oz, int w)
+	{ return (x[u] != ox[w]) | (y[u] != oy[w]) | (z[u] != oz[w]); };
 	if (from < to) flags[from] = differs(from, ax, ay, az, from);
 	if (from + 1 < to) flags[from + 1] = differs(from + 1, ax, ay, az, from + 1) & differs(from + 1, x, y, z, from);
 	for (int u = from + 2; u < to; u++)

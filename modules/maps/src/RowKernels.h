@@ -40,9 +40,8 @@ void coarseRowKeys(const RowRays& r, const float* depth, float inverse, int cols
 /** Slab method against one box, in depth units: inside[u] becomes 1 where
  *  the point lies in the box; crossTo[u] the depth where the ray leaves the
  *  box if the point lies beyond it (the farthest such box wins). */
-void classifyAgainstBox(
-	const RowRays& r, const float* depth, const mrpt::math::TBoundingBox& box, int from, int to, float* inside,
-	float* crossTo);
+void classifyAgainstBox(const RowRays& r, const float* depth, const mrpt::math::TBoundingBox& box, int from, int to,
+	float* inside, float* crossTo);
 
 constexpr int kInsideTag = 1 << 16;
 
@@ -51,9 +50,8 @@ constexpr int kInsideTag = 1 << 16;
  *  crosses; -1 in x for neither. The category rides on the x key (above
  *  the tree's keys) so that a change of it is a change of voxel too. A
  *  point inside a region is no coarse endpoint: its coarse x becomes -1. */
-void fineRowKeys(
-	const RowRays& r, const float* depth, const float* inside, const float* crossTo, float inverse, int from, int to,
-	RowKeys out, int* coarseX);
+void fineRowKeys(const RowRays& r, const float* depth, const float* inside, const float* crossTo, float inverse,
+	int from, int to, RowKeys out, int* coarseX);
 
 /** flags[u] = 1 where the voxel at u may be new to the scan: it differs
  *  from the voxels at u - 1, u - 2 and at u in the row above. Every key

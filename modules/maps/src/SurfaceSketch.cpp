@@ -33,8 +33,8 @@ std::uint64_t SurfaceSketch::highKeyOf(std::uint64_t lowKey, unsigned bit) const
 	const unsigned offset[3] = {bit / (m_ratio * m_ratio), (bit / m_ratio) % m_ratio, bit % m_ratio};
 	octomap::OcTreeKey h;
 	for (int i = 0; i < 3; i++)
-		h[i] = static_cast<octomap::key_type>(
-			(static_cast<int>(l[i]) - kKeyOffset) * static_cast<int>(m_ratio) + kKeyOffset + static_cast<int>(offset[i]));
+		h[i] = static_cast<octomap::key_type>((static_cast<int>(l[i]) - kKeyOffset) * static_cast<int>(m_ratio) +
+											  kKeyOffset + static_cast<int>(offset[i]));
 	return packKey(h);
 }
 
@@ -51,7 +51,10 @@ std::uint64_t& SurfaceSketch::entryOf(std::uint64_t lowKey)
 	return it->bits;
 }
 
-void SurfaceSketch::markHighVoxel(std::uint64_t highKey) { entryOf(lowKeyOf(highKey)) |= std::uint64_t(1) << bitOf(highKey); }
+void SurfaceSketch::markHighVoxel(std::uint64_t highKey)
+{
+	entryOf(lowKeyOf(highKey)) |= std::uint64_t(1) << bitOf(highKey);
+}
 
 std::optional<std::uint64_t> SurfaceSketch::take(std::uint64_t lowKey)
 {

@@ -58,8 +58,8 @@ class SurfaceSketch
 	template <typename Keep>
 	void prune(Keep&& keep)
 	{
-		const auto gone = std::remove_if(
-			m_entries.begin(), m_entries.end(), [&](const Entry& e) { return !keep(e.lowKey, e.bits); });
+		const auto gone =
+			std::remove_if(m_entries.begin(), m_entries.end(), [&](const Entry& e) { return !keep(e.lowKey, e.bits); });
 		m_entries.erase(gone, m_entries.end());
 		m_entries.shrink_to_fit();
 	}

@@ -33,7 +33,7 @@ bool eraseRecurs(
 	if (!t.nodeChildExists(node, pos))
 	{
 		if (t.nodeHasChildren(node) || node == t.getRoot()) return false;  // nothing there
-		t.expandNode(node);	 // a pruned leaf: split it to remove a part
+		t.expandNode(node);                                                // a pruned leaf: split it to remove a part
 	}
 	auto* child = t.getNodeChild(node, pos);
 	if (!eraseRecurs(t, child, depth + 1, key, target)) return false;
@@ -63,20 +63,23 @@ void setNodeValues(octomap::OcTree& tree, const std::vector<octomap::OcTreeKey>&
 	// In Z order the keys under any one node are consecutive, at every depth:
 	// the nodes on their paths come each once from one pass per depth.
 	auto zOrder = keys;
-	std::sort(zOrder.begin(), zOrder.end(), [](const octomap::OcTreeKey& a, const octomap::OcTreeKey& b) {
-		// The axis whose keys differ in the highest bit decides.
-		auto lowerTopBit = [](unsigned x, unsigned y) { return x < y && x < (x ^ y); };
-		int axis = 0;
-		unsigned top = a[0] ^ b[0];
-		for (int i = 1; i < 3; i++)
-			if (lowerTopBit(top, a[i] ^ b[i]))
-			{
-				axis = i;
-				top = a[i] ^ b[i];
-			}
-		return a[axis] < b[axis];
-	});
-	auto pruneOrUpdate = [&tree](octomap::OcTreeNode* node) {
+	std::sort(zOrder.begin(), zOrder.end(),
+		[](const octomap::OcTreeKey& a, const octomap::OcTreeKey& b)
+		{
+			// The axis whose keys differ in the highest bit decides.
+			auto lowerTopBit = [](unsigned x, unsigned y) { return x < y && x < (x ^ y); };
+			int axis = 0;
+			unsigned top = a[0] ^ b[0];
+			for (int i = 1; i < 3; i++)
+				if (lowerTopBit(top, a[i] ^ b[i]))
+				{
+					axis = i;
+					top = a[i] ^ b[i];
+				}
+			return a[axis] < b[axis];
+		});
+	auto pruneOrUpdate = [&tree](octomap::OcTreeNode* node)
+	{
 		if (!tree.pruneNode(node)) node->updateOccupancyChildren();
 	};
 	for (unsigned depth = tree.getTreeDepth() - 1; depth > 0; depth--)

@@ -35,7 +35,8 @@ std::size_t OdometryRun::keyframes() const
 
 std::string OdometryRun::timingSummary() const
 {
-	const auto line = [&](const char* name, double FrameRecord::*field) {
+	const auto line = [&](const char* name, double FrameRecord::*field)
+	{
 		io::TimingSamples ms;
 		for (const auto& f : frames) ms.add(f.*field);
 		const auto s = ms.summary();
@@ -51,25 +52,25 @@ std::string OdometryRun::timingSummary() const
 
 void OdometryRun::writeFrameStats(const std::filesystem::path& csv) const
 {
-	io::writeFileAtomically(csv, [&](const std::filesystem::path& tmp) {
-		std::ofstream out(tmp);
-		out << "index,timestamp,ms,cpu_ms,tracked,keyframe,inliers,reprojection_rmse_px,person_boxes,status\n";
-		char line[128];
-		for (const auto& f : frames)
+	io::writeFileAtomically(csv,
+		[&](const std::filesystem::path& tmp)
 		{
-			std::snprintf(
-				line, sizeof(line), "%zu,%.6f,%.3f,%.3f,%d,%d,%zu,%.3f,%zu,", f.index, f.timestamp, f.milliseconds, f.cpuMilliseconds,
-				int(f.estimate.tracked), int(f.estimate.keyframe), f.estimate.inliers, f.estimate.reprojectionRmse,
-				f.personBoxes);
-			out << line << '"' << f.estimate.status << "\"\n";
-		}
-		if (!out) throw std::runtime_error(csv.string() + ": cannot write");
-	});
+			std::ofstream out(tmp);
+			out << "index,timestamp,ms,cpu_ms,tracked,keyframe,inliers,reprojection_rmse_px,person_boxes,status\n";
+			char line[128];
+			for (const auto& f : frames)
+			{
+				std::snprintf(line, sizeof(line), "%zu,%.6f,%.3f,%.3f,%d,%d,%zu,%.3f,%zu,", f.index, f.timestamp,
+					f.milliseconds, f.cpuMilliseconds, int(f.estimate.tracked), int(f.estimate.keyframe),
+					f.estimate.inliers, f.estimate.reprojectionRmse, f.personBoxes);
+				out << line << '"' << f.estimate.status << "\"\n";
+			}
+			if (!out) throw std::runtime_error(csv.string() + ": cannot write");
+		});
 }
 
-OdometryRun runOdometry(
-	const std::filesystem::path& rawlog, const TOdometryOptions& options, const PersonBoxSource& personBoxes,
-	std::size_t maxFrames, const std::function<void(std::size_t)>& progress)
+OdometryRun runOdometry(const std::filesystem::path& rawlog, const TOdometryOptions& options,
+	const PersonBoxSource& personBoxes, std::size_t maxFrames, const std::function<void(std::size_t)>& progress)
 {
 	io::RawlogFrameReader reader(rawlog);
 	OdometryRun run;

@@ -47,8 +47,8 @@ inline OrbDescriptor descriptorRow(const cv::Mat& descriptors, int row)
 struct FrameFeatures
 {
 	std::vector<cv::KeyPoint> keypoints;
-	cv::Mat descriptors;                   //!< one ORB descriptor (CV_8U, 32 bytes) per row
-	std::vector<Eigen::Vector3d> points;   //!< [m] back-projected in the camera optical frame
+	cv::Mat descriptors;                  //!< one ORB descriptor (CV_8U, 32 bytes) per row
+	std::vector<Eigen::Vector3d> points;  //!< [m] back-projected in the camera optical frame
 	io::DepthCamera K;  //!< the registered depth and intensity images' camera, used in its optical frame
 	cv::Size imageSize;
 

@@ -132,9 +132,8 @@ struct VisualOdometry::Impl
 	 *  relocalisation_min_inliers. */
 	std::optional<Relocalisation> relocalise(const FrameFeatures& f, std::vector<KeyframeMap::Candidate>* tried) const;
 	/** Inliers (within ransac_reprojection) of the matches at pose T, and their squared error sum. */
-	std::vector<Match> inliersAt(
-		const Eigen::Isometry3d& T, const FrameFeatures& f, const std::vector<Match>& matches, const LandmarkMap& map,
-		double& squaredErrors) const;
+	std::vector<Match> inliersAt(const Eigen::Isometry3d& T, const FrameFeatures& f, const std::vector<Match>& matches,
+		const LandmarkMap& map, double& squaredErrors) const;
 	std::vector<Observation> observationsOf(const FrameFeatures& f, const std::vector<Match>& matches) const;
 	void saveState(mrpt::serialization::CArchive& out) const;
 	void loadState(mrpt::serialization::CArchive& in);
@@ -191,28 +190,26 @@ void VisualOdometry::Impl::restartLocalMap(const FrameFeatures& f, const Eigen::
 	lostFrames = lostFramesWithFeatures = 0;
 }
 
-std::vector<Observation> VisualOdometry::Impl::observationsOf(const FrameFeatures& f, const std::vector<Match>& matches) const
+std::vector<Observation> VisualOdometry::Impl::observationsOf(
+	const FrameFeatures& f, const std::vector<Match>& matches) const
 {
 	std::vector<Observation> out;
 	out.reserve(matches.size());
 	for (const auto& m : matches)
-		out.push_back(
-			{m.landmark, Eigen::Vector2d(f.keypoints[m.feature].pt.x, f.keypoints[m.feature].pt.y),
-			 f.points[m.feature].z()});
+		out.push_back({m.landmark, Eigen::Vector2d(f.keypoints[m.feature].pt.x, f.keypoints[m.feature].pt.y),
+			f.points[m.feature].z()});
 	return out;
 }
 
-std::vector<Match> VisualOdometry::Impl::inliersAt(
-	const Eigen::Isometry3d& T, const FrameFeatures& f, const std::vector<Match>& matches, const LandmarkMap& map,
-	double& squaredErrors) const
+std::vector<Match> VisualOdometry::Impl::inliersAt(const Eigen::Isometry3d& T, const FrameFeatures& f,
+	const std::vector<Match>& matches, const LandmarkMap& map, double& squaredErrors) const
 {
 	std::vector<Match> inliers;
 	squaredErrors = 0;
 	for (const auto& m : matches)
 	{
-		const double err = reprojectionError(
-			T, map.at(m.landmark).position, Eigen::Vector2d(f.keypoints[m.feature].pt.x, f.keypoints[m.feature].pt.y),
-			f.K);
+		const double err = reprojectionError(T, map.at(m.landmark).position,
+			Eigen::Vector2d(f.keypoints[m.feature].pt.x, f.keypoints[m.feature].pt.y), f.K);
 		if (err > options.ransac_reprojection) continue;
 		inliers.push_back(m);
 		squaredErrors += err * err;
@@ -257,7 +254,8 @@ OdometryEstimate VisualOdometry::Impl::process(
 {
 	const auto [grey, depth, K] = imagesOf(obs);
 	std::vector<cv::KeyPoint> masked;
-	const auto f = [&] {
+	const auto f = [&]
+	{
 		mrpt::system::CTimeLoggerEntry t(stageTimer, "1 features");
 		return frontend.extract(
 			grey, depth, K, options.mask_people ? boxes : std::vector<cv::Rect>{}, reportFeatures ? &masked : nullptr);
@@ -367,7 +365,8 @@ VisualOdometry::PlaceQuery VisualOdometry::Impl::queryPlace(
 	return q;
 }
 
-void VisualOdometry::Impl::addKeyframe(const FrameFeatures& f, const std::vector<Match>& inliers, const Eigen::Isometry3d& T)
+void VisualOdometry::Impl::addKeyframe(
+	const FrameFeatures& f, const std::vector<Match>& inliers, const Eigen::Isometry3d& T)
 {
 	Keyframe kf;
 	kf.id = nextKeyframeId++;
@@ -378,9 +377,8 @@ void VisualOdometry::Impl::addKeyframe(const FrameFeatures& f, const std::vector
 	{
 		matched[m.feature] = true;
 		landmarks.at(m.landmark).descriptor = f.descriptor(m.feature);
-		kf.observations.push_back(
-			{m.landmark, Eigen::Vector2d(f.keypoints[m.feature].pt.x, f.keypoints[m.feature].pt.y),
-			 f.points[m.feature].z()});
+		kf.observations.push_back({m.landmark,
+			Eigen::Vector2d(f.keypoints[m.feature].pt.x, f.keypoints[m.feature].pt.y), f.points[m.feature].z()});
 	}
 	const Eigen::Isometry3d T_wc = T.inverse();
 	for (std::size_t i = 0; i < f.keypoints.size(); ++i)
@@ -388,8 +386,7 @@ void VisualOdometry::Impl::addKeyframe(const FrameFeatures& f, const std::vector
 		if (matched[i]) continue;
 		const int id = nextLandmarkId++;
 		landmarks[id] = Landmark{T_wc * f.points[i], f.descriptor(int(i))};
-		kf.observations.push_back(
-			{id, Eigen::Vector2d(f.keypoints[i].pt.x, f.keypoints[i].pt.y), f.points[i].z()});
+		kf.observations.push_back({id, Eigen::Vector2d(f.keypoints[i].pt.x, f.keypoints[i].pt.y), f.points[i].z()});
 	}
 	window.push_back(std::move(kf));
 	while (window.size() > std::size_t(std::max(1, options.window_size))) window.pop_front();
@@ -451,9 +448,8 @@ void VisualOdometry::Impl::loadState(mrpt::serialization::CArchive& in)
 {
 	// Everything is read and checked before any of it replaces the state.
 	if (const auto version = read<std::uint8_t>(in); version != stateVersion)
-		throw badState(
-			"odometry state of version " + std::to_string(version) + ", this build reads version " +
-			std::to_string(stateVersion));
+		throw badState("odometry state of version " + std::to_string(version) + ", this build reads version " +
+					   std::to_string(stateVersion));
 	const Eigen::Isometry3d pose = readPose(in), motion = readPose(in);
 	const int nextId = read<std::int32_t>(in);
 	LandmarkMap map;
@@ -480,9 +476,8 @@ void VisualOdometry::Impl::loadState(mrpt::serialization::CArchive& in)
 			read(in, o.pixel.data(), 2);
 			o.depth = read<double>(in);
 			if (!map.count(o.landmark))
-				throw badState(
-					"corrupt odometry state (a keyframe observes the unknown landmark " + std::to_string(o.landmark) +
-					")");
+				throw badState("corrupt odometry state (a keyframe observes the unknown landmark " +
+							   std::to_string(o.landmark) + ")");
 		}
 	}
 	const int nextKeyframe = read<std::int32_t>(in);

@@ -105,7 +105,7 @@ std::vector<LabelPixels> readPersonLabels(const mrpt::obs::CObservation3DRangeSc
 		}
 	if (bits.empty()) return out;
 	if (!(collect<1>(labels, bits, out) || collect<2>(labels, bits, out) || collect<4>(labels, bits, out) ||
-		  collect<8>(labels, bits, out)))
+			collect<8>(labels, bits, out)))
 		labelImageSize(labels);  // throws: a label type of unknown width
 	return out;
 }
@@ -119,7 +119,8 @@ std::vector<PixelSet> personPixelsFromLabels(
 	const auto size = labelImageSize(*obs.pixelLabels);
 	if (size.rows != rows || size.cols != cols) return persons;
 
-	const auto enoughDepth = [&](const PixelSet& pixels) {
+	const auto enoughDepth = [&](const PixelSet& pixels)
+	{
 		std::size_t withDepth = 0;
 		for (const auto i : pixels) withDepth += obs.rangeImage(i / cols, i % cols) != 0;
 		return withDepth >= minPixels;

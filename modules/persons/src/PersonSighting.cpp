@@ -47,9 +47,8 @@ std::string format(const char* what, double value, const char* key, double limit
 }
 }  // namespace
 
-SightingEstimate estimateSighting(
-	const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& sensorPoseInWorld,
-	const PixelSet& pixels, const SightingOptions& o)
+SightingEstimate estimateSighting(const mrpt::obs::CObservation3DRangeScan& obs,
+	const mrpt::poses::CPose3D& sensorPoseInWorld, const PixelSet& pixels, const SightingOptions& o)
 {
 	SightingEstimate est;
 	if (pixels.empty() || !obs.hasRangeImage || obs.rangeImage.cols() == 0)
@@ -74,7 +73,8 @@ SightingEstimate estimateSighting(
 	const double fraction = double(withDepth) / double(pixels.size());
 	if (fraction < o.minDepthFraction)
 	{
-		est.skipReason = format("only a share of ", fraction, "of the pixels has depth, min_person_depth_fraction", o.minDepthFraction);
+		est.skipReason = format(
+			"only a share of ", fraction, "of the pixels has depth, min_person_depth_fraction", o.minDepthFraction);
 		return est;
 	}
 	// A detector's box holds tens of thousands of pixels: the statistics
@@ -105,12 +105,13 @@ SightingEstimate estimateSighting(
 	}
 	if (inBand < o.minPixels)
 	{
-		est.skipReason = format("depth pixels within the person's band: ", double(inBand), "min_person_pixels",
-			double(o.minPixels));
+		est.skipReason =
+			format("depth pixels within the person's band: ", double(inBand), "min_person_pixels", double(o.minPixels));
 		return est;
 	}
 	std::vector<double> xs, ys, zs;
-	const auto collect = [&](std::size_t every) {
+	const auto collect = [&](std::size_t every)
+	{
 		xs.clear(), ys.clear(), zs.clear();
 		for (std::size_t k = 0; k < pixels.size(); k += every)
 		{

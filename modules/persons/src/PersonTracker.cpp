@@ -27,13 +27,14 @@ std::vector<std::uint32_t> PersonTracker::update(
 			if (d <= gate) pairs.push_back({d, t, s});
 		}
 	}
-	std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) {
-		return std::tie(a.distance, a.track, a.sighting) < std::tie(b.distance, b.track, b.sighting);
-	});
+	std::sort(pairs.begin(), pairs.end(),
+		[](const Pair& a, const Pair& b)
+		{ return std::tie(a.distance, a.track, a.sighting) < std::tie(b.distance, b.track, b.sighting); });
 
 	std::vector<std::uint32_t> ids(sightings.size(), 0);
 	std::vector<bool> trackTaken(m_tracks.size(), false);
-	const auto record = [&](PersonTrack& track, const PersonSighting& s) {
+	const auto record = [&](PersonTrack& track, const PersonSighting& s)
+	{
 		track.lastFrame = frame;
 		track.lastTime = time;
 		track.position = s.position;

@@ -21,9 +21,9 @@ std::string personsCsvText(const std::vector<PersonTrack>& tracks)
 	for (const auto& t : tracks)
 	{
 		char line[512];
-		std::snprintf(line, sizeof(line), "%u,%zu,%zu,%.6f,%.6f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%zu\n", t.id,
-			t.firstFrame, t.lastFrame, t.firstTime, t.lastTime, t.position.x, t.position.y, t.position.z, t.box.min.x,
-			t.box.min.y, t.box.min.z, t.box.max.x, t.box.max.y, t.box.max.z, t.sightings);
+		std::snprintf(line, sizeof(line), "%u,%zu,%zu,%.6f,%.6f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%zu\n",
+			t.id, t.firstFrame, t.lastFrame, t.firstTime, t.lastTime, t.position.x, t.position.y, t.position.z,
+			t.box.min.x, t.box.min.y, t.box.min.z, t.box.max.x, t.box.max.y, t.box.max.z, t.sightings);
 		out << line;
 	}
 	return out.str();
@@ -42,8 +42,8 @@ std::vector<PersonTrack> readPersonsCsv(const std::filesystem::path& file)
 		if (line.empty()) continue;
 		PersonTrack t;
 		char end = 0;
-		const int read = std::sscanf(line.c_str(), "%u,%zu,%zu,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%zu%c", &t.id,
-			&t.firstFrame, &t.lastFrame, &t.firstTime, &t.lastTime, &t.position.x, &t.position.y, &t.position.z,
+		const int read = std::sscanf(line.c_str(), "%u,%zu,%zu,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%zu%c",
+			&t.id, &t.firstFrame, &t.lastFrame, &t.firstTime, &t.lastTime, &t.position.x, &t.position.y, &t.position.z,
 			&t.box.min.x, &t.box.min.y, &t.box.min.z, &t.box.max.x, &t.box.max.y, &t.box.max.z, &t.sightings, &end);
 		if (read != 15)
 			throw std::runtime_error(file.string() + ":" + std::to_string(lineNo) + ": not a persons.csv line");

@@ -27,9 +27,8 @@ CheckpointedRun readFile(const fs::path& outDir, Rest rest)
 {
 	const fs::path file = checkpointFile(outDir);
 	if (!fs::exists(file))
-		throw std::runtime_error(
-			file.string() + ": no checkpoint (the run was stopped before its first frame, or " + outDir.string() +
-			" is not an avm-map output folder)");
+		throw std::runtime_error(file.string() + ": no checkpoint (the run was stopped before its first frame, or " +
+								 outDir.string() + " is not an avm-map output folder)");
 	try
 	{
 		mrpt::io::CFileInputStream stream(file.string());
@@ -38,8 +37,8 @@ CheckpointedRun readFile(const fs::path& outDir, Rest rest)
 		in >> magic;
 		if (magic != kMagic) throw std::runtime_error("not an avm checkpoint");
 		if (const auto version = in.ReadAs<std::uint8_t>(); version != kVersion)
-			throw std::runtime_error("checkpoint version " + std::to_string(version) + ", this avm reads " +
-									 std::to_string(kVersion));
+			throw std::runtime_error(
+				"checkpoint version " + std::to_string(version) + ", this avm reads " + std::to_string(kVersion));
 		CheckpointedRun run;
 		std::string rawlog;
 		in >> run.ini >> rawlog;
@@ -68,42 +67,45 @@ CheckpointedRun readCheckpointedRun(const fs::path& outDir)
 
 namespace detail
 {
-void writeCheckpoint(
-	const fs::path& outDir, const CheckpointedRun& run, const CheckpointProgress& progress,
+void writeCheckpoint(const fs::path& outDir, const CheckpointedRun& run, const CheckpointProgress& progress,
 	const mrpt::maps::CMultiMetricMap& maps, FrameProcessor& processor)
 {
-	io::writeFileAtomically(pipeline::checkpointFile(outDir), [&](const fs::path& tmp) {
-		mrpt::io::CFileOutputStream stream;
-		if (!stream.open(tmp.string())) throw std::runtime_error(tmp.string() + ": cannot write the checkpoint");
-		auto out = mrpt::serialization::archiveFrom(stream);
-		out << kMagic;
-		out.WriteAs<std::uint8_t>(kVersion);
-		out << run.ini << run.rawlog.string();
-		out.WriteAs<std::uint8_t>(run.poseSource == PoseSource::GroundTruth);
-		out << progress.seconds << progress.cpuSeconds << progress.log;
-		// The processor first: it finishes the insertion in flight, which
-		// writes to the maps.
-		processor.saveState(out);
-		out.WriteAs<std::uint64_t>(maps.maps.size());
-		for (const auto& m : maps.maps) out << *m;
-		out << kMagic;  // the end: a file cut short fails to read, not to resume
-	});
+	io::writeFileAtomically(pipeline::checkpointFile(outDir),
+		[&](const fs::path& tmp)
+		{
+			mrpt::io::CFileOutputStream stream;
+			if (!stream.open(tmp.string())) throw std::runtime_error(tmp.string() + ": cannot write the checkpoint");
+			auto out = mrpt::serialization::archiveFrom(stream);
+			out << kMagic;
+			out.WriteAs<std::uint8_t>(kVersion);
+			out << run.ini << run.rawlog.string();
+			out.WriteAs<std::uint8_t>(run.poseSource == PoseSource::GroundTruth);
+			out << progress.seconds << progress.cpuSeconds << progress.log;
+			// The processor first: it finishes the insertion in flight, which
+			// writes to the maps.
+			processor.saveState(out);
+			out.WriteAs<std::uint64_t>(maps.maps.size());
+			for (const auto& m : maps.maps) out << *m;
+			out << kMagic;  // the end: a file cut short fails to read, not to resume
+		});
 }
 
 CheckpointProgress readCheckpoint(const fs::path& outDir, mrpt::maps::CMultiMetricMap& maps, FrameProcessor& processor)
 {
 	CheckpointProgress progress;
-	readFile(outDir, [&](CArchive& in) {
-		in >> progress.seconds >> progress.cpuSeconds >> progress.log;
-		processor.loadState(in);
-		if (in.ReadAs<std::uint64_t>() != maps.maps.size())
-			throw std::runtime_error("its maps are not those of the configuration's map definition");
-		// Into the maps the configuration made: the processor holds references to them.
-		for (auto& m : maps.maps) in >> *m;
-		std::string end;
-		in >> end;
-		if (end != kMagic) throw std::runtime_error("the file ends early");
-	});
+	readFile(outDir,
+		[&](CArchive& in)
+		{
+			in >> progress.seconds >> progress.cpuSeconds >> progress.log;
+			processor.loadState(in);
+			if (in.ReadAs<std::uint64_t>() != maps.maps.size())
+				throw std::runtime_error("its maps are not those of the configuration's map definition");
+			// Into the maps the configuration made: the processor holds references to them.
+			for (auto& m : maps.maps) in >> *m;
+			std::string end;
+			in >> end;
+			if (end != kMagic) throw std::runtime_error("the file ends early");
+		});
 	return progress;
 }
 }  // namespace detail

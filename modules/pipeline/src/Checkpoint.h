@@ -28,9 +28,8 @@ struct CheckpointProgress
 
 /** Writes outDir's checkpoint (finishing the processor's insertion in
  *  flight); the processor must be readyForCheckpoint(). */
-void writeCheckpoint(
-	const std::filesystem::path& outDir, const CheckpointedRun& run, const CheckpointProgress& progress,
-	const mrpt::maps::CMultiMetricMap& maps, FrameProcessor& processor);
+void writeCheckpoint(const std::filesystem::path& outDir, const CheckpointedRun& run,
+	const CheckpointProgress& progress, const mrpt::maps::CMultiMetricMap& maps, FrameProcessor& processor);
 
 /** Restores the maps (made from the same definition) and a fresh processor
  *  from outDir's checkpoint. Throws std::runtime_error naming the file when it

@@ -19,8 +19,7 @@ namespace
 constexpr std::size_t kRecentPoses = 64;
 }  // namespace
 
-FrameProcessor::FrameProcessor(
-	const TPipelineOptions& options, const odometry::TOdometryOptions& odometryOptions,
+FrameProcessor::FrameProcessor(const TPipelineOptions& options, const odometry::TOdometryOptions& odometryOptions,
 	detection::DetectorBase* detector, mrpt::maps::CMultiMetricMap& maps, ReferenceOctoMaps* reference,
 	mrpt::system::COutputLogger& log)
 	: m_options(options),
@@ -72,8 +71,8 @@ viewer::MapSnapshot FrameProcessor::snapshot(const io::RgbdFrame& frame, const m
 		 it != m_personDetections.rend() && it->frameIndex == m_personDetections.back().frameIndex; ++it)
 	{
 		const auto& b = it->person.box;
-		s.imageBoxes.push_back({b.x, b.y, b.x + b.width, b.y + b.height, it->seen ? it->seen->personId : 0u,
-			it->person.score});
+		s.imageBoxes.push_back(
+			{b.x, b.y, b.x + b.width, b.y + b.height, it->seen ? it->seen->personId : 0u, it->person.score});
 	}
 	s.status.frame = frame.index;
 	if (m_counts.frames > m_framesWhenShown)
@@ -96,7 +95,8 @@ void FrameProcessor::finish()
 void FrameProcessor::startDetection(const io::RgbdFrame& frame)
 {
 	if (!m_detector || frame.index % m_options.detectEveryN != 0) return;
-	const auto detect = [detector = m_detector, index = frame.index, t = frame.timestamp(), obs = frame.observation] {
+	const auto detect = [detector = m_detector, index = frame.index, t = frame.timestamp(), obs = frame.observation]
+	{
 		DetectionResult r{index, t, obs, {}, 0};
 		mrpt::system::CTicTac timer;
 		r.persons = detection::personsOnly(detector->detect(io::colourImage(*obs)));
@@ -143,10 +143,9 @@ std::optional<CPose3D> FrameProcessor::estimatePose(const io::RgbdFrame& frame)
 	else
 	{
 		if (!m_odometry)
-			m_odometry.emplace(
-				m_odometryOptions, m_options.startAtGroundTruth && frame.groundTruth
-									   ? *frame.groundTruth
-									   : io::opticalToSensorPose().getOppositeScalar());
+			m_odometry.emplace(m_odometryOptions, m_options.startAtGroundTruth && frame.groundTruth
+													  ? *frame.groundTruth
+													  : io::opticalToSensorPose().getOppositeScalar());
 		m_odometry->reportFeatures(m_view != nullptr);
 		mrpt::system::CTicTac timer;
 		m_lastEstimate = m_odometry->process(*frame.observation, m_latestPersonBoxes);
@@ -202,7 +201,8 @@ void FrameProcessor::observePersons(const DetectionResult& r)
 void FrameProcessor::insert(const io::RgbdFrame& frame, const CPose3D& pose)
 {
 	const auto work = [&maps = m_maps, reference = m_reference, obs = frame.observation, pose,
-						   persons = std::exchange(m_personWork, {})] {
+						  persons = std::exchange(m_personWork, {})]
+	{
 		mrpt::system::CTicTac timer;
 		const double cpu = io::threadCpuMs();
 		maps.insertObservation(*obs, pose);

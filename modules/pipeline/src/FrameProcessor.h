@@ -61,8 +61,7 @@ class FrameProcessor
    public:
 	/** `detector` may be null (no detection); `reference` may be null (no
 	 *  reference maps). Everything given must outlive the processor. */
-	FrameProcessor(
-		const TPipelineOptions& options, const odometry::TOdometryOptions& odometryOptions,
+	FrameProcessor(const TPipelineOptions& options, const odometry::TOdometryOptions& odometryOptions,
 		detection::DetectorBase* detector, mrpt::maps::CMultiMetricMap& maps, ReferenceOctoMaps* reference,
 		mrpt::system::COutputLogger& log);
 	~FrameProcessor();  //!< waits for the work in flight
@@ -179,10 +178,10 @@ class FrameProcessor
 	MapWork m_personWork;  // person updates since the last insertion: counted in the next one
 	viewer::MapView* m_view = nullptr;
 	odometry::OdometryEstimate m_lastEstimate;  // its features, for the view
-	std::size_t m_framesWhenShown = 0;             // the view's fps: frames since showOn()
+	std::size_t m_framesWhenShown = 0;          // the view's fps: frames since showOn()
 	mrpt::system::CTicTac m_shownFor;
-	std::optional<std::size_t> m_lastFrame;           // the last frame given to process()
-	std::set<std::size_t> m_detectionsToRestart;     // after loadState: frames whose detection was pending
+	std::optional<std::size_t> m_lastFrame;       // the last frame given to process()
+	std::set<std::size_t> m_detectionsToRestart;  // after loadState: frames whose detection was pending
 
 	// Last, so that they are joined first: the work in flight uses the above.
 	std::deque<PendingDetection> m_pendingDetections;

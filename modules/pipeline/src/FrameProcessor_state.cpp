@@ -71,17 +71,21 @@ void write(CArchive& out, const PersonDetectionRecord& r)
 	const auto& d = r.person;
 	out << d.box.x << d.box.y << d.box.width << d.box.height << static_cast<std::int32_t>(d.classId) << d.className
 		<< d.score;
-	writeOptional(out, r.seen, [&](const TPersonObservation& seen) {
-		writeOptional(out, seen.sighting, [&](const persons::PersonSighting& s) {
-			write(out, s.position);
-			write(out, s.box);
-			write(out, s.points);
-			out << s.depth;
+	writeOptional(out, r.seen,
+		[&](const TPersonObservation& seen)
+		{
+			writeOptional(out, seen.sighting,
+				[&](const persons::PersonSighting& s)
+				{
+					write(out, s.position);
+					write(out, s.box);
+					write(out, s.points);
+					out << s.depth;
+				});
+			out << seen.personId;
+			writeOptional(out, seen.regionBox, [&](const mrpt::math::TBoundingBox& b) { write(out, b); });
+			out << seen.skipReason;
 		});
-		out << seen.personId;
-		writeOptional(out, seen.regionBox, [&](const mrpt::math::TBoundingBox& b) { write(out, b); });
-		out << seen.skipReason;
-	});
 }
 void read(CArchive& in, PersonDetectionRecord& r)
 {
@@ -91,17 +95,21 @@ void read(CArchive& in, PersonDetectionRecord& r)
 	in >> d.box.x >> d.box.y >> d.box.width >> d.box.height;
 	d.classId = in.ReadAs<std::int32_t>();
 	in >> d.className >> d.score;
-	readOptional(in, r.seen, [&](TPersonObservation& seen) {
-		readOptional(in, seen.sighting, [&](persons::PersonSighting& s) {
-			read(in, s.position);
-			read(in, s.box);
-			s.points = readSize(in);
-			in >> s.depth;
+	readOptional(in, r.seen,
+		[&](TPersonObservation& seen)
+		{
+			readOptional(in, seen.sighting,
+				[&](persons::PersonSighting& s)
+				{
+					read(in, s.position);
+					read(in, s.box);
+					s.points = readSize(in);
+					in >> s.depth;
+				});
+			in >> seen.personId;
+			readOptional(in, seen.regionBox, [&](mrpt::math::TBoundingBox& b) { read(in, b); });
+			in >> seen.skipReason;
 		});
-		in >> seen.personId;
-		readOptional(in, seen.regionBox, [&](mrpt::math::TBoundingBox& b) { read(in, b); });
-		in >> seen.skipReason;
-	});
 }
 }  // namespace
 
@@ -118,8 +126,8 @@ void FrameProcessor::saveState(CArchive& out)
 	write(out, c.detectionRuns);
 	write(out, c.framesWithPerson);
 	write(out, c.regions);
-	for (const auto* t : {&m_stages.odometry, &m_stages.detection, &m_stages.detectionWait, &m_stages.map,
-			 &m_stages.mapCpu})
+	for (const auto* t :
+		{&m_stages.odometry, &m_stages.detection, &m_stages.detectionWait, &m_stages.map, &m_stages.mapCpu})
 		write(out, *t);
 	write(out, m_trajectory);
 	for (const bool tracked : m_trackedPoses) out.WriteAs<std::uint8_t>(tracked);

@@ -93,8 +93,7 @@ std::optional<io::RgbdFrame> FrameSequence::read()
 			if (!m_firstTime) m_firstTime = m_lastTime;
 			m_framesInReplay = frame->index + 1;
 			frame->index += m_indexOffset;
-			if (m_timeOffset != 0)
-				frame->observation->timestamp = mrpt::Clock::fromDouble(m_lastTime + m_timeOffset);
+			if (m_timeOffset != 0) frame->observation->timestamp = mrpt::Clock::fromDouble(m_lastTime + m_timeOffset);
 			m_progress = (m_replay + m_reader->progress()) / m_repeat;
 			return frame;
 		}

@@ -25,7 +25,8 @@ void drawPerson(cv::Mat& img, const cv::Point2d& at, std::uint32_t id)
 {
 	cv::circle(img, at, 7, kPerson, cv::FILLED, cv::LINE_AA);
 	cv::circle(img, at, 7, cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
-	cv::putText(img, std::to_string(id), at + cv::Point2d(9, -6), cv::FONT_HERSHEY_SIMPLEX, 0.6, kPerson, 2, cv::LINE_AA);
+	cv::putText(
+		img, std::to_string(id), at + cv::Point2d(9, -6), cv::FONT_HERSHEY_SIMPLEX, 0.6, kPerson, 2, cv::LINE_AA);
 }
 
 /** Colour of a voxel: blues for low resolution, oranges for high, lighter with
@@ -40,9 +41,11 @@ cv::Scalar voxelColour(const PictureVoxel& v, float zMin, float zMax)
 
 void save(const cv::Mat& img, const std::filesystem::path& png)
 {
-	io::writeFileAtomically(png, [&](const std::filesystem::path& tmp) {
-		if (!cv::imwrite(tmp.string(), img)) throw std::runtime_error(png.string() + ": cannot write picture");
-	});
+	io::writeFileAtomically(png,
+		[&](const std::filesystem::path& tmp)
+		{
+			if (!cv::imwrite(tmp.string(), img)) throw std::runtime_error(png.string() + ": cannot write picture");
+		});
 }
 
 void drawLegend(cv::Mat& img, const MapPictureContent& c, const std::string& title)
@@ -76,7 +79,8 @@ void drawTopView(const MapPictureContent& c, const std::filesystem::path& png, i
 {
 	mrpt::math::TBoundingBox box({0, 0, 0}, {0, 0, 0});
 	bool first = true;
-	const auto extend = [&](double x, double y) {
+	const auto extend = [&](double x, double y)
+	{
 		if (first) box = mrpt::math::TBoundingBox({x, y, 0}, {x, y, 0}), first = false;
 		box.updateWithPoint({x, y, 0});
 	};
@@ -85,9 +89,8 @@ void drawTopView(const MapPictureContent& c, const std::filesystem::path& png, i
 	const double margin = 0.5;
 	const double span = std::max(box.max.x - box.min.x, box.max.y - box.min.y) + 2 * margin;
 	const double scale = sizePx / std::max(span, 1e-3);  // px per metre
-	const auto toPx = [&](double x, double y) {
-		return cv::Point2d((x - box.min.x + margin) * scale, sizePx - (y - box.min.y + margin) * scale);
-	};
+	const auto toPx = [&](double x, double y)
+	{ return cv::Point2d((x - box.min.x + margin) * scale, sizePx - (y - box.min.y + margin) * scale); };
 
 	cv::Mat img(sizePx, sizePx, CV_8UC3, kBackground);
 	std::vector<const PictureVoxel*> order;
@@ -138,7 +141,8 @@ void drawPerspectiveView(const MapPictureContent& c, const std::filesystem::path
 	if (back.norm() < 1e-6) back = {-1, 0, 0};
 	back *= 1.0 / back.norm();
 	const double distance = 1.6 * radius;
-	const mrpt::math::TPoint3D eye = centre + back * (distance * std::cos(0.6)) + mrpt::math::TPoint3D(0, 0, distance * std::sin(0.6));
+	const mrpt::math::TPoint3D eye =
+		centre + back * (distance * std::cos(0.6)) + mrpt::math::TPoint3D(0, 0, distance * std::sin(0.6));
 	// Camera axes: forward to the centre, right, down (optical convention).
 	mrpt::math::TPoint3D fwd = centre - eye;
 	fwd *= 1.0 / fwd.norm();
@@ -156,12 +160,13 @@ void drawPerspectiveView(const MapPictureContent& c, const std::filesystem::path
 		double halfPx;
 		cv::Scalar colour;
 	};
-	const auto project = [&](const mrpt::math::TPoint3D& p, cv::Point2d& px, double& depth) {
+	const auto project = [&](const mrpt::math::TPoint3D& p, cv::Point2d& px, double& depth)
+	{
 		const auto d = p - eye;
 		depth = d.x * fwd.x + d.y * fwd.y + d.z * fwd.z;
 		if (depth < 0.1) return false;
 		px = {w / 2.0 + f * (d.x * right.x + d.y * right.y + d.z * right.z) / depth,
-			  h / 2.0 + f * (d.x * down.x + d.y * down.y + d.z * down.z) / depth};
+			h / 2.0 + f * (d.x * down.x + d.y * down.y + d.z * down.z) / depth};
 		return true;
 	};
 	const auto [zMin, zMax] = heightRange(c.voxels);

@@ -94,7 +94,8 @@ void warnUnknownMapKeys(
 	static const std::vector<std::string> generic = {
 		"enableSaveAs3DObject", "enableObservationLikelihood", "enableObservationInsertion"};
 	const CAdaptiveOctoMap defaults;
-	const auto check = [&](const std::string& section, const mrpt::config::CLoadableOptions& opts, bool creation) {
+	const auto check = [&](const std::string& section, const mrpt::config::CLoadableOptions& opts, bool creation)
+	{
 		for (const auto& key : io::unknownKeys(ini, section, opts))
 			if (!creation || std::find(generic.begin(), generic.end(), key) == generic.end())
 				log.logStr(mrpt::system::LVL_WARN, "unknown key [" + section + "] " + key + " (ignored)\n");
@@ -125,7 +126,7 @@ mrpt::maps::CMultiMetricMap::Ptr createMaps(
 /** What a run cost, from before the first frame is read. */
 struct RunCost
 {
-	double seconds = 0, cpuSeconds = 0;  //!< wall time; the process's CPU time (all threads)
+	double seconds = 0, cpuSeconds = 0;    //!< wall time; the process's CPU time (all threads)
 	std::optional<double> stolenCpuShare;  //!< the machine's CPU time a hypervisor took
 };
 
@@ -174,8 +175,7 @@ class Checkpoints
 	}
 	bool enabled() const { return m_interval > 0; }
 	bool due() const { return enabled() && m_sinceLast.Tac() >= m_interval; }
-	void write(
-		const detail::CheckpointProgress& progress, const mrpt::maps::CMultiMetricMap& maps,
+	void write(const detail::CheckpointProgress& progress, const mrpt::maps::CMultiMetricMap& maps,
 		detail::FrameProcessor& processor)
 	{
 		mrpt::system::CTicTac timer;
@@ -272,7 +272,8 @@ MappingPipeline::MappingPipeline(const mrpt::config::CConfigFileBase& ini, const
 	d.detectorOptions.loadFromConfigFile(ini, kDetectionSection);
 	d.mapDefinition.loadFromConfigFile(ini, d.options.mapSection);
 
-	const auto warnUnknown = [&](const std::string& section, const mrpt::config::CLoadableOptions& opts) {
+	const auto warnUnknown = [&](const std::string& section, const mrpt::config::CLoadableOptions& opts)
+	{
 		for (const auto& key : io::unknownKeys(ini, section, opts))
 			logStr(mrpt::system::LVL_WARN, "unknown key [" + section + "] " + key + " (ignored)\n");
 	};
@@ -313,8 +314,7 @@ bool MappingPipeline::opensView() const { return m_impl->options.viewer.enabled;
 
 const CAdaptiveOctoMap& MappingPipeline::map() const { return *m_impl->maps->mapByClass<CAdaptiveOctoMap>(); }
 
-RunSummary MappingPipeline::run(
-	const fs::path& rawlog, const fs::path& outDir, const std::atomic<bool>* stop,
+RunSummary MappingPipeline::run(const fs::path& rawlog, const fs::path& outDir, const std::atomic<bool>* stop,
 	const std::function<void(double, std::size_t)>& progress)
 {
 	return runFrames(rawlog, outDir, false, stop, progress);
@@ -328,9 +328,8 @@ RunSummary MappingPipeline::resume(
 	return runFrames(checkpointed.rawlog, outDir, true, stop, progress);
 }
 
-RunSummary MappingPipeline::runFrames(
-	const fs::path& rawlog, const fs::path& outDir, bool resume, const std::atomic<bool>* stop,
-	const std::function<void(double, std::size_t)>& progress)
+RunSummary MappingPipeline::runFrames(const fs::path& rawlog, const fs::path& outDir, bool resume,
+	const std::atomic<bool>* stop, const std::function<void(double, std::size_t)>& progress)
 {
 	auto& d = *m_impl;
 	const auto& opt = d.options;
@@ -353,11 +352,12 @@ RunSummary MappingPipeline::runFrames(
 	{
 		before = detail::readCheckpoint(outDir, *d.maps, processor);
 		resumedAfter = processor.lastFrame();
-		logFmt(mrpt::system::LVL_INFO, "resumed from %s: %zu frames mapped before\n",
-			checkpointFile(outDir).c_str(), processor.counts().frames);
+		logFmt(mrpt::system::LVL_INFO, "resumed from %s: %zu frames mapped before\n", checkpointFile(outDir).c_str(),
+			processor.counts().frames);
 	}
 	Checkpoints checkpoints(outDir, {d.iniText, fs::absolute(rawlog), opt.poseSource}, opt.checkpointIntervalSeconds);
-	const auto checkpoint = [&](const RunClock& clock) {
+	const auto checkpoint = [&](const RunClock& clock)
+	{
 		const RunCost cost = clock.read();
 		checkpoints.write({cost.seconds, cost.cpuSeconds, before.log + getLogAsString()}, *d.maps, processor);
 	};
@@ -414,8 +414,8 @@ RunSummary MappingPipeline::runFrames(
 		logFmt(mrpt::system::LVL_INFO, "%zu frames in %.2f s (%.1f fps, real-time factor %.2f)%s\n", summary.frames,
 			summary.seconds, summary.fps, summary.realTimeFactor, summary.interrupted ? ", interrupted" : "");
 		detail::RunRecord record{rawlog, &opt, d.detector ? d.detector->description() : std::string("none"),
-			processor.trajectory(), processor.trackedPoses(), processor.personDetections(), frames.peakMemoryPerReplay(),
-			before.log + getLogAsString() + frames.log()};
+			processor.trajectory(), processor.trackedPoses(), processor.personDetections(),
+			frames.peakMemoryPerReplay(), before.log + getLogAsString() + frames.log()};
 		detail::writeRunOutputs(outDir, summary, record, map);
 		return summary;
 	}

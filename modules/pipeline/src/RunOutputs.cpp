@@ -25,11 +25,13 @@ struct TreeStats
 
 void writeText(const fs::path& file, const std::string& text)
 {
-	io::writeFileAtomically(file, [&](const fs::path& tmp) {
-		std::ofstream out(tmp);
-		out << text;
-		if (!out.flush()) throw std::runtime_error(file.string() + ": write failed");
-	});
+	io::writeFileAtomically(file,
+		[&](const fs::path& tmp)
+		{
+			std::ofstream out(tmp);
+			out << text;
+			if (!out.flush()) throw std::runtime_error(file.string() + ": write failed");
+		});
 }
 
 /** detections.txt: one line per person box, with the person and region it
@@ -61,17 +63,18 @@ std::string detectionsText(const std::vector<PersonDetectionRecord>& detections)
 }
 
 /** map_top.png and map_perspective.png. */
-void drawPictures(
-	const fs::path& outDir, const io::Trajectory& trajectory, const CAdaptiveOctoMap& map, const TreeStats& trees,
-	int size)
+void drawPictures(const fs::path& outDir, const io::Trajectory& trajectory, const CAdaptiveOctoMap& map,
+	const TreeStats& trees, int size)
 {
 	MapPictureContent content;
 	for (const auto tree : {Resolution::Low, Resolution::High})
-		map.forEachLeaf(tree, [&](const TLeafVoxel& v) {
-			if (v.occupied)
-				content.voxels.push_back(
-					{mrpt::math::TPoint3Df(v.center), static_cast<float>(v.size), tree == Resolution::High});
-		});
+		map.forEachLeaf(tree,
+			[&](const TLeafVoxel& v)
+			{
+				if (v.occupied)
+					content.voxels.push_back(
+						{mrpt::math::TPoint3Df(v.center), static_cast<float>(v.size), tree == Resolution::High});
+			});
 	content.trajectory = trajectory;
 	for (const auto& r : map.highResolutionRegions())
 		content.regions.insert(content.regions.end(), r.boxes.begin(), r.boxes.end());
@@ -85,8 +88,7 @@ void drawPictures(
 void writeStages(JsonWriter& json, const RunSummary& summary)
 {
 	json.beginObject("stages");
-	for (const auto& [name, s] :
-		 {std::pair{"odometry", summary.odometry}, {"detection", summary.detection},
+	for (const auto& [name, s] : {std::pair{"odometry", summary.odometry}, {"detection", summary.detection},
 			 {"detection_wait", summary.detectionWait}, {"map", summary.map}, {"map_cpu", summary.mapCpu},
 			 {"checkpoint", summary.checkpoint}})
 		json.beginObject(name)
@@ -142,7 +144,8 @@ void writeRegionsAndPersons(JsonWriter& json, const CAdaptiveOctoMap& map)
 
 void writeReference(JsonWriter& json, const TReferenceComparison& c, const io::TimingSummary& mapCpu)
 {
-	const auto tree = [&](const char* name, const TReferenceComparison::Tree& t) {
+	const auto tree = [&](const char* name, const TReferenceComparison::Tree& t)
+	{
 		json.beginObject(name)
 			.value("resolution_m", t.resolution)
 			.value("occupied_voxels", t.occupiedLeaves)
@@ -185,8 +188,8 @@ std::string statsJson(
 		.value("real_time_factor", summary.realTimeFactor)
 		.value("peak_memory_mb", summary.peakMemoryMb)
 		.value("cpu_ms_per_frame", summary.cpuMsPerFrame);
-	json.value("cpu_stolen_percent",
-		summary.stolenCpuShare ? std::optional(100 * *summary.stolenCpuShare) : std::nullopt);
+	json.value(
+		"cpu_stolen_percent", summary.stolenCpuShare ? std::optional(100 * *summary.stolenCpuShare) : std::nullopt);
 	json.beginArray("peak_memory_mb_per_replay");
 	for (const double mb : record.peakMemoryPerReplay) json.element(mb);
 	json.endArray();
@@ -255,13 +258,12 @@ void writeRunOutputs(
 {
 	const TreeStats trees{map.lowResolutionStats(), map.highResolutionStats()};
 	map.saveMetricMapRepresentationToFile((outDir / "map").string());
-	io::writeTumTrajectory(
-		outDir / "trajectory.txt", record.trajectory,
+	io::writeTumTrajectory(outDir / "trajectory.txt", record.trajectory,
 		"avm-map camera trajectory (" + toString(record.options->poseSource) + "), optical frame, TUM format");
 	writeText(outDir / "trajectory_status.txt", trajectoryStatusText(record));
 	writeText(outDir / "detections.txt", detectionsText(record.personDetections));
 	writeText(outDir / "persons.csv", persons::personsCsvText(map.personTracks()));
-	if (record.options->pictureSize > 0) 
+	if (record.options->pictureSize > 0)
 		drawPictures(outDir, record.trajectory, map, trees, record.options->pictureSize);
 	writeText(outDir / "stats.json", statsJson(summary, record, map, trees));
 	writeText(outDir / "avm-map.log", record.log);

@@ -30,8 +30,7 @@ struct RunRecord
 };
 
 /** Writes every output into outDir (which exists and is writable). */
-void writeRunOutputs(
-	const std::filesystem::path& outDir, const RunSummary& summary, const RunRecord& record,
+void writeRunOutputs(const std::filesystem::path& outDir, const RunSummary& summary, const RunRecord& record,
 	const CAdaptiveOctoMap& map);
 
 /** Checks that outDir can be created and written, and removes temporaries

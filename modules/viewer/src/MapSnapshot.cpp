@@ -52,11 +52,16 @@ MapSnapshot snapshotOf(const CAdaptiveOctoMap& map, const SnapshotOptions& optio
 	s.lowResolution = map.creationOptions().low.resolution;
 	s.highResolution = map.creationOptions().high.resolution;
 	s.hasFreeSpace = options.freeSpace;
-	const auto take = [&](Resolution which, std::vector<SnapshotVoxel>& occupied, std::vector<SnapshotVoxel>& free) {
-		map.forEachLeaf(which, [&](const TLeafVoxel& v) {
-			if (v.occupied) occupied.push_back(voxelOf(v.center, v.size));
-			else if (options.freeSpace) free.push_back(voxelOf(v.center, v.size));
-		});
+	const auto take = [&](Resolution which, std::vector<SnapshotVoxel>& occupied, std::vector<SnapshotVoxel>& free)
+	{
+		map.forEachLeaf(which,
+			[&](const TLeafVoxel& v)
+			{
+				if (v.occupied)
+					occupied.push_back(voxelOf(v.center, v.size));
+				else if (options.freeSpace)
+					free.push_back(voxelOf(v.center, v.size));
+			});
 	};
 	take(Resolution::Low, s.lowOccupied, s.lowFree);
 	take(Resolution::High, s.highOccupied, s.highFree);
@@ -75,15 +80,18 @@ MapSnapshot snapshotOfTrees(const octomap::OcTree& low, const octomap::OcTree* h
 	s.highResolution = high ? high->getResolution() : 0;
 	s.hasFreeSpace = options.freeSpace;
 	const auto take = [&](const octomap::OcTree& t, bool isHigh, std::vector<SnapshotVoxel>& occupied,
-						  std::vector<SnapshotVoxel>& free) {
+						  std::vector<SnapshotVoxel>& free)
+	{
 		if (t.size() == 0) return;
 		for (auto it = t.begin_leafs(), end = t.end_leafs(); it != end; ++it)
 		{
 			const auto c = it.getCoordinate();
 			if (isHigh && low.search(c) != nullptr) continue;  // the overlap filter
 			const bool occ = t.isNodeOccupied(*it);
-			if (occ) occupied.push_back(voxelOf({c.x(), c.y(), c.z()}, it.getSize()));
-			else if (options.freeSpace) free.push_back(voxelOf({c.x(), c.y(), c.z()}, it.getSize()));
+			if (occ)
+				occupied.push_back(voxelOf({c.x(), c.y(), c.z()}, it.getSize()));
+			else if (options.freeSpace)
+				free.push_back(voxelOf({c.x(), c.y(), c.z()}, it.getSize()));
 		}
 	};
 	take(low, false, s.lowOccupied, s.lowFree);
@@ -97,7 +105,8 @@ MapSnapshot snapshotOfRun(const std::filesystem::path& outDir, const SnapshotOpt
 	const auto lowFile = outDir / "map_low.bt", highFile = outDir / "map_high.bt";
 	if (!std::filesystem::exists(lowFile))
 		throw std::runtime_error(lowFile.string() + ": not found (not an avm-map output folder?)");
-	const auto load = [](const std::filesystem::path& f) {
+	const auto load = [](const std::filesystem::path& f)
+	{
 		auto t = std::make_unique<octomap::OcTree>(0.1);
 		if (!t->readBinary(f.string())) throw std::runtime_error(f.string() + ": not an octomap .bt file");
 		return t;

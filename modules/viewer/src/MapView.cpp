@@ -57,9 +57,12 @@ mrpt::math::TBoundingBox occupiedBox(const MapSnapshot& s)
 {
 	mrpt::math::TBoundingBox box({0, 0, 0}, {0, 0, 0});
 	bool first = true;
-	const auto extend = [&](const mrpt::math::TPoint3D& p) {
-		if (first) box = mrpt::math::TBoundingBox(p, p), first = false;
-		else box.updateWithPoint(p);
+	const auto extend = [&](const mrpt::math::TPoint3D& p)
+	{
+		if (first)
+			box = mrpt::math::TBoundingBox(p, p), first = false;
+		else
+			box.updateWithPoint(p);
 	};
 	for (const auto* set : {&s.lowOccupied, &s.highOccupied})
 		for (const auto& v : *set) extend(mrpt::math::TPoint3D(v.centre.x, v.centre.y, v.centre.z));
@@ -75,8 +78,10 @@ mrpt::img::CImage annotatedImage(const MapSnapshot& s, bool features)
 	{
 		img.rectangle(int(b.x0), int(b.y0), int(b.x1), int(b.y1), kPersonColour, 3);
 		char text[64];
-		if (b.personId) std::snprintf(text, sizeof(text), "person %u %.2f", b.personId, b.score);
-		else std::snprintf(text, sizeof(text), "person %.2f", b.score);
+		if (b.personId)
+			std::snprintf(text, sizeof(text), "person %u %.2f", b.personId, b.score);
+		else
+			std::snprintf(text, sizeof(text), "person %.2f", b.score);
 		img.textOut(int(b.x0) + 4, std::max(0, int(b.y0) - 14), text, kPersonColour);
 	}
 	if (features)
@@ -91,7 +96,7 @@ mrpt::img::CImage annotatedImage(const MapSnapshot& s, bool features)
 struct MapView::Windows
 {
 	mrpt::gui::CDisplayWindow3D::Ptr view3D;
-	mrpt::gui::CDisplayWindow::Ptr image;  //!< opened with the first image
+	mrpt::gui::CDisplayWindow::Ptr image;      //!< opened with the first image
 	mrpt::opengl::COctoMapVoxels::Ptr voxels;  //!< of the snapshot on screen
 };
 
@@ -101,7 +106,7 @@ MapView::MapView(const TViewerOptions& options) : m_options(options), m_windows(
 	m_windows->view3D = mrpt::gui::CDisplayWindow3D::Create(m_options.title, m_options.width, m_options.height);
 	if (!m_windows->view3D || !m_windows->view3D->isOpen())
 		throw std::runtime_error("cannot open the 3D window (is there a display? DISPLAY is " +
-			std::string(std::getenv("DISPLAY") ? std::getenv("DISPLAY") : "unset") + ")");
+								 std::string(std::getenv("DISPLAY") ? std::getenv("DISPLAY") : "unset") + ")");
 	m_windows->view3D->setPos(0, 0);
 	{
 		mrpt::opengl::COpenGLScene::Ptr scene;
@@ -177,9 +182,9 @@ bool MapView::waitUntilDrawn(double timeoutSeconds)
 {
 	std::unique_lock lock(m_mutex);
 	const auto target = m_given;
-	return m_changed.wait_for(lock, std::chrono::duration<double>(timeoutSeconds),
-			   [&] { return m_drawn >= target || m_closed; }) &&
-		m_drawn >= target;
+	return m_changed.wait_for(
+			   lock, std::chrono::duration<double>(timeoutSeconds), [&] { return m_drawn >= target || m_closed; }) &&
+		   m_drawn >= target;
 }
 
 void MapView::waitUntilClosed()
@@ -295,9 +300,9 @@ void MapView::draw(const MapSnapshot& s, bool resetCamera)
 
 	auto voxels = COctoMapVoxels::Create();
 	voxels->resizeVoxelSets(VoxelSetCount);
-	const auto add = [&](VoxelSet set, const std::vector<SnapshotVoxel>& from, const mrpt::img::TColor& c) {
-		for (const auto& v : from)
-			voxels->push_back_Voxel(set, COctoMapVoxels::TVoxel(v.centre, v.size, c));
+	const auto add = [&](VoxelSet set, const std::vector<SnapshotVoxel>& from, const mrpt::img::TColor& c)
+	{
+		for (const auto& v : from) voxels->push_back_Voxel(set, COctoMapVoxels::TVoxel(v.centre, v.size, c));
 	};
 	add(LowOccupied, s.lowOccupied, kLowColour);
 	add(HighOccupied, s.highOccupied, kHighColour);
@@ -315,9 +320,8 @@ void MapView::draw(const MapSnapshot& s, bool resetCamera)
 	auto objects = CSetOfObjects::Create();
 	{
 		const double margin = 1.0;
-		auto grid = CGridPlaneXY::Create(
-			float(box.min.x - margin), float(box.max.x + margin), float(box.min.y - margin),
-			float(box.max.y + margin), float(box.min.z), 1.0f);
+		auto grid = CGridPlaneXY::Create(float(box.min.x - margin), float(box.max.x + margin),
+			float(box.min.y - margin), float(box.max.y + margin), float(box.min.z), 1.0f);
 		grid->setColor_u8(kGridColour);
 		objects->insert(grid);
 	}
@@ -388,7 +392,7 @@ void MapView::draw(const MapSnapshot& s, bool resetCamera)
 		font.color = mrpt::img::TColorf(0.35f, 0.35f, 0.35f);
 		vp->addTextMessage(8, -22, kKeysHelp, 3, font);
 		std::string shown = std::string("low ") + (t.lowTree ? "on" : "off") + "  high " + (t.highTree ? "on" : "off") +
-			"  free " + (t.freeSpace ? (s.hasFreeSpace ? "on" : "from the next snapshot") : "off");
+							"  free " + (t.freeSpace ? (s.hasFreeSpace ? "on" : "from the next snapshot") : "off");
 		vp->addTextMessage(8, -46, shown, 2, font);
 	}
 	// The view frames the map as it grows (a live run starts with a few

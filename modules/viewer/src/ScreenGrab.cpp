@@ -83,7 +83,7 @@ void saveXScreenshot(const std::string& titlePrefix, const std::filesystem::path
 		for (int x = 0; x < w; ++x)
 		{
 			const unsigned long p = XGetPixel(img, x, y);
-			auto* px = out.ptr<std::uint8_t>(x, y);	 // B, G, R
+			auto* px = out.ptr<std::uint8_t>(x, y);  // B, G, R
 			px[0] = static_cast<std::uint8_t>(((p >> bs) & bm) * 255 / std::max(1ul, bm));
 			px[1] = static_cast<std::uint8_t>(((p >> gs) & gm) * 255 / std::max(1ul, gm));
 			px[2] = static_cast<std::uint8_t>(((p >> rs) & rm) * 255 / std::max(1ul, rm));

@@ -37,7 +37,8 @@ struct Contender
 
 void octreeSizes(const octomap::OcTree& t, MapBenchmarkRow& row)
 {
-	for (auto it = t.begin_leafs(); it != t.end_leafs(); ++it) (t.isNodeOccupied(*it) ? row.occupiedLeaves : row.freeLeaves)++;
+	for (auto it = t.begin_leafs(); it != t.end_leafs(); ++it)
+		(t.isNodeOccupied(*it) ? row.occupiedLeaves : row.freeLeaves)++;
 	row.memoryBytes = t.memoryUsage();
 	std::ostringstream bt;
 	t.writeBinaryConst(bt);
@@ -51,9 +52,8 @@ Contender plainOctomap(double res, double maxRange, bool discretize)
 	std::ostringstream name;
 	name << "octomap insertPointCloud " << res << " m" << (discretize ? " discretize" : "");
 	c.name = name.str();
-	c.insert = [tree, maxRange, discretize](const Frame&, const octomap::Pointcloud& cloud, const octomap::point3d& o) {
-		tree->insertPointCloud(cloud, o, maxRange, false, discretize);
-	};
+	c.insert = [tree, maxRange, discretize](const Frame&, const octomap::Pointcloud& cloud, const octomap::point3d& o)
+	{ tree->insertPointCloud(cloud, o, maxRange, false, discretize); };
 	c.sizes = [tree](MapBenchmarkRow& row) { octreeSizes(*tree, row); };
 	return c;
 }
@@ -62,10 +62,10 @@ Contender adaptive(const std::string& name, const std::shared_ptr<CAdaptiveOctoM
 {
 	Contender c;
 	c.name = name;
-	c.insert = [map](const Frame& f, const octomap::Pointcloud&, const octomap::point3d&) {
-		map->insertObservation(*f.obs, f.pose);
-	};
-	c.sizes = [map](MapBenchmarkRow& row) {
+	c.insert = [map](const Frame& f, const octomap::Pointcloud&, const octomap::point3d&)
+	{ map->insertObservation(*f.obs, f.pose); };
+	c.sizes = [map](MapBenchmarkRow& row)
+	{
 		for (const auto& s : {map->lowResolutionStats(), map->highResolutionStats()})
 		{
 			row.occupiedLeaves += s.occupiedLeaves;
@@ -125,11 +125,13 @@ MapBenchmarkResult runMapBenchmark(
 			frames.push_back({f->observation, *f->groundTruth});
 		}
 	}
-	if (frames.empty()) throw std::runtime_error("avm-bench-map: no frames with ground truth in " + opts.rawlog.string());
+	if (frames.empty())
+		throw std::runtime_error("avm-bench-map: no frames with ground truth in " + opts.rawlog.string());
 
 	MapBenchmarkResult result;
 	result.frames = frames.size();
-	const bool labelled = std::any_of(frames.begin(), frames.end(), [](const Frame& f) { return hasPersonLabels(*f.obs); });
+	const bool labelled =
+		std::any_of(frames.begin(), frames.end(), [](const Frame& f) { return hasPersonLabels(*f.obs); });
 
 	CAdaptiveOctoMap::TCreationOptions regionRes, paperRes;
 	regionRes.low.resolution = opts.regionLow;
@@ -207,7 +209,8 @@ MapBenchmarkResult runMapBenchmark(
 				const double cpu0 = io::threadCpuMs();
 				c.insert(frames[i], clouds[i - begin], origins[i - begin]);
 				c.cpuMs.push_back(io::threadCpuMs() - cpu0);
-				c.ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+				c.ms.push_back(
+					std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
 			}
 		if (progress) progress(end, frames.size());
 	}
@@ -222,14 +225,15 @@ std::string toMarkdown(const MapBenchmarkResult& r)
 	s.setf(std::ios::fixed);
 	s << "frames: " << r.frames << ", mean points per frame: " << static_cast<long>(r.meanPointsPerFrame)
 	  << "\nregion: " << r.regionSource << "\n\n";
-	s << "| map | mean ms/frame | median | p95 | mean CPU ms/frame | occupied leaves | free leaves | memory bytes | .bt bytes |\n";
+	s << "| map | mean ms/frame | median | p95 | mean CPU ms/frame | occupied leaves | free leaves | memory bytes | "
+		 ".bt bytes |\n";
 	s << "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
 	for (const auto& row : r.rows)
 	{
 		s.precision(2);
 		s << "| " << row.name << " | " << row.meanMs << " | " << row.medianMs << " | " << row.p95Ms << " | "
-		  << row.meanCpuMs << " | " << row.occupiedLeaves << " | " << row.freeLeaves << " | " << row.memoryBytes << " | " << row.binaryBytes
-		  << " |\n";
+		  << row.meanCpuMs << " | " << row.occupiedLeaves << " | " << row.freeLeaves << " | " << row.memoryBytes
+		  << " | " << row.binaryBytes << " |\n";
 	}
 	return s.str();
 }

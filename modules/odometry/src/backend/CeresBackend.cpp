@@ -50,9 +50,8 @@ ceres::Solver::Options solverOptions(int iterations, int threads, ceres::LinearS
 }
 }  // namespace
 
-void CeresBackend::refinePose(
-	Eigen::Isometry3d& T_cw, const std::vector<Observation>& observations, const LandmarkMap& landmarks,
-	const io::DepthCamera& K) const
+void CeresBackend::refinePose(Eigen::Isometry3d& T_cw, const std::vector<Observation>& observations,
+	const LandmarkMap& landmarks, const io::DepthCamera& K) const
 {
 	if (m_options.refine_iterations == 0 || observations.empty()) return;
 	PoseParams pose = toParams(T_cw);
@@ -65,9 +64,8 @@ void CeresBackend::refinePose(
 	{
 		const auto& p = landmarks.at(observations[i].landmark).position;
 		points[i] = {p.x(), p.y(), p.z()};
-		problem.AddResidualBlock(
-			ReprojectionDepthCost::create(observations[i], K, m_options.depth_weight), &loss, pose.data(),
-			points[i].data());
+		problem.AddResidualBlock(ReprojectionDepthCost::create(observations[i], K, m_options.depth_weight), &loss,
+			pose.data(), points[i].data());
 		problem.SetParameterBlockConstant(points[i].data());
 	}
 	ceres::Solver::Summary summary;

@@ -28,7 +28,7 @@ class CeresBackend
 
 	/** Refines T_cw in place from observations of fixed landmarks. */
 	void refinePose(Eigen::Isometry3d& T_cw, const std::vector<Observation>& observations, const LandmarkMap& landmarks,
-					const io::DepthCamera& K) const;
+		const io::DepthCamera& K) const;
 
 	/** Bundle adjustment over the window: the oldest keyframe is held fixed
 	 *  (it anchors the gauge); landmarks seen by at least two keyframes move. */

@@ -38,9 +38,8 @@ std::optional<double> stableDepth(const cv::Mat& depth, int u, int v, const TOdo
 std::optional<float> personBackgroundDepth(const cv::Mat& depth, const cv::Rect& box, double band)
 {
 	if (band <= 0) return std::nullopt;
-	const cv::Rect centre =
-		cv::Rect(box.x + box.width / 4, box.y + box.height / 4, box.width / 2, box.height / 2) &
-		cv::Rect(0, 0, depth.cols, depth.rows);
+	const cv::Rect centre = cv::Rect(box.x + box.width / 4, box.y + box.height / 4, box.width / 2, box.height / 2) &
+							cv::Rect(0, 0, depth.cols, depth.rows);
 	std::vector<float> values;
 	for (int v = centre.y; v < centre.y + centre.height; v += 2)
 		for (int u = centre.x; u < centre.x + centre.width; u += 2)
@@ -53,9 +52,8 @@ std::optional<float> personBackgroundDepth(const cv::Mat& depth, const cv::Rect&
 
 FeatureFrontend::FeatureFrontend(const TOdometryOptions& options)
 	: m_options(options),
-	  m_orb(cv::ORB::create(
-		  2 * options.num_features, static_cast<float>(options.pyramid_scale), options.pyramid_levels, 19, 0, 2,
-		  cv::ORB::HARRIS_SCORE, 31, options.fast_threshold))
+	  m_orb(cv::ORB::create(2 * options.num_features, static_cast<float>(options.pyramid_scale), options.pyramid_levels,
+		  19, 0, 2, cv::ORB::HARRIS_SCORE, 31, options.fast_threshold))
 {
 }
 
@@ -65,11 +63,9 @@ cv::Mat FeatureFrontend::personMask(const cv::Mat& depth, const std::vector<cv::
 	cv::Mat mask = cv::Mat::zeros(depth.size(), CV_8U);
 	for (const auto& box : boxes)
 	{
-		const cv::Rect grown =
-			cv::Rect(
-				box.x - o.person_box_margin, box.y - o.person_box_margin, box.width + 2 * o.person_box_margin,
-				box.height + 2 * o.person_box_margin) &
-			cv::Rect(0, 0, mask.cols, mask.rows);
+		const cv::Rect grown = cv::Rect(box.x - o.person_box_margin, box.y - o.person_box_margin,
+								   box.width + 2 * o.person_box_margin, box.height + 2 * o.person_box_margin) &
+							   cv::Rect(0, 0, mask.cols, mask.rows);
 		if (grown.empty()) continue;
 		const auto far = personBackgroundDepth(depth, box, o.person_depth_band);
 		if (!far)
@@ -85,9 +81,8 @@ cv::Mat FeatureFrontend::personMask(const cv::Mat& depth, const std::vector<cv::
 	return mask;
 }
 
-FrameFeatures FeatureFrontend::extract(
-	const cv::Mat& grey, const cv::Mat& depth, const io::DepthCamera& K, const std::vector<cv::Rect>& excluded,
-	std::vector<cv::KeyPoint>* masked) const
+FrameFeatures FeatureFrontend::extract(const cv::Mat& grey, const cv::Mat& depth, const io::DepthCamera& K,
+	const std::vector<cv::Rect>& excluded, std::vector<cv::KeyPoint>* masked) const
 {
 	const auto& o = m_options;
 	FrameFeatures f;
@@ -219,9 +214,8 @@ std::vector<Match> FeatureFrontend::matchByDescriptor(const FrameFeatures& frame
 	return matches;
 }
 
-std::optional<FeatureFrontend::PnpResult> FeatureFrontend::solvePnp(
-	const FrameFeatures& frame, const LandmarkMap& landmarks, const std::vector<Match>& matches,
-	const Eigen::Isometry3d& guess) const
+std::optional<FeatureFrontend::PnpResult> FeatureFrontend::solvePnp(const FrameFeatures& frame,
+	const LandmarkMap& landmarks, const std::vector<Match>& matches, const Eigen::Isometry3d& guess) const
 {
 	if (int(matches.size()) < m_options.min_inliers) return std::nullopt;
 	std::vector<cv::Point3f> object;
@@ -238,9 +232,9 @@ std::optional<FeatureFrontend::PnpResult> FeatureFrontend::solvePnp(
 	cv::Rodrigues(R, rvec);
 	cv::eigen2cv(Eigen::Vector3d(guess.translation()), tvec);
 	std::vector<int> inlierIdx;
-	if (!cv::solvePnPRansac(
-			object, image, K, cv::noArray(), rvec, tvec, /*useExtrinsicGuess=*/true, m_options.ransac_iterations,
-			float(m_options.ransac_reprojection), 0.99, inlierIdx, cv::SOLVEPNP_ITERATIVE) ||
+	if (!cv::solvePnPRansac(object, image, K, cv::noArray(), rvec, tvec, /*useExtrinsicGuess=*/true,
+			m_options.ransac_iterations, float(m_options.ransac_reprojection), 0.99, inlierIdx,
+			cv::SOLVEPNP_ITERATIVE) ||
 		int(inlierIdx.size()) < m_options.min_inliers)
 		return std::nullopt;
 	cv::Rodrigues(rvec, R);
@@ -256,11 +250,13 @@ std::optional<FeatureFrontend::PnpResult> FeatureFrontend::solvePnp(
 	// (seen on Bonn: 451 RANSAC inliers, none within the threshold at the
 	// returned pose). The consensus set is sound, so the refinement that
 	// follows starts from the guess instead.
-	const auto consistent = std::count_if(out.inliers.begin(), out.inliers.end(), [&](const Match& m) {
-		const cv::Point2f& px = frame.keypoints[m.feature].pt;
-		return reprojectionError(out.T_cw, landmarks.at(m.landmark).position, Eigen::Vector2d(px.x, px.y), frame.K) <=
-			   m_options.ransac_reprojection;
-	});
+	const auto consistent = std::count_if(out.inliers.begin(), out.inliers.end(),
+		[&](const Match& m)
+		{
+			const cv::Point2f& px = frame.keypoints[m.feature].pt;
+			return reprojectionError(out.T_cw, landmarks.at(m.landmark).position, Eigen::Vector2d(px.x, px.y),
+					   frame.K) <= m_options.ransac_reprojection;
+		});
 	if (consistent < m_options.min_inliers) out.T_cw = guess;
 	return out;
 }

@@ -26,9 +26,8 @@ class FeatureFrontend
 	 *  `masked`, also the keypoints the boxes took away: those ORB finds on
 	 *  the masked pixels with depth. That is for the live view only (a second
 	 *  detection on the same person mask); the features are the same either way. */
-	FrameFeatures extract(
-		const cv::Mat& grey, const cv::Mat& depth, const io::DepthCamera& K, const std::vector<cv::Rect>& excluded,
-		std::vector<cv::KeyPoint>* masked = nullptr) const;
+	FrameFeatures extract(const cv::Mat& grey, const cv::Mat& depth, const io::DepthCamera& K,
+		const std::vector<cv::Rect>& excluded, std::vector<cv::KeyPoint>* masked = nullptr) const;
 
 	/** Each landmark projected with T_cw, matched to the best feature within
 	 *  search_radius (distance and ratio tests; one landmark per feature). */
@@ -47,9 +46,8 @@ class FeatureFrontend
 		Eigen::Isometry3d T_cw;
 		std::vector<Match> inliers;
 	};
-	std::optional<PnpResult> solvePnp(
-		const FrameFeatures& frame, const LandmarkMap& landmarks, const std::vector<Match>& matches,
-		const Eigen::Isometry3d& guess) const;
+	std::optional<PnpResult> solvePnp(const FrameFeatures& frame, const LandmarkMap& landmarks,
+		const std::vector<Match>& matches, const Eigen::Isometry3d& guess) const;
 
    private:
 	/** 255 where a person box masks the image: the whole grown box, or only

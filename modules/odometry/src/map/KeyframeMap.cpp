@@ -32,8 +32,7 @@ void KeyframeMap::add(int id, MapKeyframe kf)
 		m_inverted.assign(m_vocabulary.wordCount(), {});
 		for (auto& [kid, k] : m_keyframes) index(kid, k);
 	}
-	while (m_keyframes.size() > std::size_t(m_options->map_max_keyframes))
-		evictMostRedundant();
+	while (m_keyframes.size() > std::size_t(m_options->map_max_keyframes)) evictMostRedundant();
 }
 
 void KeyframeMap::index(int id, MapKeyframe& kf)
@@ -44,7 +43,8 @@ void KeyframeMap::index(int id, MapKeyframe& kf)
 
 void KeyframeMap::evictMostRedundant()
 {
-	const auto distance = [&](const MapKeyframe& a, const MapKeyframe& b) {
+	const auto distance = [&](const MapKeyframe& a, const MapKeyframe& b)
+	{
 		const Eigen::Isometry3d rel = a.T_cw * b.T_cw.inverse();
 		return rel.translation().norm() / m_options->keyframe_translation +
 			   mrpt::RAD2DEG(Eigen::AngleAxisd(rel.rotation()).angle()) / m_options->keyframe_rotation;
@@ -61,7 +61,8 @@ void KeyframeMap::evictMostRedundant()
 	for (const auto& [w, weight] : m_keyframes.at(victim).words)
 	{
 		auto& postings = m_inverted[w];
-		postings.erase(std::find_if(postings.begin(), postings.end(), [&](const auto& p) { return p.first == victim; }));
+		postings.erase(
+			std::find_if(postings.begin(), postings.end(), [&](const auto& p) { return p.first == victim; }));
 	}
 	m_keyframes.erase(victim);
 }
@@ -92,9 +93,9 @@ std::vector<KeyframeMap::Candidate> KeyframeMap::candidates(const cv::Mat& descr
 	for (const auto& [w, weight] : m_vocabulary.transform(descriptors))
 		for (const auto& [id, kfWeight] : m_inverted[w]) scores[id] += std::min(weight, kfWeight);
 	for (const auto& [id, s] : scores) out.push_back({id, s});
-	std::sort(out.begin(), out.end(), [](const Candidate& a, const Candidate& b) {
-		return a.score != b.score ? a.score > b.score : a.keyframe > b.keyframe;
-	});
+	std::sort(out.begin(), out.end(),
+		[](const Candidate& a, const Candidate& b)
+		{ return a.score != b.score ? a.score > b.score : a.keyframe > b.keyframe; });
 	if (out.size() > n) out.resize(n);
 	return out;
 }

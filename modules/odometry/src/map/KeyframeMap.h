@@ -63,7 +63,7 @@ class KeyframeMap
 	void index(int id, MapKeyframe& kf);
 	void evictMostRedundant();
 
-	const TOdometryOptions* m_options;  //!< a pointer: a map loaded aside replaces the state by assignment
+	const TOdometryOptions* m_options;       //!< a pointer: a map loaded aside replaces the state by assignment
 	std::map<int, MapKeyframe> m_keyframes;  //!< by id: iteration in id order keeps runs reproducible
 	BinaryVocabulary m_vocabulary;
 	/** Per word, the keyframes holding it and its weight there (ascending id). */

@@ -16,7 +16,7 @@ namespace avm::detection
 /** How an image was scaled and padded into the network input. */
 struct Letterbox
 {
-	double scale = 1;         //!< input pixels per image pixel
+	double scale = 1;           //!< input pixels per image pixel
 	double padX = 0, padY = 0;  //!< [input px] offset of the image in the input
 	cv::Size image, input;
 
@@ -59,7 +59,8 @@ std::vector<Detection> decodeYolov5(const cv::Mat& output, const Letterbox& lb, 
 /** YOLOv8/YOLO11 output, 1x84xN: rows cx, cy, w, h, then 80 class scores. */
 std::vector<Detection> decodeYolov8(const cv::Mat& output, const Letterbox& lb, const DecodeParams& p);
 /** Dispatches on a resolved layout (not Auto). */
-std::vector<Detection> decodeOutput(OutputLayout layout, const cv::Mat& output, const Letterbox& lb, const DecodeParams& p);
+std::vector<Detection> decodeOutput(
+	OutputLayout layout, const cv::Mat& output, const Letterbox& lb, const DecodeParams& p);
 
 /** Per-class non-maximum suppression; result sorted by score, best first. */
 std::vector<Detection> nonMaximumSuppression(const std::vector<Detection>& candidates, float iouThreshold);

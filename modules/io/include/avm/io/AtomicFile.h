@@ -13,8 +13,7 @@ namespace avm::io
  *  `target`. If `write` throws or leaves no file, the temporary is removed, the
  *  previous `target` (if any) is kept, and the exception goes on. */
 void writeFileAtomically(
-	const std::filesystem::path& target,
-	const std::function<void(const std::filesystem::path& tmp)>& write);
+	const std::filesystem::path& target, const std::function<void(const std::filesystem::path& tmp)>& write);
 
 /** The temporary name writeFileAtomically() uses for `target`. */
 std::filesystem::path temporaryPathFor(const std::filesystem::path& target);

@@ -17,7 +17,8 @@ std::invalid_argument iniValueError(
 
 /** The same for a value read as a number or bool (written as a stream writes it). */
 template <class T>
-std::invalid_argument iniValueError(const std::string& section, const std::string& key, const T& value, const std::string& why)
+std::invalid_argument iniValueError(
+	const std::string& section, const std::string& key, const T& value, const std::string& why)
 {
 	std::ostringstream text;
 	text << std::boolalpha << value;

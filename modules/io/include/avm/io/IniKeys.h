@@ -77,8 +77,8 @@ class IniKeys
 		IniRule<std::conditional_t<std::is_void_v<ReadAs>, T, ReadAs>> rule = {})
 	{
 		return addNumber<ReadAs, T>(
-			std::move(key), [=](auto& o) -> auto& { return o.*outer.*inner; }, std::move(unit),
-			std::move(description), std::move(rule));
+			std::move(key), [=](auto& o) -> auto& { return o.*outer.*inner; }, std::move(unit), std::move(description),
+			std::move(rule));
 	}
 
 	/** Text, stored after `normalise` (if given) and checked by `rule`. */

@@ -40,7 +40,8 @@ inline std::optional<std::string> readIniText(
 
 /** [section] key of `ini` as T (see parseIniValue), or `def` when absent. */
 template <class T>
-T readIniValue(const mrpt::config::CConfigFileBase& ini, const std::string& section, const std::string& key, const T& def)
+T readIniValue(
+	const mrpt::config::CConfigFileBase& ini, const std::string& section, const std::string& key, const T& def)
 {
 	const auto text = readIniText(ini, section, key);
 	return text ? parseIniValue<T>(section, key, *text) : def;
@@ -48,8 +49,7 @@ T readIniValue(const mrpt::config::CConfigFileBase& ini, const std::string& sect
 
 /** Keys present in [section] of ini that `options` does not know (MRPT reads
  *  keys without regard to case, so this compares without it too). */
-std::vector<std::string> unknownKeys(
-	const mrpt::config::CConfigFileBase& ini, const std::string& section,
+std::vector<std::string> unknownKeys(const mrpt::config::CConfigFileBase& ini, const std::string& section,
 	const mrpt::config::CLoadableOptions& options);
 
 /** Options of type T from [section] of an ini file; keys T does not know go

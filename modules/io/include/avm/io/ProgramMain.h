@@ -55,7 +55,6 @@ void useImagesFolderOf(const std::filesystem::path& rawlog);
 
 /** Runs `body` with the program's command line and returns its exit status:
  *  0 after --help or --version, 1 after reporting what it threw. */
-int runProgram(
-	const std::string& name, const std::string& description, const std::function<int(CommandLine&)>& body);
+int runProgram(const std::string& name, const std::string& description, const std::function<int(CommandLine&)>& body);
 
 }  // namespace avm::io

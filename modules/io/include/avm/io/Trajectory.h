@@ -25,8 +25,7 @@ using Trajectory = std::vector<TimedPose>;
 Trajectory readTumTrajectory(const std::filesystem::path& file);
 
 /** Writes a TUM trajectory atomically, with a header comment line. */
-void writeTumTrajectory(
-	const std::filesystem::path& file, const Trajectory& poses, const std::string& header = {});
+void writeTumTrajectory(const std::filesystem::path& file, const Trajectory& poses, const std::string& header = {});
 
 /** One TUM line (no newline) for the pose. */
 std::string toTumLine(const TimedPose& p);
@@ -34,8 +33,7 @@ std::string toTumLine(const TimedPose& p);
 /** Pose at time t: linear in translation, slerp in rotation, between the two
  *  samples around t. Nothing when t is outside the trajectory or the two
  *  samples are more than maxGap seconds apart. */
-std::optional<mrpt::poses::CPose3D> interpolatePose(
-	const Trajectory& poses, double t, double maxGap = 0.5);
+std::optional<mrpt::poses::CPose3D> interpolatePose(const Trajectory& poses, double t, double maxGap = 0.5);
 
 /** A rigid transform from a 4x4 matrix (row-major). The rotation block is
  *  orthonormalised (nearest rotation, by SVD): calibration matrices such as

@@ -41,8 +41,7 @@ std::vector<RgbdPair> readAssociations(const std::filesystem::path& file);
 /** Pairs each colour frame with the depth frame nearest in time, if within
  *  maxDifference seconds; each depth frame is used at most once. */
 Association associateNearest(
-	const std::vector<TumListEntry>& rgb, const std::vector<TumListEntry>& depth,
-	double maxDifference);
+	const std::vector<TumListEntry>& rgb, const std::vector<TumListEntry>& depth, double maxDifference);
 
 /** A registered RGB-D camera: pinhole intrinsics shared by colour and depth,
  *  and the depth PNG scale. */

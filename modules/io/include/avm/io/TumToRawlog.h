@@ -14,9 +14,9 @@ namespace avm::io
 {
 struct TumConversionOptions
 {
-	RgbdCameraModel camera;          //!< intrinsics and depth scale
-	double maxTimeDifference = 0.02; //!< [s] RGB/depth association tolerance
-	bool embedImages = false;        //!< colour inside the rawlog (raw pixels) instead of <out>_Images/
+	RgbdCameraModel camera;           //!< intrinsics and depth scale
+	double maxTimeDifference = 0.02;  //!< [s] RGB/depth association tolerance
+	bool embedImages = false;         //!< colour inside the rawlog (raw pixels) instead of <out>_Images/
 	/** gzip level of the rawlog, 1..9; 0 = a plain file. Plain with embedded
 	 *  images is the fastest to replay (no inflate, no PNG decoding) at ~1.5 MB
 	 *  a 640x480 frame. */
@@ -24,7 +24,7 @@ struct TumConversionOptions
 	/** Pose of the camera optical frame in the ground-truth body frame;
 	 *  identity when the ground truth is already the camera's. */
 	mrpt::poses::CPose3D groundTruthBodyToCamera;
-	bool useGroundTruth = true;      //!< read groundtruth.txt when present
+	bool useGroundTruth = true;  //!< read groundtruth.txt when present
 	/** Leave out the frames before the ground truth's first pose and after
 	 *  its last (listed in the summary's `skipped`), instead of failing on
 	 *  them: real sequences often start before the motion capture does. A
@@ -46,8 +46,6 @@ struct TumConversionSummary
  *  output appears only when complete; on error (std::runtime_error naming the
  *  file and line) none is left behind and earlier outputs are untouched.
  *  progress(done, total) is called after every frame. */
-TumConversionSummary convertTumToRawlog(
-	const std::filesystem::path& datasetDir, const std::filesystem::path& outRawlog,
-	const TumConversionOptions& options,
-	const std::function<void(std::size_t, std::size_t)>& progress = {});
+TumConversionSummary convertTumToRawlog(const std::filesystem::path& datasetDir, const std::filesystem::path& outRawlog,
+	const TumConversionOptions& options, const std::function<void(std::size_t, std::size_t)>& progress = {});
 }  // namespace avm::io

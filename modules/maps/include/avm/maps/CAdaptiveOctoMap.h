@@ -85,7 +85,7 @@ RegionLifetime regionLifetimeFromString(const std::string& s);
  *  API): boxes in the world frame, aligned to the low voxel grid. */
 struct THighResolutionRegion
 {
-	std::uint32_t personId = 0;  //!< 0: given with addHighResolutionRegion(), never ends
+	std::uint32_t personId = 0;                   //!< 0: given with addHighResolutionRegion(), never ends
 	std::vector<mrpt::math::TBoundingBox> boxes;  //!< follow: one; persist: all it has covered
 	/** [s] time in view since the person was last seen in it. */
 	double unseenInViewSeconds = 0;
@@ -143,13 +143,13 @@ class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
 	{
 		explicit TTreeOptions(std::string keyPrefix, double resolution);
 
-		std::string keyPrefix;	//!< "low_" or "high_" (not loaded)
-		double resolution;	//!< [m] voxel edge
-		double probHit = 0.7;  //!< hit probability of the sensor model
-		double probMiss = 0.4;	//!< miss probability of the sensor model
+		std::string keyPrefix;             //!< "low_" or "high_" (not loaded)
+		double resolution;                 //!< [m] voxel edge
+		double probHit = 0.7;              //!< hit probability of the sensor model
+		double probMiss = 0.4;             //!< miss probability of the sensor model
 		double clampingThresMin = 0.1192;  //!< lower clamping probability
-		double clampingThresMax = 0.971;  //!< upper clamping probability
-		double occupancyThres = 0.5;  //!< probability above which a voxel is occupied
+		double clampingThresMax = 0.971;   //!< upper clamping probability
+		double occupancyThres = 0.5;       //!< probability above which a voxel is occupied
 		/** [m] rays longer than this are cut there: free space up to it, no
 		 *  occupied endpoint (as octomap's insertPointCloud maxrange). */
 		double maxRange = 5.0;
@@ -230,7 +230,7 @@ class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
 
 	struct TRayHit
 	{
-		mrpt::math::TPoint3D point;	 //!< centre of the occupied voxel hit
+		mrpt::math::TPoint3D point;  //!< centre of the occupied voxel hit
 		Resolution tree = Resolution::Low;
 		double resolution = 0;
 	};
@@ -264,9 +264,8 @@ class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
 	 *  box grown by region_margin becomes (or moves) that person's region.
 	 *  Inserting an observation with person pixel labels calls this itself.
 	 *  Paper policy: a sighting is a trigger. */
-	std::vector<TPersonObservation> observePersons(
-		const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& robotPose,
-		const std::vector<persons::PixelSet>& persons, std::size_t frameIndex);
+	std::vector<TPersonObservation> observePersons(const mrpt::obs::CObservation3DRangeScan& obs,
+		const mrpt::poses::CPose3D& robotPose, const std::vector<persons::PixelSet>& persons, std::size_t frameIndex);
 	/** Ends the person's region now, as its lifetime would (its detail folded
 	 *  into the low tree): e.g. the person has been attended to. False if the
 	 *  person has no region. */
@@ -299,8 +298,7 @@ class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
 	 *  maxRange [m]; unknown space is passed through. Marches in steps of half
 	 *  the finest resolution. */
 	std::optional<TRayHit> castRay(
-		const mrpt::math::TPoint3D& origin, const mrpt::math::TPoint3D& direction,
-		double maxRange) const;
+		const mrpt::math::TPoint3D& origin, const mrpt::math::TPoint3D& direction, double maxRange) const;
 	/** Box of all known (free or occupied) visible voxels; nothing when empty. */
 	std::optional<mrpt::math::TBoundingBox> knownSpaceBoundingBox() const;
 	/** Calls `visit` for every leaf of `tree` that the map shows: in region
@@ -328,8 +326,7 @@ class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
 	const mrpt::maps::CSimplePointsMap* getAsSimplePointsMap() const override;
 	/** Fraction of the other map's points (moved by otherMapPose) that fall in
 	 *  occupied voxels of this map. */
-	float compute3DMatchingRatio(
-		const mrpt::maps::CMetricMap* otherMap, const mrpt::poses::CPose3D& otherMapPose,
+	float compute3DMatchingRatio(const mrpt::maps::CMetricMap* otherMap, const mrpt::poses::CPose3D& otherMapPose,
 		const mrpt::maps::TMatchingRatioParams& params) const override;
 	std::string asString() const override;
 	/** @} */
@@ -347,8 +344,7 @@ class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
    protected:
 	void internal_clear() override;
 	bool internal_insertObservation(
-		const mrpt::obs::CObservation& obs,
-		const std::optional<const mrpt::poses::CPose3D>& robotPose) override;
+		const mrpt::obs::CObservation& obs, const std::optional<const mrpt::poses::CPose3D>& robotPose) override;
 	double internal_computeObservationLikelihood(
 		const mrpt::obs::CObservation& obs, const mrpt::poses::CPose3D& takenFrom) const override;
 	bool internal_canComputeObservationLikelihood(const mrpt::obs::CObservation& obs) const override;

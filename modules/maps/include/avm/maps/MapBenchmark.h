@@ -16,12 +16,12 @@ namespace avm::maps
 {
 struct MapBenchmarkOptions
 {
-	std::filesystem::path rawlog;  //!< its images folder set by the program (io::useImagesFolderOf)
-	std::size_t maxFrames = 0;	//!< 0 = all frames with ground truth
-	double maxRange = 5.0;	//!< [m] for every map
-	double regionLow = 0.20, regionHigh = 0.05;	 //!< [m] region-policy resolutions
-	double paperLow = 1.5, paperHigh = 0.5;	 //!< [m] the paper's resolutions
-	double paperSwitchFraction = 0.5;  //!< paper policy: switch at this fraction of the run
+	std::filesystem::path rawlog;                //!< its images folder set by the program (io::useImagesFolderOf)
+	std::size_t maxFrames = 0;                   //!< 0 = all frames with ground truth
+	double maxRange = 5.0;                       //!< [m] for every map
+	double regionLow = 0.20, regionHigh = 0.05;  //!< [m] region-policy resolutions
+	double paperLow = 1.5, paperHigh = 0.5;      //!< [m] the paper's resolutions
+	double paperSwitchFraction = 0.5;            //!< paper policy: switch at this fraction of the run
 	/** Region for the region policy when the rawlog has no person labels
 	 *  (world frame); by default a 1.2 x 1.2 x 2.0 m box (a person with
 	 *  margin) centred on the surface seen at the first frame's centre. */
@@ -44,7 +44,7 @@ struct MapBenchmarkRow
 	std::string name;
 	std::size_t frames = 0;
 	double meanMs = 0, medianMs = 0, p95Ms = 0;  //!< wall time per frame
-	double meanCpuMs = 0;  //!< CPU time of the inserting thread per frame
+	double meanCpuMs = 0;                        //!< CPU time of the inserting thread per frame
 	std::size_t occupiedLeaves = 0, freeLeaves = 0, memoryBytes = 0, binaryBytes = 0;
 };
 

@@ -31,7 +31,7 @@ struct TReferenceComparison
 		std::size_t occupiedLeaves = 0, memoryBytes = 0, binaryBytes = 0;
 		double meanInsertMs = 0;  //!< octomap's insertion CPU time per frame (its thread)
 	};
-	Tree high, low;  //!< the single-resolution maps
+	Tree high, low;                                                //!< the single-resolution maps
 	std::size_t adaptiveMemoryBytes = 0, adaptiveBinaryBytes = 0;  //!< both trees
 	/** Occupied finest voxels inside the active regions: the adaptive map's
 	 *  high tree against the single high-resolution map. */

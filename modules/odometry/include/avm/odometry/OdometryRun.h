@@ -45,9 +45,9 @@ struct OdometryRun
  *  starting at the first frame's ground truth when the rawlog has it (so the
  *  trajectory is in the ground truth's world), else at the identity.
  *  progress(done) is called after every frame. */
-OdometryRun runOdometry(
-	const std::filesystem::path& rawlog, const TOdometryOptions& options, const PersonBoxSource& personBoxes = {},
-	std::size_t maxFrames = 0, const std::function<void(std::size_t)>& progress = {});
+OdometryRun runOdometry(const std::filesystem::path& rawlog, const TOdometryOptions& options,
+	const PersonBoxSource& personBoxes = {}, std::size_t maxFrames = 0,
+	const std::function<void(std::size_t)>& progress = {});
 
 /** One box per person in the observation's pixelLabels, as
  *  avm/persons/PersonLabels.h reads them ("person/k" labels as avm-detect

@@ -11,44 +11,51 @@ namespace avm::odometry
 struct TOdometryOptions : public io::CIniKeyOptions<TOdometryOptions>
 {
 	// --- front end: features
-	int num_features = 1000;       //!< ORB features kept per frame (after bucketing)
-	int pyramid_levels = 4;        //!< ORB pyramid levels
-	double pyramid_scale = 1.2;    //!< ORB scale factor between levels
-	int fast_threshold = 12;       //!< ORB FAST threshold (grey levels)
-	int grid_cols = 8;             //!< bucketing grid columns
-	int grid_rows = 6;             //!< bucketing grid rows
-	double min_depth = 0.3;        //!< [m] nearer depth is rejected
-	double max_depth = 6.0;        //!< [m] farther depth is rejected
-	double depth_edge_ratio = 0.05;  //!< a feature is on a depth edge (rejected) when its 3x3 depth range exceeds this fraction of its depth
+	int num_features = 1000;     //!< ORB features kept per frame (after bucketing)
+	int pyramid_levels = 4;      //!< ORB pyramid levels
+	double pyramid_scale = 1.2;  //!< ORB scale factor between levels
+	int fast_threshold = 12;     //!< ORB FAST threshold (grey levels)
+	int grid_cols = 8;           //!< bucketing grid columns
+	int grid_rows = 6;           //!< bucketing grid rows
+	double min_depth = 0.3;      //!< [m] nearer depth is rejected
+	double max_depth = 6.0;      //!< [m] farther depth is rejected
+	double depth_edge_ratio =
+		0.05;  //!< a feature is on a depth edge (rejected) when its 3x3 depth range exceeds this fraction of its depth
 	// --- front end: matching and PnP
-	double match_ratio = 0.8;        //!< Lowe ratio: best / second-best Hamming distance
-	int max_hamming = 64;            //!< largest accepted descriptor distance (bits)
-	double search_radius = 20.0;     //!< [px] window around a landmark's predicted projection
+	double match_ratio = 0.8;          //!< Lowe ratio: best / second-best Hamming distance
+	int max_hamming = 64;              //!< largest accepted descriptor distance (bits)
+	double search_radius = 20.0;       //!< [px] window around a landmark's predicted projection
 	double ransac_reprojection = 3.0;  //!< [px] PnP RANSAC inlier threshold
-	int ransac_iterations = 100;     //!< PnP RANSAC iterations
-	int min_inliers = 20;            //!< fewer inliers than this = tracking lost
+	int ransac_iterations = 100;       //!< PnP RANSAC iterations
+	int min_inliers = 20;              //!< fewer inliers than this = tracking lost
 	// --- back end
-	double huber_delta = 1.0;        //!< [px] Huber loss width of the reprojection residual
-	double depth_weight = 0.05;      //!< weight of the depth residual fx*(z-d)/d [px] beside the reprojection error (0 = off)
-	int refine_iterations = 10;      //!< Ceres iterations of the per-frame pose refinement
-	int window_size = 8;             //!< keyframes in the sliding-window bundle adjustment (0 = no BA)
-	int ba_iterations = 8;           //!< Ceres iterations of one bundle adjustment
-	int ba_max_landmarks = 250;      //!< landmarks in one bundle adjustment, the most-viewed first (0 = all)
+	double huber_delta = 1.0;  //!< [px] Huber loss width of the reprojection residual
+	double depth_weight =
+		0.05;  //!< weight of the depth residual fx*(z-d)/d [px] beside the reprojection error (0 = off)
+	int refine_iterations = 10;  //!< Ceres iterations of the per-frame pose refinement
+	int window_size = 8;         //!< keyframes in the sliding-window bundle adjustment (0 = no BA)
+	int ba_iterations = 8;       //!< Ceres iterations of one bundle adjustment
+	int ba_max_landmarks = 250;  //!< landmarks in one bundle adjustment, the most-viewed first (0 = all)
 	// --- keyframes
 	double keyframe_translation = 0.08;  //!< [m] motion from the last keyframe that makes a keyframe
 	double keyframe_rotation = 8.0;      //!< [deg] rotation from the last keyframe that makes a keyframe
-	double keyframe_overlap = 0.6;       //!< a keyframe is made when the tracked share of the last keyframe's landmarks falls below this
+	double keyframe_overlap =
+		0.6;  //!< a keyframe is made when the tracked share of the last keyframe's landmarks falls below this
 	// --- keyframe map (kept through tracking loss) and relocalisation
-	int map_max_keyframes = 300;          //!< keyframes kept for the whole run (about 70 kB each); beyond, the most redundant goes
-	int relocalisation_candidates = 3;    //!< map keyframes a lost frame is checked against (PnP + refinement), most similar first
+	int map_max_keyframes =
+		300;  //!< keyframes kept for the whole run (about 70 kB each); beyond, the most redundant goes
+	int relocalisation_candidates =
+		3;  //!< map keyframes a lost frame is checked against (PnP + refinement), most similar first
 	int relocalisation_min_inliers = 50;  //!< inliers after the refinement that accept a relocalisation
-	int relocalisation_frames = 10;       //!< lost frames with features during which the old map is kept for relocalisation; then a new local map starts at the bridged pose
+	int relocalisation_frames =
+		10;  //!< lost frames with features during which the old map is kept for relocalisation; then a new local map starts at the bridged pose
 	// --- dynamic people
-	bool mask_people = true;         //!< ignore features inside person boxes
-	int person_box_margin = 10;      //!< [px] added on every side of a person box
-	double person_depth_band = 0.5;  //!< [m] inside a box, pixels nearer than the person's median depth plus this are masked (0 = the whole box)
+	bool mask_people = true;     //!< ignore features inside person boxes
+	int person_box_margin = 10;  //!< [px] added on every side of a person box
+	double person_depth_band =
+		0.5;  //!< [m] inside a box, pixels nearer than the person's median depth plus this are masked (0 = the whole box)
 	// --- runtime
-	int threads = 1;                 //!< Ceres threads (OpenCV threads are the caller's: cv::setNumThreads)
+	int threads = 1;  //!< Ceres threads (OpenCV threads are the caller's: cv::setNumThreads)
 
 	/** Every key: name, member, unit, description, check. */
 	static io::IniKeys<TOdometryOptions> iniKeys();

@@ -57,9 +57,8 @@ struct SightingEstimate
 
 /** The sighting of the person whose pixels are `pixels` in `obs`'s depth
  *  image, with the depth sensor at `sensorPoseInWorld`. */
-SightingEstimate estimateSighting(
-	const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& sensorPoseInWorld,
-	const PixelSet& pixels, const SightingOptions& options);
+SightingEstimate estimateSighting(const mrpt::obs::CObservation3DRangeScan& obs,
+	const mrpt::poses::CPose3D& sensorPoseInWorld, const PixelSet& pixels, const SightingOptions& options);
 
 /** The pixels of an axis-aligned pixel box [u0, u1) x [v0, v1), clipped to
  *  the image: a detector's box. */

@@ -50,8 +50,7 @@ class PersonTracker
 
 	/** Associates the sightings of one frame; returns their track ids in the
 	 *  sightings' order (new tracks for the unmatched ones). */
-	std::vector<std::uint32_t> update(
-		const std::vector<PersonSighting>& sightings, std::size_t frame, double time);
+	std::vector<std::uint32_t> update(const std::vector<PersonSighting>& sightings, std::size_t frame, double time);
 
 	/** Every track so far, in order of id. */
 	const std::vector<PersonTrack>& tracks() const { return m_tracks; }

@@ -54,11 +54,11 @@ struct TPipelineOptions : public io::CIniKeyOptions<TPipelineOptions>
 	/** Start odometry at the first frame's ground truth, when the rawlog has it
 	 *  (so the odometry map and trajectory share the ground truth's world frame). */
 	bool startAtGroundTruth = true;
-	std::size_t maxFrames = 0;   //!< 0 = all frames
+	std::size_t maxFrames = 0;  //!< 0 = all frames
 	/** Read the rawlog this many times in a row as one sequence (frame
 	 *  indices and timestamps continued): the long-run test. */
 	unsigned repeat = 1;
-	int pictureSize = 1200;      //!< [px] width of the PNG pictures; 0 = none
+	int pictureSize = 1200;  //!< [px] width of the PNG pictures; 0 = none
 	/** Frames decoded ahead on a reader thread; 0 reads on the loop's thread. */
 	unsigned readAheadFrames = 4;
 	/** Also build plain single-resolution OctoMaps (octomap's own
@@ -79,18 +79,18 @@ struct TPipelineOptions : public io::CIniKeyOptions<TPipelineOptions>
 
 struct RunSummary
 {
-	std::size_t frames = 0;          //!< frames mapped
-	std::size_t skippedFrames = 0;   //!< frames the reader or the pose left out
-	bool interrupted = false;        //!< stopped by the caller (Ctrl-C)
+	std::size_t frames = 0;         //!< frames mapped
+	std::size_t skippedFrames = 0;  //!< frames the reader or the pose left out
+	bool interrupted = false;       //!< stopped by the caller (Ctrl-C)
 	double seconds = 0, fps = 0;
-	double realTimeFactor = 0;       //!< recorded duration / processing time
+	double realTimeFactor = 0;               //!< recorded duration / processing time
 	std::optional<std::size_t> switchFrame;  //!< first frame mapped at high resolution
 	std::size_t detectionRuns = 0, framesWithPerson = 0;
-	std::size_t regions = 0;  //!< person sightings that placed a region
-	std::size_t persons = 0;  //!< person tracks
-	std::optional<double> ateRmse;   //!< [m] odometry vs ground truth, when both exist
-	double peakMemoryMb = 0;         //!< [MiB] peak resident memory of the process
-	double cpuMsPerFrame = 0;        //!< [ms] CPU time of the run (all threads) per frame mapped
+	std::size_t regions = 0;        //!< person sightings that placed a region
+	std::size_t persons = 0;        //!< person tracks
+	std::optional<double> ateRmse;  //!< [m] odometry vs ground truth, when both exist
+	double peakMemoryMb = 0;        //!< [MiB] peak resident memory of the process
+	double cpuMsPerFrame = 0;       //!< [ms] CPU time of the run (all threads) per frame mapped
 	/** [0..1] share of the machine's CPU time a hypervisor took during the run. */
 	std::optional<double> stolenCpuShare;
 	/** detection: the detector's own time; detectionWait: how long the loop
@@ -111,7 +111,7 @@ struct RunSummary
  *  make the pipeline again. */
 struct CheckpointedRun
 {
-	std::string ini;  //!< the configuration the run read, --set values included
+	std::string ini;               //!< the configuration the run read, --set values included
 	std::filesystem::path rawlog;  //!< absolute
 	PoseSource poseSource = PoseSource::VisualOdometry;
 };
@@ -153,10 +153,8 @@ class MappingPipeline : public mrpt::system::COutputLogger
 	 *  External images are read from MRPT's process-wide images folder, which
 	 *  the program points at the rawlog's first (io::useImagesFolderOf).
 	 *  progress(fractionOfFile, framesDone) is called after every frame. */
-	RunSummary run(
-		const std::filesystem::path& rawlog, const std::filesystem::path& outDir,
-		const std::atomic<bool>* stop = nullptr,
-		const std::function<void(double, std::size_t)>& progress = {});
+	RunSummary run(const std::filesystem::path& rawlog, const std::filesystem::path& outDir,
+		const std::atomic<bool>* stop = nullptr, const std::function<void(double, std::size_t)>& progress = {});
 
 	/** Continues the run whose checkpoint is in outDir (this pipeline made
 	 *  from its configuration: readCheckpointedRun) to the end of its rawlog,
@@ -164,8 +162,7 @@ class MappingPipeline : public mrpt::system::COutputLogger
 	 *  run that was never stopped. The rawlog is read again from its start;
 	 *  the frames already mapped only restart the detections that were
 	 *  pending. Throws on a missing or damaged checkpoint. */
-	RunSummary resume(
-		const std::filesystem::path& outDir, const std::atomic<bool>* stop = nullptr,
+	RunSummary resume(const std::filesystem::path& outDir, const std::atomic<bool>* stop = nullptr,
 		const std::function<void(double, std::size_t)>& progress = {});
 
 	/** The map of the last run. */
@@ -173,8 +170,7 @@ class MappingPipeline : public mrpt::system::COutputLogger
 
    private:
 	/** run() and resume(): with `resume`, the state comes from outDir's checkpoint. */
-	RunSummary runFrames(
-		const std::filesystem::path& rawlog, const std::filesystem::path& outDir, bool resume,
+	RunSummary runFrames(const std::filesystem::path& rawlog, const std::filesystem::path& outDir, bool resume,
 		const std::atomic<bool>* stop, const std::function<void(double, std::size_t)>& progress);
 
 	struct Impl;

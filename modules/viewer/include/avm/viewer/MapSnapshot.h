@@ -39,27 +39,27 @@ namespace avm::viewer
 struct SnapshotVoxel
 {
 	mrpt::math::TPoint3Df centre;
-	float size = 0;	 //!< [m] edge; larger than the resolution for pruned leaves
+	float size = 0;  //!< [m] edge; larger than the resolution for pruned leaves
 };
 
 struct SnapshotRegion
 {
-	std::uint32_t personId = 0;	 //!< 0: a region given through the map's API
+	std::uint32_t personId = 0;                   //!< 0: a region given through the map's API
 	std::vector<mrpt::math::TBoundingBox> boxes;  //!< world frame
 };
 
 struct SnapshotPerson
 {
 	std::uint32_t id = 0;
-	mrpt::math::TPoint3D position;	//!< last world position
+	mrpt::math::TPoint3D position;  //!< last world position
 	std::size_t lastFrame = 0;
 };
 
 /** A person box in the colour image. */
 struct ImageBox
 {
-	double x0 = 0, y0 = 0, x1 = 0, y1 = 0;	//!< [px]
-	std::uint32_t personId = 0;	 //!< 0: not (yet) taken for a person
+	double x0 = 0, y0 = 0, x1 = 0, y1 = 0;  //!< [px]
+	std::uint32_t personId = 0;             //!< 0: not (yet) taken for a person
 	double score = 0;
 };
 
@@ -67,12 +67,12 @@ struct ImageBox
 struct RunStatus
 {
 	std::optional<std::size_t> frame;  //!< index of the frame last inserted
-	std::size_t frames = 0;	 //!< frames in the run (0 = unknown)
-	double fps = 0;	 //!< frames per second so far (0 = unknown)
+	std::size_t frames = 0;            //!< frames in the run (0 = unknown)
+	double fps = 0;                    //!< frames per second so far (0 = unknown)
 	/** Stage and its time for the last frame or its mean [ms], in the order shown. */
 	std::vector<std::pair<std::string, double>> stageMs;
-	std::optional<std::size_t> switchFrame;	 //!< first frame mapped in the high tree
-	std::string note;  //!< anything else, shown at the end
+	std::optional<std::size_t> switchFrame;  //!< first frame mapped in the high tree
+	std::string note;                        //!< anything else, shown at the end
 };
 
 struct MapSnapshot
@@ -83,20 +83,20 @@ struct MapSnapshot
 	std::vector<SnapshotVoxel> lowOccupied, highOccupied;
 	/** Free leaves; empty unless asked for (they outnumber the occupied ones). */
 	std::vector<SnapshotVoxel> lowFree, highFree;
-	bool hasFreeSpace = false;	//!< the free leaves were taken
+	bool hasFreeSpace = false;  //!< the free leaves were taken
 	std::vector<SnapshotRegion> regions;
 	std::vector<SnapshotPerson> persons;
-	std::size_t mapMemoryBytes = 0;	 //!< octomap's memoryUsage() of both trees
+	std::size_t mapMemoryBytes = 0;  //!< octomap's memoryUsage() of both trees
 	/** @} */
 
 	/** @name From the pipeline (or a finished run's files)
 	 * @{ */
-	std::vector<mrpt::poses::CPose3D> trajectory;	//!< camera optical frame in the world
-	std::optional<mrpt::poses::CPose3D> camera;	 //!< the current camera, drawn as a frustum
+	std::vector<mrpt::poses::CPose3D> trajectory;  //!< camera optical frame in the world
+	std::optional<mrpt::poses::CPose3D> camera;    //!< the current camera, drawn as a frustum
 	std::optional<mrpt::img::TCamera> intrinsics;  //!< of the colour camera, for the frustum
-	mrpt::img::CImage image;  //!< the current colour image (empty: no image window)
+	mrpt::img::CImage image;                       //!< the current colour image (empty: no image window)
 	std::vector<ImageBox> imageBoxes;
-	std::vector<mrpt::img::TPixelCoordf> features;	//!< odometry features used
+	std::vector<mrpt::img::TPixelCoordf> features;        //!< odometry features used
 	std::vector<mrpt::img::TPixelCoordf> maskedFeatures;  //!< odometry features dropped by a person mask
 	RunStatus status;
 	/** @} */
@@ -105,7 +105,7 @@ struct MapSnapshot
 /** What snapshotOf() copies. */
 struct SnapshotOptions
 {
-	bool freeSpace = false;	 //!< also the free leaves
+	bool freeSpace = false;  //!< also the free leaves
 };
 
 /** The map as it shows itself now: CAdaptiveOctoMap::forEachLeaf() of both

@@ -30,10 +30,10 @@ namespace avm::viewer
 /** What is shown; the keys change it. */
 struct ViewToggles
 {
-	bool lowTree = true;  //!< 'l'
-	bool highTree = true;  //!< 'h'
-	bool freeSpace = false;	 //!< 'f'
-	bool features = false;	//!< 'm' odometry features in the image (masked ones in red)
+	bool lowTree = true;     //!< 'l'
+	bool highTree = true;    //!< 'h'
+	bool freeSpace = false;  //!< 'f'
+	bool features = false;   //!< 'm' odometry features in the image (masked ones in red)
 };
 
 class MapView
@@ -94,7 +94,7 @@ class MapView
 	std::condition_variable m_changed;
 	std::optional<MapSnapshot> m_pending;
 	std::shared_ptr<const MapSnapshot> m_current;  //!< the snapshot on screen
-	std::uint64_t m_given = 0, m_drawn = 0;	 //!< snapshots given to show() / drawn
+	std::uint64_t m_given = 0, m_drawn = 0;        //!< snapshots given to show() / drawn
 	std::chrono::steady_clock::time_point m_lastDraw{}, m_lastShown{};
 	ViewToggles m_toggles;
 	bool m_redraw = false, m_resetCamera = true, m_paused = false, m_closed = false;
