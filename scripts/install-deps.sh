@@ -15,6 +15,7 @@ packages=(
   libx11-dev          # avm-viewer: the X server's screenshot of the view (XGetImage)
   curl unzip ca-certificates   # scripts/get-data.sh without ../shared
   clang libclang-rt-14-dev   # sanitizer and fuzzing builds
+  clang-format-14     # scripts/format.sh and its ctest check
 )
 
 missing=()
