@@ -73,17 +73,13 @@ std::string difference(const odometry::OdometryEstimate& a, const odometry::Odom
 	if (summary(a) != summary(b)) return summary(a) + " vs " + summary(b);
 	return "";
 }
-}  // namespace
 
-TEST(VisualOdometryState, ResumedRunGivesBitIdenticalPoses)
+/** The state is saved after each frame of `saveAfter`; each time a new
+ *  instance restored from it runs the next 40 frames beside the original,
+ *  which must give the same estimates bit for bit. No person boxes. */
+void expectResumedRunsBitIdentical(const odometry::TOdometryOptions& options, const std::vector<std::size_t>& saveAfter)
 {
-	// The state is saved after frame 70 and after frame 150 (by then the
-	// window has been forgetting landmarks for a while); each time a new
-	// instance restored from it runs the next 40 frames beside the original.
-	// No person boxes for either.
 	constexpr std::size_t resumedFrames = 40;
-	const std::vector<std::size_t> saveAfter = {70, 150};
-	const odometry::TOdometryOptions options;
 	odometry::VisualOdometry original(options);
 	std::map<std::size_t, odometry::VisualOdometry> resumed;  // by the frame saved after
 	std::map<std::size_t, std::size_t> keyframes, tracked;
@@ -121,6 +117,26 @@ TEST(VisualOdometryState, ResumedRunGivesBitIdenticalPoses)
 		EXPECT_GE(keyframes[saved], 3u) << saved;
 	}
 	EXPECT_EQ(savedState(resumed.at(saveAfter.back())), savedState(original)) << "the same state at the end";
+	const auto a = resumed.at(saveAfter.back()).trajectory(), b = original.trajectory();
+	ASSERT_EQ(a.size(), b.size());
+	for (std::size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i], b[i]) << "trajectory pose " << i;
+}
+}  // namespace
+
+TEST(VisualOdometryState, ResumedRunGivesBitIdenticalPoses)
+{
+	// After frame 70 and after frame 150: by then the window has been
+	// forgetting landmarks for a while.
+	expectResumedRunsBitIdentical(odometry::TOdometryOptions{}, {70, 150});
+}
+
+TEST(VisualOdometryState, ResumedRunWithLoopClosureGivesBitIdenticalPoses)
+{
+	// From frame 249 on, new keyframes see the place of the first ones again:
+	// the state carries loop constraints and every frame's pose.
+	odometry::TOdometryOptions options;
+	options.loop_closure = true;
+	expectResumedRunsBitIdentical(options, {255});
 }
 
 TEST(VisualOdometryState, TruncatedOrOtherVersionStreamIsRefused)

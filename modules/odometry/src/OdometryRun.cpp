@@ -92,7 +92,13 @@ OdometryRun runOdometry(const std::filesystem::path& rawlog, const TOdometryOpti
 		run.frames.push_back(std::move(rec));
 		if (progress) progress(run.frames.size());
 	}
-	if (vo) run.stageTimes = vo->stageTimesText();
+	if (vo)
+	{
+		// The poses as the closed loops corrected them, one per frame.
+		const auto corrected = vo->trajectory();
+		for (std::size_t i = 0; i < run.frames.size(); ++i) run.frames[i].estimate.pose = corrected[i];
+		run.stageTimes = vo->stageTimesText();
+	}
 	return run;
 }
 

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <deque>
 #include <optional>
 #include <stdexcept>
@@ -18,6 +19,7 @@
 #include "backend/CeresBackend.h"
 #include "frontend/FeatureFrontend.h"
 #include "map/KeyframeMap.h"
+#include "map/LoopClosing.h"
 
 namespace avm::odometry
 {
@@ -74,7 +76,7 @@ FrameImages imagesOf(const mrpt::obs::CObservation3DRangeScan& obs)
 }
 
 /** Layout version of the saveState stream; change it with the layout. */
-constexpr std::uint8_t stateVersion = 2;
+constexpr std::uint8_t stateVersion = 3;
 }  // namespace
 
 struct VisualOdometry::Impl
@@ -103,6 +105,17 @@ struct VisualOdometry::Impl
 	/** Consecutive lost frames, and those of them with enough features to
 	 *  track (only these count towards giving up the old map). */
 	int lostFrames = 0, lostFramesWithFeatures = 0;
+	/** Verified loop constraints between map keyframes, kept for every later
+	 *  pose graph; those naming an evicted keyframe go. */
+	std::vector<PoseGraphEdge> loops;
+	/** Every frame process() saw: its pose, and the keyframe it was tracked
+	 *  against, with which a closed loop moves it. */
+	struct FramePose
+	{
+		int keyframe = -1;
+		Eigen::Isometry3d T_cw;
+	};
+	std::vector<FramePose> frames;
 	mrpt::system::CTimeLogger stageTimer{true, "avm odometry stages"};
 	bool reportFeatures = false;
 
@@ -115,6 +128,16 @@ struct VisualOdometry::Impl
 	 *  the unmatched features; runs the window bundle adjustment. */
 	void addKeyframe(const FrameFeatures& f, const std::vector<Match>& inliers, const Eigen::Isometry3d& T);
 	void forgetUnobservedLandmarks();
+	/** Looks for a loop at the newest keyframe (features f); when a verified
+	 *  loop shows drift, optimises the pose graph and moves everything with
+	 *  it. What it found goes to e's status; e.loopClosed when the poses moved. */
+	void closeLoop(const FrameFeatures& f, OdometryEstimate& e);
+	/** Moves the map keyframes to `poses` (T_cw by id), the local map rigidly
+	 *  with its newest keyframe to `newestPose`, and every frame with its
+	 *  keyframe. */
+	void moveTo(const std::map<int, Eigen::Isometry3d>& poses, const Eigen::Isometry3d& newestPose);
+	/** The newest keyframe's features that a loop matched observe the place's points from now on. */
+	void joinPlace(const FrameFeatures& f, const LoopMeasurement& loop);
 	/** Drops the local map and starts a new one with this frame as its keyframe at T; the loss is over. */
 	void restartLocalMap(const FrameFeatures& f, const Eigen::Isometry3d& T);
 	OdometryEstimate lost(const FrameFeatures& f, const std::string& why);
@@ -131,10 +154,6 @@ struct VisualOdometry::Impl
 	 *  Ceres refinement; the candidate with the most inliers, if it has
 	 *  relocalisation_min_inliers. */
 	std::optional<Relocalisation> relocalise(const FrameFeatures& f, std::vector<KeyframeMap::Candidate>* tried) const;
-	/** Inliers (within ransac_reprojection) of the matches at pose T, and their squared error sum. */
-	std::vector<Match> inliersAt(const Eigen::Isometry3d& T, const FrameFeatures& f, const std::vector<Match>& matches,
-		const LandmarkMap& map, double& squaredErrors) const;
-	std::vector<Observation> observationsOf(const FrameFeatures& f, const std::vector<Match>& matches) const;
 	void saveState(mrpt::serialization::CArchive& out) const;
 	void loadState(mrpt::serialization::CArchive& in);
 };
@@ -190,33 +209,6 @@ void VisualOdometry::Impl::restartLocalMap(const FrameFeatures& f, const Eigen::
 	lostFrames = lostFramesWithFeatures = 0;
 }
 
-std::vector<Observation> VisualOdometry::Impl::observationsOf(
-	const FrameFeatures& f, const std::vector<Match>& matches) const
-{
-	std::vector<Observation> out;
-	out.reserve(matches.size());
-	for (const auto& m : matches)
-		out.push_back({m.landmark, Eigen::Vector2d(f.keypoints[m.feature].pt.x, f.keypoints[m.feature].pt.y),
-			f.points[m.feature].z()});
-	return out;
-}
-
-std::vector<Match> VisualOdometry::Impl::inliersAt(const Eigen::Isometry3d& T, const FrameFeatures& f,
-	const std::vector<Match>& matches, const LandmarkMap& map, double& squaredErrors) const
-{
-	std::vector<Match> inliers;
-	squaredErrors = 0;
-	for (const auto& m : matches)
-	{
-		const double err = reprojectionError(T, map.at(m.landmark).position,
-			Eigen::Vector2d(f.keypoints[m.feature].pt.x, f.keypoints[m.feature].pt.y), f.K);
-		if (err > options.ransac_reprojection) continue;
-		inliers.push_back(m);
-		squaredErrors += err * err;
-	}
-	return inliers;
-}
-
 std::optional<VisualOdometry::Impl::Relocalisation> VisualOdometry::Impl::relocalise(
 	const FrameFeatures& f, std::vector<KeyframeMap::Candidate>* tried) const
 {
@@ -228,9 +220,7 @@ std::optional<VisualOdometry::Impl::Relocalisation> VisualOdometry::Impl::reloca
 		const MapKeyframe& kf = *keyframeMap.find(c.keyframe);
 		// The keyframe's features as landmarks in the world, by feature index.
 		LandmarkMap points;
-		const Eigen::Isometry3d T_wc = kf.T_cw.inverse();
-		for (int i = 0; i < kf.descriptors.rows; ++i)
-			points[i] = Landmark{T_wc * kf.points[i], descriptorRow(kf.descriptors, i)};
+		addKeyframePoints(kf.T_cw, kf.descriptors, kf.points, 0, points);
 		const auto matches = frontend.matchByDescriptor(f, points);
 		if (int(matches.size()) < options.relocalisation_min_inliers) continue;
 		const auto pnp = frontend.solvePnp(f, points, matches, kf.T_cw);
@@ -239,7 +229,7 @@ std::optional<VisualOdometry::Impl::Relocalisation> VisualOdometry::Impl::reloca
 		backend.refinePose(T, observationsOf(f, pnp->inliers), points, f.K);
 		if (!T.matrix().allFinite()) continue;
 		double sq = 0;
-		auto inliers = inliersAt(T, f, matches, points, sq);
+		auto inliers = inliersAt(T, f, matches, points, options.ransac_reprojection, sq);
 		if (int(inliers.size()) < options.relocalisation_min_inliers ||
 			(best && inliers.size() <= best->inliers.size()))
 			continue;
@@ -261,6 +251,7 @@ OdometryEstimate VisualOdometry::Impl::process(
 			grey, depth, K, options.mask_people ? boxes : std::vector<cv::Rect>{}, reportFeatures ? &masked : nullptr);
 	}();
 	auto e = track(f);
+	frames.push_back({window.empty() ? -1 : window.back().id, T_cw});
 	if (reportFeatures)
 	{
 		cv::KeyPoint::convert(f.keypoints, e.features);
@@ -310,7 +301,7 @@ OdometryEstimate VisualOdometry::Impl::track(const FrameFeatures& f)
 
 	// Inliers at the refined pose among all matches.
 	double sq = 0;
-	const auto inliers = inliersAt(T, f, matches, landmarks, sq);
+	const auto inliers = inliersAt(T, f, matches, landmarks, options.ransac_reprojection, sq);
 	if (int(inliers.size()) < options.min_inliers || !T.matrix().allFinite())
 		return lost(f, std::to_string(inliers.size()) + " inliers after refinement");
 
@@ -342,8 +333,102 @@ OdometryEstimate VisualOdometry::Impl::track(const FrameFeatures& f)
 	}
 	velocity = recovered ? Eigen::Isometry3d::Identity() : Eigen::Isometry3d(T * previous.inverse());
 	T_cw = T;
+	// The velocity is a motion in the camera frame: a loop's correction of the
+	// world leaves it as it is.
+	if (e.keyframe && options.loop_closure) closeLoop(f, e);
 	e.pose = toPose(T_cw.inverse());
 	return e;
+}
+
+void VisualOdometry::Impl::closeLoop(const FrameFeatures& f, OdometryEstimate& e)
+{
+	mrpt::system::CTimeLoggerEntry timer(stageTimer, "6 loop closing");
+	const Keyframe& newest = window.back();
+	const auto loop =
+		measureLoop(f, newest.T_cw, newest.id - options.loop_min_separation, keyframeMap, frontend, backend, options);
+	if (!loop) return;
+	char said[160];
+	std::snprintf(said, sizeof(said), "; loop with keyframe %d (%zu inliers, %.3f m, %.2f deg): ", loop->candidate,
+		loop->inliers, loop->translation, loop->rotation);
+	e.status += said;
+	if (loop->translation > options.loop_max_correction)
+	{
+		e.status += "refused, beyond loop_max_correction";
+		return;
+	}
+	loops.erase(std::remove_if(loops.begin(), loops.end(),
+					[&](const PoseGraphEdge& l) { return !keyframeMap.find(l.from) || !keyframeMap.find(l.to); }),
+		loops.end());
+	// A loop moves the poses only when it shows more drift than its own error
+	// and the loop of the keyframe before found the same.
+	const bool drifted =
+		loop->translation >= options.loop_min_correction || loop->rotation >= options.loop_min_rotation;
+	const bool confirmed = drifted && confirmsLoopBefore(*loop, newest, loops, keyframeMap, options);
+	loops.push_back(loopEdge(*loop, newest.id, keyframeMap, options));
+	if (!confirmed)
+	{
+		e.status += drifted ? "kept, not confirmed by the keyframe before" : "kept, within its own error";
+		return;
+	}
+	const auto poses = closeLoops(keyframeMap, loops, options);
+	if (!poses)
+	{
+		e.status += "kept, the pose graph found no solution";
+		return;
+	}
+	// The graph moved the place too; the loop measured the new keyframe
+	// against the place as it was.
+	const int candidate = loop->candidate;
+	const Eigen::Isometry3d T_loop = loop->T_cw * (keyframeMap.find(candidate)->T_cw.inverse() * poses->at(candidate));
+	moveTo(*poses, T_loop);
+	joinPlace(f, *loop);
+	e.status += "closed, poses corrected";
+	e.loopClosed = true;
+}
+
+void VisualOdometry::Impl::joinPlace(const FrameFeatures& f, const LoopMeasurement& loop)
+{
+	// The new keyframe's features that matched the place now observe the
+	// place's points: tracking goes on against the old map there, not against
+	// the drifted copy the local map made of it.
+	Keyframe& newest = window.back();
+	const LandmarkMap place =
+		placeAround(loop.candidate, newest.id - options.loop_min_separation, keyframeMap, options.loop_neighbours);
+	for (const auto& m : loop.inlierMatches)
+	{
+		const Eigen::Vector2d pixel(f.keypoints[m.feature].pt.x, f.keypoints[m.feature].pt.y);
+		const auto o = std::find_if(newest.observations.begin(), newest.observations.end(),
+			[&](const Observation& o) { return o.pixel == pixel; });
+		if (o == newest.observations.end()) continue;
+		const int id = nextLandmarkId++;
+		landmarks[id] = place.at(m.landmark);
+		o->landmark = id;
+	}
+	forgetUnobservedLandmarks();
+}
+
+void VisualOdometry::Impl::moveTo(const std::map<int, Eigen::Isometry3d>& poses, const Eigen::Isometry3d& newestPose)
+{
+	// Each keyframe's correction D, T_cw(new) = T_cw(old) * D: a change of
+	// the world frame that a frame tracked against the keyframe shares.
+	std::map<int, Eigen::Isometry3d> corrections;
+	for (const auto& [id, T] : poses) corrections[id] = keyframeMap.find(id)->T_cw.inverse() * T;
+	// The local map moves rigidly with its newest keyframe, so that tracking
+	// goes on against landmarks and window poses that agree with each other.
+	const Eigen::Isometry3d D = keyframeMap.find(window.back().id)->T_cw.inverse() * newestPose;
+	for (auto& kf : window) corrections[kf.id] = D;
+	for (auto& kf : window) kf.T_cw = kf.T_cw * D;
+	const Eigen::Isometry3d Dinv = D.inverse();
+	for (auto& [id, lm] : landmarks) lm.position = Dinv * lm.position;
+	T_cw = T_cw * D;
+	for (const auto& [id, c] : corrections) keyframeMap.updatePose(id, keyframeMap.find(id)->T_cw * c);
+	// A frame whose keyframe has left the map moves with the next one kept.
+	for (auto& frame : frames)
+	{
+		auto c = corrections.lower_bound(frame.keyframe);
+		if (c == corrections.end()) c = std::prev(c);
+		frame.T_cw = frame.T_cw * c->second;
+	}
 }
 
 VisualOdometry::PlaceQuery VisualOdometry::Impl::queryPlace(
@@ -442,6 +527,19 @@ void VisualOdometry::Impl::saveState(mrpt::serialization::CArchive& out) const
 	}
 	out << std::int32_t(nextKeyframeId) << std::int32_t(lostFrames) << std::int32_t(lostFramesWithFeatures);
 	keyframeMap.save(out);
+	out << std::uint32_t(loops.size());
+	for (const auto& e : loops)
+	{
+		out << std::int32_t(e.from) << std::int32_t(e.to);
+		writePose(out, e.T_to_from);
+		out << e.sigmaTranslation << e.sigmaRotation << e.robust;
+	}
+	out << std::uint64_t(frames.size());
+	for (const auto& frame : frames)
+	{
+		out << std::int32_t(frame.keyframe);
+		writePose(out, frame.T_cw);
+	}
 }
 
 void VisualOdometry::Impl::loadState(mrpt::serialization::CArchive& in)
@@ -484,6 +582,29 @@ void VisualOdometry::Impl::loadState(mrpt::serialization::CArchive& in)
 	const int lost = read<std::int32_t>(in), lostWithFeatures = read<std::int32_t>(in);
 	KeyframeMap places(options);
 	places.load(in);
+	std::vector<PoseGraphEdge> loopEdges;
+	for (auto n = read<std::uint32_t>(in); n > 0; --n)
+	{
+		PoseGraphEdge& e = loopEdges.emplace_back();
+		e.from = read<std::int32_t>(in);
+		e.to = read<std::int32_t>(in);
+		e.T_to_from = readPose(in);
+		e.sigmaTranslation = read<double>(in);
+		e.sigmaRotation = read<double>(in);
+		e.robust = read<bool>(in);
+		if (e.from < 0 || e.to < 0 || e.from >= nextKeyframe || e.to >= nextKeyframe || !(e.sigmaTranslation > 0) ||
+			!(e.sigmaRotation > 0))
+			throw badState("corrupt odometry state (loop constraint)");
+	}
+	std::vector<FramePose> framePoses;
+	for (auto n = read<std::uint64_t>(in); n > 0; --n)
+	{
+		FramePose& frame = framePoses.emplace_back();
+		frame.keyframe = read<std::int32_t>(in);
+		frame.T_cw = readPose(in);
+		if (frame.keyframe < -1 || frame.keyframe >= nextKeyframe)
+			throw badState("corrupt odometry state (frame of keyframe " + std::to_string(frame.keyframe) + ")");
+	}
 	for (const auto& kf : keyframes)
 		if (kf.id < 0 || kf.id >= nextKeyframe)
 			throw badState("corrupt odometry state (keyframe id " + std::to_string(kf.id) + ")");
@@ -498,6 +619,8 @@ void VisualOdometry::Impl::loadState(mrpt::serialization::CArchive& in)
 	lostFrames = lost;
 	lostFramesWithFeatures = lostWithFeatures;
 	keyframeMap = std::move(places);
+	loops = std::move(loopEdges);
+	frames = std::move(framePoses);
 }
 
 VisualOdometry::VisualOdometry(const TOdometryOptions& options, const mrpt::poses::CPose3D& initialPose)
@@ -525,5 +648,12 @@ VisualOdometry::PlaceQuery VisualOdometry::queryPlace(
 	return m_impl->queryPlace(obs, personBoxes);
 }
 std::size_t VisualOdometry::landmarkCount() const { return m_impl->landmarks.size(); }
+std::vector<mrpt::poses::CPose3D> VisualOdometry::trajectory() const
+{
+	std::vector<mrpt::poses::CPose3D> poses;
+	poses.reserve(m_impl->frames.size());
+	for (const auto& frame : m_impl->frames) poses.push_back(toPose(frame.T_cw.inverse()));
+	return poses;
+}
 std::string VisualOdometry::stageTimesText() const { return m_impl->stageTimer.getStatsAsText(); }
 }  // namespace avm::odometry

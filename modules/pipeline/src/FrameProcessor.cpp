@@ -153,6 +153,7 @@ std::optional<CPose3D> FrameProcessor::estimatePose(const io::RgbdFrame& frame)
 		if (!m_lastEstimate.tracked)
 			m_log.logFmt(mrpt::system::LVL_WARN, "frame %zu: odometry lost (%s), pose bridged\n", frame.index,
 				m_lastEstimate.status.c_str());
+		if (m_lastEstimate.loopClosed) takeCorrectedTrajectory(frame.index);
 		pose = m_lastEstimate.pose;
 	}
 	if (!io::isFinite(pose))
@@ -161,6 +162,24 @@ std::optional<CPose3D> FrameProcessor::estimatePose(const io::RgbdFrame& frame)
 		return std::nullopt;
 	}
 	return pose;
+}
+
+void FrameProcessor::takeCorrectedTrajectory(std::size_t frameIndex)
+{
+	// The odometry has a pose for every frame it saw, this one included; the
+	// trajectory has one for each of the earlier ones (a VO pose is never
+	// left out).
+	const auto corrected = m_odometry->trajectory();
+	if (corrected.size() != m_trajectory.size() + 1)
+	{
+		m_log.logFmt(mrpt::system::LVL_WARN,
+			"frame %zu: loop closed, but the odometry has %zu poses for %zu frames: trajectory left as it was\n",
+			frameIndex, corrected.size(), m_trajectory.size() + 1);
+		return;
+	}
+	for (std::size_t i = 0; i < m_trajectory.size(); ++i) m_trajectory[i].pose = corrected[i];
+	++m_counts.loopsClosed;
+	m_log.logFmt(mrpt::system::LVL_INFO, "frame %zu: loop closed, the trajectory so far corrected\n", frameIndex);
 }
 
 void FrameProcessor::updatePersons()

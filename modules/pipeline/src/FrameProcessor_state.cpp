@@ -15,7 +15,7 @@ using mrpt::serialization::CArchive;
 
 namespace
 {
-constexpr std::uint8_t kStateVersion = 2;
+constexpr std::uint8_t kStateVersion = 3;
 
 void write(CArchive& out, const mrpt::math::TPoint3D& p) { out << p.x << p.y << p.z; }
 void read(CArchive& in, mrpt::math::TPoint3D& p) { in >> p.x >> p.y >> p.z; }
@@ -126,6 +126,7 @@ void FrameProcessor::saveState(CArchive& out)
 	write(out, c.detectionRuns);
 	write(out, c.framesWithPerson);
 	write(out, c.regions);
+	write(out, c.loopsClosed);
 	for (const auto* t :
 		{&m_stages.odometry, &m_stages.detection, &m_stages.detectionWait, &m_stages.map, &m_stages.mapCpu})
 		write(out, *t);
@@ -165,6 +166,7 @@ void FrameProcessor::loadState(CArchive& in)
 	c.detectionRuns = readSize(in);
 	c.framesWithPerson = readSize(in);
 	c.regions = readSize(in);
+	c.loopsClosed = readSize(in);
 	for (auto* t : {&m_stages.odometry, &m_stages.detection, &m_stages.detectionWait, &m_stages.map, &m_stages.mapCpu})
 		read(in, *t);
 	read(in, m_trajectory);

@@ -218,6 +218,7 @@ std::string statsJson(
 	writeRegionsAndPersons(json, map);
 	if (summary.reference) writeReference(json, *summary.reference, summary.mapCpu);
 	json.value("odometry_ate_rmse_m", summary.ateRmse);
+	json.value("odometry_loops_closed", summary.loopsClosed);
 	json.endObject();
 	return json.str();
 }

@@ -260,4 +260,37 @@ std::optional<FeatureFrontend::PnpResult> FeatureFrontend::solvePnp(const FrameF
 	if (consistent < m_options.min_inliers) out.T_cw = guess;
 	return out;
 }
+std::vector<Observation> observationsOf(const FrameFeatures& f, const std::vector<Match>& matches)
+{
+	std::vector<Observation> out;
+	out.reserve(matches.size());
+	for (const auto& m : matches)
+		out.push_back({m.landmark, Eigen::Vector2d(f.keypoints[m.feature].pt.x, f.keypoints[m.feature].pt.y),
+			f.points[m.feature].z()});
+	return out;
+}
+
+std::vector<Match> inliersAt(const Eigen::Isometry3d& T, const FrameFeatures& f, const std::vector<Match>& matches,
+	const LandmarkMap& landmarks, double maxError, double& squaredErrors)
+{
+	std::vector<Match> inliers;
+	squaredErrors = 0;
+	for (const auto& m : matches)
+	{
+		const double err = reprojectionError(T, landmarks.at(m.landmark).position,
+			Eigen::Vector2d(f.keypoints[m.feature].pt.x, f.keypoints[m.feature].pt.y), f.K);
+		if (err > maxError) continue;
+		inliers.push_back(m);
+		squaredErrors += err * err;
+	}
+	return inliers;
+}
+
+void addKeyframePoints(const Eigen::Isometry3d& T_cw, const cv::Mat& descriptors,
+	const std::vector<Eigen::Vector3d>& points, int firstId, LandmarkMap& out)
+{
+	const Eigen::Isometry3d T_wc = T_cw.inverse();
+	for (int i = 0; i < descriptors.rows; ++i)
+		out[firstId + i] = Landmark{T_wc * points[std::size_t(i)], descriptorRow(descriptors, i)};
+}
 }  // namespace avm::odometry::detail

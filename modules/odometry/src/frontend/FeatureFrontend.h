@@ -57,4 +57,16 @@ class FeatureFrontend
 	const TOdometryOptions& m_options;
 	cv::Ptr<cv::ORB> m_orb;
 };
+/** The frame's features of `matches` as observations of their landmarks. */
+std::vector<Observation> observationsOf(const FrameFeatures& f, const std::vector<Match>& matches);
+
+/** The matches that reproject within `maxError` [px] at pose T, and the sum
+ *  of their squared errors. */
+std::vector<Match> inliersAt(const Eigen::Isometry3d& T, const FrameFeatures& f, const std::vector<Match>& matches,
+	const LandmarkMap& landmarks, double maxError, double& squaredErrors);
+
+/** The world points of a keyframe's features, as landmarks numbered from
+ *  `firstId` in feature order. */
+void addKeyframePoints(const Eigen::Isometry3d& T_cw, const cv::Mat& descriptors,
+	const std::vector<Eigen::Vector3d>& points, int firstId, LandmarkMap& out);
 }  // namespace avm::odometry::detail

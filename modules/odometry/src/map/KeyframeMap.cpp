@@ -78,12 +78,14 @@ const MapKeyframe* KeyframeMap::find(int id) const
 	return it == m_keyframes.end() ? nullptr : &it->second;
 }
 
-std::vector<KeyframeMap::Candidate> KeyframeMap::candidates(const cv::Mat& descriptors, std::size_t n) const
+std::vector<KeyframeMap::Candidate> KeyframeMap::candidates(
+	const cv::Mat& descriptors, std::size_t n, int newestId) const
 {
 	std::vector<Candidate> out;
 	if (!m_vocabulary.trained())
 	{
-		for (auto it = m_keyframes.rbegin(); it != m_keyframes.rend() && out.size() < n; ++it)
+		for (auto it = std::make_reverse_iterator(m_keyframes.upper_bound(newestId));
+			 it != m_keyframes.rend() && out.size() < n; ++it)
 			out.push_back({it->first, 0.0});
 		return out;
 	}
@@ -92,7 +94,8 @@ std::vector<KeyframeMap::Candidate> KeyframeMap::candidates(const cv::Mat& descr
 	std::map<int, double> scores;
 	for (const auto& [w, weight] : m_vocabulary.transform(descriptors))
 		for (const auto& [id, kfWeight] : m_inverted[w]) scores[id] += std::min(weight, kfWeight);
-	for (const auto& [id, s] : scores) out.push_back({id, s});
+	for (const auto& [id, s] : scores)
+		if (id <= newestId) out.push_back({id, s});
 	std::sort(out.begin(), out.end(),
 		[](const Candidate& a, const Candidate& b)
 		{ return a.score != b.score ? a.score > b.score : a.keyframe > b.keyframe; });

@@ -15,6 +15,7 @@
 #include <Eigen/Geometry>
 #include <mrpt/serialization/CArchive.h>
 
+#include <limits>
 #include <map>
 #include <vector>
 
@@ -51,8 +52,13 @@ class KeyframeMap
 		double score;  //!< BinaryVocabulary::score; 0 before the vocabulary exists
 	};
 	/** Up to n keyframes most like these descriptors, best first (of equal
-	 *  scores the newest). Before the vocabulary is trained, the newest n. */
-	std::vector<Candidate> candidates(const cv::Mat& descriptors, std::size_t n) const;
+	 *  scores the newest), of ids up to `newestId`. Before the vocabulary is
+	 *  trained, the newest n. */
+	std::vector<Candidate> candidates(
+		const cv::Mat& descriptors, std::size_t n, int newestId = std::numeric_limits<int>::max()) const;
+	bool trained() const { return m_vocabulary.trained(); }
+	/** Every keyframe, by id. */
+	const std::map<int, MapKeyframe>& keyframes() const { return m_keyframes; }
 
 	void save(mrpt::serialization::CArchive& out) const;
 	/** Throws std::runtime_error (badState) on a truncated or corrupt stream,

@@ -3,7 +3,9 @@
 // then a robust Ceres pose refinement and a sliding-window bundle adjustment
 // over the last keyframes. Features inside person boxes are left out. The
 // keyframes of the whole run stay in a map with a place-recognition index:
-// a lost frame is relocalised against it, back in the old map's frame.
+// a lost frame is relocalised against it, back in the old map's frame, and a
+// new keyframe that sees an old place again closes a loop (a pose graph over
+// the keyframes, Ceres) that corrects the drift of every pose since.
 //
 // Frames: every pose is the camera OPTICAL frame (z forward, x right, y down)
 // in the world, the convention of TUM trajectories and of avm rawlogs.
@@ -31,9 +33,12 @@ namespace avm::odometry
 {
 struct OdometryEstimate
 {
-	mrpt::poses::CPose3D pose;    //!< camera optical frame in the world (never NaN)
-	bool tracked = false;         //!< false: the pose is bridged by the motion model
-	bool keyframe = false;        //!< the frame became a keyframe
+	mrpt::poses::CPose3D pose;  //!< camera optical frame in the world (never NaN)
+	bool tracked = false;       //!< false: the pose is bridged by the motion model
+	bool keyframe = false;      //!< the frame became a keyframe
+	/** A loop closed at this frame and moved the poses of earlier frames:
+	 *  VisualOdometry::trajectory() has them. */
+	bool loopClosed = false;
 	std::size_t inliers = 0;      //!< matches consistent with the pose
 	double reprojectionRmse = 0;  //!< [px] over the inliers
 	std::string status;           //!< "tracking", "initialised", or why tracking was lost
@@ -97,6 +102,9 @@ class VisualOdometry
 	/** Keyframes kept for relocalisation (at most map_max_keyframes). */
 	std::size_t mapKeyframeCount() const;
 	std::size_t landmarkCount() const;
+	/** The pose of every frame process() has seen, in order, as the closed
+	 *  loops have corrected them (without loops: the poses it returned). */
+	std::vector<mrpt::poses::CPose3D> trajectory() const;
 	/** Time spent per stage so far (features, matching + PnP, refinement,
 	 *  bundle adjustment, relocalisation), as MRPT's CTimeLogger table. */
 	std::string stageTimesText() const;

@@ -89,8 +89,11 @@ struct RunSummary
 	std::size_t regions = 0;        //!< person sightings that placed a region
 	std::size_t persons = 0;        //!< person tracks
 	std::optional<double> ateRmse;  //!< [m] odometry vs ground truth, when both exist
-	double peakMemoryMb = 0;        //!< [MiB] peak resident memory of the process
-	double cpuMsPerFrame = 0;       //!< [ms] CPU time of the run (all threads) per frame mapped
+	/** Loops the odometry closed: each moved the trajectory's earlier poses
+	 *  (the map keeps what it inserted at the poses of the time). */
+	std::size_t loopsClosed = 0;
+	double peakMemoryMb = 0;   //!< [MiB] peak resident memory of the process
+	double cpuMsPerFrame = 0;  //!< [ms] CPU time of the run (all threads) per frame mapped
 	/** [0..1] share of the machine's CPU time a hypervisor took during the run. */
 	std::optional<double> stolenCpuShare;
 	/** detection: the detector's own time; detectionWait: how long the loop

@@ -1,0 +1,131 @@
+#include "LoopClosing.h"
+
+#include <mrpt/core/bits_math.h>
+
+#include <cmath>
+
+namespace avm::odometry::detail
+{
+namespace
+{
+Eigen::Vector3d cameraCentre(const Eigen::Isometry3d& T_cw)
+{
+	return -(T_cw.rotation().transpose() * T_cw.translation());
+}
+
+}  // namespace
+
+LandmarkMap placeAround(int candidate, int newestId, const KeyframeMap& map, int neighbours)
+{
+	LandmarkMap place;
+	int next = 0;
+	const auto& keyframes = map.keyframes();
+	for (auto it = keyframes.lower_bound(candidate - neighbours);
+		 it != keyframes.end() && it->first <= std::min(candidate + neighbours, newestId); ++it)
+	{
+		addKeyframePoints(it->second.T_cw, it->second.descriptors, it->second.points, next, place);
+		next += it->second.descriptors.rows;
+	}
+	return place;
+}
+
+std::optional<LoopMeasurement> measureLoop(const FrameFeatures& f, const Eigen::Isometry3d& T_cw, int newestId,
+	const KeyframeMap& map, const FeatureFrontend& frontend, const CeresBackend& backend,
+	const TOdometryOptions& options)
+{
+	// Before the vocabulary exists every keyframe is a candidate; loops wait for it.
+	if (!map.trained()) return std::nullopt;
+	std::optional<LoopMeasurement> best;
+	for (const auto& c : map.candidates(f.descriptors, std::size_t(options.loop_candidates), newestId))
+	{
+		const LandmarkMap place = placeAround(c.keyframe, newestId, map, options.loop_neighbours);
+		if (place.empty()) continue;
+		// Where the odometry thinks the camera is, the place should project
+		// close to its features; when it has drifted too far for that, the
+		// candidate's own features by descriptor give the starting pose.
+		auto matches = frontend.matchByProjection(f, place, T_cw);
+		auto pnp = frontend.solvePnp(f, place, matches, T_cw);
+		if (!pnp || int(pnp->inliers.size()) < options.loop_min_inliers)
+		{
+			const MapKeyframe& kf = *map.find(c.keyframe);
+			LandmarkMap own;
+			addKeyframePoints(kf.T_cw, kf.descriptors, kf.points, 0, own);
+			const auto start = frontend.solvePnp(f, own, frontend.matchByDescriptor(f, own), kf.T_cw);
+			if (!start) continue;
+			matches = frontend.matchByProjection(f, place, start->T_cw);
+			pnp = frontend.solvePnp(f, place, matches, start->T_cw);
+			if (!pnp) continue;
+		}
+		Eigen::Isometry3d T = pnp->T_cw;
+		backend.refinePose(T, observationsOf(f, pnp->inliers), place, f.K);
+		if (!T.matrix().allFinite()) continue;
+		double squaredErrors = 0;
+		const auto inliers = inliersAt(T, f, matches, place, options.ransac_reprojection, squaredErrors);
+		if (int(inliers.size()) < options.loop_min_inliers || (best && inliers.size() <= best->inliers)) continue;
+		LoopMeasurement m;
+		m.candidate = c.keyframe;
+		m.T_cw = T;
+		m.inliers = inliers.size();
+		m.translation = (cameraCentre(T) - cameraCentre(T_cw)).norm();
+		m.rotation = mrpt::RAD2DEG(Eigen::AngleAxisd(T.rotation() * T_cw.rotation().transpose()).angle());
+		m.inlierMatches = inliers;
+		best = m;
+	}
+	return best;
+}
+
+bool confirmsLoopBefore(const LoopMeasurement& loop, const Keyframe& newest, const std::vector<PoseGraphEdge>& loops,
+	const KeyframeMap& map, const TOdometryOptions& options)
+{
+	if (loops.empty() || loops.back().to != newest.id - 1) return false;
+	const PoseGraphEdge& before = loops.back();
+	const MapKeyframe* from = map.find(before.from);
+	const MapKeyframe* to = map.find(before.to);
+	if (!from || !to) return false;
+	const Eigen::Vector3d shift = cameraCentre(loop.T_cw) - cameraCentre(newest.T_cw);
+	const Eigen::Vector3d shiftBefore = cameraCentre(before.T_to_from * from->T_cw) - cameraCentre(to->T_cw);
+	return (shift - shiftBefore).norm() < options.loop_min_correction;
+}
+
+PoseGraphEdge loopEdge(
+	const LoopMeasurement& loop, int keyframe, const KeyframeMap& map, const TOdometryOptions& options)
+{
+	PoseGraphEdge e;
+	e.from = loop.candidate;
+	e.to = keyframe;
+	e.T_to_from = loop.T_cw * map.find(loop.candidate)->T_cw.inverse();
+	e.sigmaTranslation = options.loop_sigma;
+	e.sigmaRotation = options.loop_sigma;  // [rad], as a metre at 1 m
+	e.robust = true;
+	return e;
+}
+
+std::optional<std::map<int, Eigen::Isometry3d>> closeLoops(
+	const KeyframeMap& map, const std::vector<PoseGraphEdge>& loops, const TOdometryOptions& options)
+{
+	const auto& keyframes = map.keyframes();
+	if (keyframes.size() < 2) return std::nullopt;
+	std::map<int, Eigen::Isometry3d> nodes;
+	std::vector<PoseGraphEdge> edges;
+	for (auto it = keyframes.begin(); it != keyframes.end(); ++it)
+	{
+		nodes[it->first] = it->second.T_cw;
+		const auto next = std::next(it);
+		if (next == keyframes.end()) break;
+		// The odometry between consecutive keyframes, as it stands.
+		PoseGraphEdge e;
+		e.from = it->first;
+		e.to = next->first;
+		e.T_to_from = next->second.T_cw * it->second.T_cw.inverse();
+		e.sigmaTranslation = options.odometry_sigma;
+		e.sigmaRotation = options.odometry_sigma;
+		edges.push_back(e);
+	}
+	edges.insert(edges.end(), loops.begin(), loops.end());
+	// A few hundred keyframes converge in a few iterations from the odometry's poses.
+	constexpr int kIterations = 20;
+	auto result = optimisePoseGraph(nodes, edges, keyframes.begin()->first, kIterations);
+	if (!result.usable) return std::nullopt;
+	return std::move(result.poses);
+}
+}  // namespace avm::odometry::detail

@@ -1,0 +1,73 @@
+// Loop closing: a new keyframe that sees again a place an older keyframe saw
+// is measured against that place (the candidate keyframe and its neighbours,
+// in their current world poses), and the verified measurement enters a pose
+// graph over all map keyframes (backend/PoseGraph.h) whose solution moves the
+// drifted keyframes back.
+//
+// Why the neighbours: one keyframe's own depth points are noisy at the
+// centimetre level and cover only its view; a place seen by several
+// keyframes gives more points over a wider view, so the loop's pose is as
+// good as the odometry's own (a loop off by more than the drift it corrects
+// would make the trajectory worse).
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include <cstddef>
+#include <map>
+#include <optional>
+#include <vector>
+
+#include "../Types.h"
+#include "../backend/CeresBackend.h"
+#include "../backend/PoseGraph.h"
+#include "../frontend/FeatureFrontend.h"
+#include "KeyframeMap.h"
+#include "avm/odometry/TOdometryOptions.h"
+
+namespace avm::odometry::detail
+{
+/** A verified loop: the new keyframe's pose in the old place's frame. */
+struct LoopMeasurement
+{
+	int candidate = -1;       //!< the old keyframe whose place was seen again
+	Eigen::Isometry3d T_cw;   //!< the new keyframe's pose measured against the old place
+	std::size_t inliers = 0;  //!< matches within ransac_reprojection at T_cw
+	double translation = 0;   //!< [m] how far T_cw's camera centre is from the tracked one
+	double rotation = 0;      //!< [deg] and its rotation from the tracked one
+	/** The inliers: the new keyframe's features and the place's points
+	 *  (numbered as placeAround numbers them). */
+	std::vector<Match> inlierMatches;
+};
+
+/** The place around `candidate`: its features and those of up to
+ *  `neighbours` keyframes on each side (ids up to newestId), in the world at
+ *  the keyframes' current poses, numbered in keyframe and feature order. */
+LandmarkMap placeAround(int candidate, int newestId, const KeyframeMap& map, int neighbours);
+
+/** The best verified loop of the keyframe with features `f` at its tracked
+ *  pose T_cw, among the place index's loop_candidates most similar keyframes
+ *  of ids up to newestId; nothing when none has loop_min_inliers. */
+std::optional<LoopMeasurement> measureLoop(const FrameFeatures& f, const Eigen::Isometry3d& T_cw, int newestId,
+	const KeyframeMap& map, const FeatureFrontend& frontend, const CeresBackend& backend,
+	const TOdometryOptions& options);
+
+/** The map keyframes' poses after optimising the pose graph of their
+ *  odometry (each keyframe tied to the next by their current relative pose)
+ *  and the loop constraints; the oldest keyframe holds the gauge. Nothing
+ *  when Ceres returns no usable solution. */
+std::optional<std::map<int, Eigen::Isometry3d>> closeLoops(
+	const KeyframeMap& map, const std::vector<PoseGraphEdge>& loops, const TOdometryOptions& options);
+
+/** Whether the loop of the keyframe just before `newest` (the last of
+ *  `loops`) found the camera shifted the same way as `loop` does, within
+ *  loop_min_correction. One loop's shift may be its own error (on Bonn
+ *  2-4 cm, pointing anywhere from one keyframe to the next); drift shows in
+ *  consecutive loops alike. */
+bool confirmsLoopBefore(const LoopMeasurement& loop, const Keyframe& newest, const std::vector<PoseGraphEdge>& loops,
+	const KeyframeMap& map, const TOdometryOptions& options);
+
+/** The loop constraint of a measurement made at keyframe `keyframe`. */
+PoseGraphEdge loopEdge(
+	const LoopMeasurement& loop, int keyframe, const KeyframeMap& map, const TOdometryOptions& options);
+}  // namespace avm::odometry::detail
