@@ -430,17 +430,30 @@ void RayIntegrator::forgetSketchSeenThrough(const mrpt::obs::CObservation3DRange
 		return std::any_of(
 			sides.begin(), sides.end(), [&](const auto& n) { return n.x * c.x + n.y * c.y + n.z * c.z < -outsideBy; });
 	};
+	// A high voxel's centre is its low voxel's plus a fixed offset per bit:
+	// the offsets turned into the sensor frame once per image.
+	const unsigned ratio = m_targets.sketch->ratio();
+	const auto& R = sensorPose.getRotationMatrix();
+	std::vector<mrpt::math::TPoint3D> offsets(ratio * ratio * ratio);
+	for (unsigned bit = 0; bit < offsets.size(); ++bit)
+	{
+		const unsigned o[3] = {bit / (ratio * ratio), (bit / ratio) % ratio, bit % ratio};
+		double w[3];
+		for (int i = 0; i < 3; ++i) w[i] = (o[i] + 0.5) * fine - 0.5 * fine * ratio;
+		offsets[bit] = {R(0, 0) * w[0] + R(1, 0) * w[1] + R(2, 0) * w[2],
+			R(0, 1) * w[0] + R(1, 1) * w[1] + R(2, 1) * w[2], R(0, 2) * w[0] + R(1, 2) * w[1] + R(2, 2) * w[2]};
+	}
 	m_targets.sketch->updateBits(
 		[&](std::uint64_t lowKey, std::uint64_t bits)
 		{
 			if (bits == 0) return bits;
-			const auto lowCentre = sensorPose.inverseComposePoint(centreOf(lowKey, fine * m_targets.sketch->ratio()));
+			const auto lowCentre = sensorPose.inverseComposePoint(centreOf(lowKey, fine * ratio));
 			if (lowCentre.x <= -lowHalfDiagonal || lowCentre.norm() > maxRange + lowHalfDiagonal) return bits;
 			if (outsideTheImage(lowCentre)) return bits;
 			for (std::uint64_t rest = bits; rest != 0; rest &= rest - 1)
 			{
 				const auto bit = static_cast<unsigned>(__builtin_ctzll(rest));
-				const auto p = sensorPose.inverseComposePoint(centreOf(m_targets.sketch->highKeyOf(lowKey, bit), fine));
+				const auto p = lowCentre + offsets[bit];
 				const double distance = p.norm();
 				if (distance > maxRange) continue;
 				const auto pixel = camera.project(p);
