@@ -8,36 +8,13 @@
 #include <functional>
 #include <unordered_map>
 
+#include "PoseParams.h"
 #include "ReprojectionCost.h"
 
 namespace avm::odometry::detail
 {
 namespace
 {
-using PoseParams = std::array<double, 6>;
-
-PoseParams toParams(const Eigen::Isometry3d& T)
-{
-	PoseParams p;
-	const Eigen::Matrix3d R = T.rotation();
-	ceres::RotationMatrixToAngleAxis(ceres::ColumnMajorAdapter3x3(R.data()), p.data());
-	for (int i = 0; i < 3; ++i) p[3 + i] = T.translation()[i];
-	return p;
-}
-
-/** The refined pose, or the original if Ceres produced something non-finite. */
-Eigen::Isometry3d fromParams(const PoseParams& p, const Eigen::Isometry3d& fallback)
-{
-	for (double v : p)
-		if (!std::isfinite(v)) return fallback;
-	Eigen::Matrix3d R;
-	ceres::AngleAxisToRotationMatrix(p.data(), ceres::ColumnMajorAdapter3x3(R.data()));
-	Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-	T.linear() = R;
-	T.translation() << p[3], p[4], p[5];
-	return T;
-}
-
 ceres::Solver::Options solverOptions(int iterations, int threads, ceres::LinearSolverType solver)
 {
 	ceres::Solver::Options o;

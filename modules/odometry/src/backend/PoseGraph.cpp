@@ -4,40 +4,18 @@
 #include <ceres/rotation.h>
 
 #include <array>
-#include <cmath>
-#include <memory>
+
+#include "PoseParams.h"
 
 namespace avm::odometry::detail
 {
 namespace
 {
-/** Angle-axis and translation of T_cw: p_camera = R p_world + t. */
-using PoseParams = std::array<double, 6>;
-
-PoseParams toParams(const Eigen::Isometry3d& T)
-{
-	PoseParams p;
-	const Eigen::Matrix3d R = T.rotation();
-	ceres::RotationMatrixToAngleAxis(ceres::ColumnMajorAdapter3x3(R.data()), p.data());
-	for (int i = 0; i < 3; ++i) p[3 + i] = T.translation()[i];
-	return p;
-}
-
-Eigen::Isometry3d fromParams(const PoseParams& p)
-{
-	Eigen::Matrix3d R;
-	ceres::AngleAxisToRotationMatrix(p.data(), ceres::ColumnMajorAdapter3x3(R.data()));
-	Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-	T.linear() = R;
-	T.translation() << p[3], p[4], p[5];
-	return T;
-}
-
 /** The error of T_to * T_from^-1 against the measurement, as the angle-axis
  *  and translation of Z^-1 * T_to * T_from^-1, each over its sigma. */
 struct RelativePoseCost
 {
-	RelativePoseCost(const PoseGraphEdge& e)
+	explicit RelativePoseCost(const PoseGraphEdge& e)
 	{
 		const Eigen::Isometry3d Zinv = e.T_to_from.inverse();
 		Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(zR.data()) = Zinv.rotation();
@@ -118,9 +96,8 @@ PoseGraphResult optimisePoseGraph(const std::map<int, Eigen::Isometry3d>& nodes,
 	result.usable = summary.IsSolutionUsable();
 	for (const auto& [id, p] : params)
 	{
-		for (const double v : p)
-			if (!std::isfinite(v)) result.usable = false;
-		result.poses[id] = fromParams(p);
+		result.usable = result.usable && isFinite(p);
+		result.poses[id] = fromParams(p, nodes.at(id));
 	}
 	return result;
 }
