@@ -19,8 +19,8 @@ struct TOdometryOptions : public io::CIniKeyOptions<TOdometryOptions>
 	int grid_rows = 6;           //!< bucketing grid rows
 	double min_depth = 0.3;      //!< [m] nearer depth is rejected
 	double max_depth = 6.0;      //!< [m] farther depth is rejected
-	double depth_edge_ratio =
-		0.05;  //!< a feature is on a depth edge (rejected) when its 3x3 depth range exceeds this fraction of its depth
+	/** A feature is on a depth edge (rejected) when its 3x3 depth range exceeds this fraction of its depth. */
+	double depth_edge_ratio = 0.05;
 	// --- front end: matching and PnP
 	double match_ratio = 0.8;          //!< Lowe ratio: best / second-best Hamming distance
 	int max_hamming = 64;              //!< largest accepted descriptor distance (bits)
@@ -30,8 +30,8 @@ struct TOdometryOptions : public io::CIniKeyOptions<TOdometryOptions>
 	int min_inliers = 20;              //!< fewer inliers than this = tracking lost
 	// --- back end
 	double huber_delta = 1.0;  //!< [px] Huber loss width of the reprojection residual
-	double depth_weight =
-		0.05;  //!< weight of the depth residual fx*(z-d)/d [px] beside the reprojection error (0 = off)
+	/** Weight of the depth residual fx*(z-d)/d [px] beside the reprojection error (0 = off). */
+	double depth_weight = 0.05;
 	int refine_iterations = 10;  //!< Ceres iterations of the per-frame pose refinement
 	int window_size = 8;         //!< keyframes in the sliding-window bundle adjustment (0 = no BA)
 	int ba_iterations = 8;       //!< Ceres iterations of one bundle adjustment
@@ -39,19 +39,20 @@ struct TOdometryOptions : public io::CIniKeyOptions<TOdometryOptions>
 	// --- keyframes
 	double keyframe_translation = 0.08;  //!< [m] motion from the last keyframe that makes a keyframe
 	double keyframe_rotation = 8.0;      //!< [deg] rotation from the last keyframe that makes a keyframe
-	double keyframe_overlap =
-		0.6;  //!< a keyframe is made when the tracked share of the last keyframe's landmarks falls below this
+	/** A keyframe is made when the tracked share of the last keyframe's landmarks falls below this. */
+	double keyframe_overlap = 0.6;
 	// --- keyframe map (kept through tracking loss) and relocalisation
-	int map_max_keyframes =
-		300;  //!< keyframes kept for the whole run (about 70 kB each); beyond, the most redundant goes
-	int relocalisation_candidates =
-		3;  //!< map keyframes a lost frame is checked against (PnP + refinement), most similar first
+	/** Keyframes kept for the whole run (about 70 kB each); beyond, the most redundant goes. */
+	int map_max_keyframes = 300;
+	/** Map keyframes a lost frame is checked against (PnP + refinement), most similar first. */
+	int relocalisation_candidates = 3;
 	int relocalisation_min_inliers = 50;  //!< inliers after the refinement that accept a relocalisation
-	int relocalisation_frames =
-		10;  //!< lost frames with features during which the old map is kept for relocalisation; then a new local map starts at the bridged pose
+	/** Lost frames with features during which the old map is kept for relocalisation; then a new local map
+	 *  starts at the bridged pose. */
+	int relocalisation_frames = 10;
 	// --- loop closing
 	/** Verified revisits of old keyframes correct the drift (pose graph). Off
-	 *  by default: on Bonn a loop's own error (2-9 cm, doc/odometry.md) is as
+	 *  by default: on Bonn a loop's own error (2-7 cm, doc/odometry.md) is as
 	 *  large as the drift it would correct. */
 	bool loop_closure = false;
 	/** A loop candidate is at least this many keyframes older than the new one. */
@@ -70,8 +71,9 @@ struct TOdometryOptions : public io::CIniKeyOptions<TOdometryOptions>
 	// --- dynamic people
 	bool mask_people = true;     //!< ignore features inside person boxes
 	int person_box_margin = 10;  //!< [px] added on every side of a person box
-	double person_depth_band =
-		0.5;  //!< [m] inside a box, pixels nearer than the person's median depth plus this are masked (0 = the whole box)
+	/** [m] Inside a box, pixels nearer than the person's median depth plus this are masked (0 = the
+	 *  whole box). */
+	double person_depth_band = 0.5;
 	// --- runtime
 	int threads = 1;  //!< Ceres threads (OpenCV threads are the caller's: cv::setNumThreads)
 
