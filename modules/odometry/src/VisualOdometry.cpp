@@ -416,8 +416,11 @@ void VisualOdometry::Impl::moveTo(const std::map<int, Eigen::Isometry3d>& poses,
 	// The local map moves rigidly with its newest keyframe, so that tracking
 	// goes on against landmarks and window poses that agree with each other.
 	const Eigen::Isometry3d D = keyframeMap.find(window.back().id)->T_cw.inverse() * newestPose;
-	for (auto& kf : window) corrections[kf.id] = D;
-	for (auto& kf : window) kf.T_cw = kf.T_cw * D;
+	for (auto& kf : window)
+	{
+		corrections[kf.id] = D;
+		kf.T_cw = kf.T_cw * D;
+	}
 	const Eigen::Isometry3d Dinv = D.inverse();
 	for (auto& [id, lm] : landmarks) lm.position = Dinv * lm.position;
 	T_cw = T_cw * D;

@@ -127,10 +127,9 @@ MapSnapshot snapshotOfRun(const std::filesystem::path& outDir, const SnapshotOpt
 		for (const auto& t : persons::readPersonsCsv(f)) s.persons.push_back({t.id, t.position, t.lastFrame});
 	if (const auto f = outDir / "stats.json"; std::filesystem::exists(f))
 	{
-		mrpt::containers::yaml stats;
 		try
 		{
-			stats = mrpt::containers::yaml::FromFile(f.string());
+			const auto stats = mrpt::containers::yaml::FromFile(f.string());
 			s.regions = readRegions(stats);
 			if (stats.has("switch_frame") && !stats["switch_frame"].isNullNode())
 				s.status.switchFrame = stats["switch_frame"].as<std::size_t>();
