@@ -192,15 +192,10 @@ void FrameProcessor::observePersons(const DetectionResult& r)
 {
 	if (r.persons.empty()) return;
 	const auto pose = m_recentPoses.find(r.frameIndex);
-	const cv::Size size(
-		static_cast<int>(r.observation->rangeImage.cols()), static_cast<int>(r.observation->rangeImage.rows()));
-	std::vector<persons::PixelSet> pixels;
-	for (const auto& p : r.persons) pixels.push_back(detection::personPixels(p, size));
 	std::vector<TPersonObservation> seen;
 	mrpt::system::CTicTac timer;
 	const double cpu = io::threadCpuMs();
-	if (pose != m_recentPoses.end())
-		seen = m_adaptive.observePersons(*r.observation, pose->second, pixels, r.frameIndex);
+	if (pose != m_recentPoses.end()) seen = seePersons(*r.observation, pose->second, r.persons, r.frameIndex);
 	// Persons and their regions are map work: they count in the next
 	// insertion's time.
 	m_personWork.wallMs += timer.Tac() * 1e3;
@@ -215,6 +210,15 @@ void FrameProcessor::observePersons(const DetectionResult& r)
 		}
 		m_personDetections.push_back(std::move(record));
 	}
+}
+
+std::vector<TPersonObservation> FrameProcessor::seePersons(const CObservation3DRangeScan& obs, const CPose3D& pose,
+	const std::vector<detection::Detection>& persons, std::size_t frameIndex)
+{
+	const cv::Size size(static_cast<int>(obs.rangeImage.cols()), static_cast<int>(obs.rangeImage.rows()));
+	std::vector<persons::PixelSet> pixels;
+	for (const auto& p : persons) pixels.push_back(detection::personPixels(p, size));
+	return m_adaptive.observePersons(obs, pose, pixels, frameIndex);
 }
 
 void FrameProcessor::insert(const io::RgbdFrame& frame, const CPose3D& pose)

@@ -22,6 +22,7 @@
 
 #include <cstddef>
 #include <deque>
+#include <functional>
 #include <future>
 #include <map>
 #include <optional>
@@ -75,6 +76,14 @@ class FrameProcessor
 	/** After the last frame: the insertion in flight, the detections still
 	 *  due and their persons. */
 	void finish();
+	/** After finish(): the map cleared and made again from the frames
+	 *  `nextFrame` gives (the rawlog read again from its start), each mapped
+	 *  frame inserted at its pose in trajectory() (corrected by the loops
+	 *  closed), persons and regions observed as in the run and in its order:
+	 *  at unchanged poses, the same map byte for byte. Updates the persons of
+	 *  personDetections(), regions and switchFrame. Throws std::runtime_error
+	 *  when the frames end before the trajectory's last. */
+	RunSummary::MapRebuildCost rebuildMap(const std::function<std::optional<io::RgbdFrame>()>& nextFrame);
 	/** Live view: a snapshot of the map goes to `view` whenever it is due,
 	 *  taken between two insertions (none is in flight then). After
 	 *  loadState(): the view's fps counts the frames from here on, as a
@@ -153,6 +162,9 @@ class FrameProcessor
 	// 3. Persons and their regions, once the previous frame is in the map.
 	void updatePersons();
 	void observePersons(const DetectionResult& detection);
+	/** One detection's persons into the map, seen from `pose`: what it made of each. */
+	std::vector<TPersonObservation> seePersons(const mrpt::obs::CObservation3DRangeScan& obs,
+		const mrpt::poses::CPose3D& pose, const std::vector<detection::Detection>& persons, std::size_t frameIndex);
 	// 4. The map.
 	void insert(const io::RgbdFrame& frame, const mrpt::poses::CPose3D& pose);
 	/** What the live view shows of this moment. */

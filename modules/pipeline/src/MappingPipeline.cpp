@@ -38,6 +38,28 @@ PoseSource poseSourceFromString(const std::string& name)
 
 std::string toString(PoseSource source) { return source == PoseSource::GroundTruth ? "gt" : "vo"; }
 
+MapRebuild mapRebuildFromString(const std::string& name)
+{
+	if (name == "never") return MapRebuild::Never;
+	if (name == "after_loops") return MapRebuild::AfterLoops;
+	if (name == "always") return MapRebuild::Always;
+	throw std::invalid_argument("map rebuild must be 'never', 'after_loops' or 'always', not '" + name + "'");
+}
+
+std::string toString(MapRebuild when)
+{
+	switch (when)
+	{
+		case MapRebuild::Never:
+			return "never";
+		case MapRebuild::AfterLoops:
+			return "after_loops";
+		case MapRebuild::Always:
+			return "always";
+	}
+	return "after_loops";
+}
+
 io::IniKeys<TPipelineOptions> TPipelineOptions::iniKeys()
 {
 	using O = TPipelineOptions;
@@ -74,6 +96,12 @@ io::IniKeys<TPipelineOptions> TPipelineOptions::iniKeys()
 			"run time between two checkpoints (OUTDIR/checkpoint.bin, what avm-map --resume OUTDIR continues from; "
 			"also one before the first frame and one after the last); 0 = none",
 			{[](double v) { return v >= 0 && v <= 86400; }, "must be 0 (no checkpoints) .. 86400 s"})
+		.choice(
+			"rebuild_map", &O::rebuildMap, mapRebuildFromString, [](MapRebuild w) { return toString(w); },
+			"at the end of the run, clear the map and insert every mapped frame again from the rawlog at its final "
+			"pose (persons and regions with it): never | after_loops (when the odometry closed a loop, so the map "
+			"follows the corrected trajectory) | always (its cost; a replay check)",
+			"must be never, after_loops or always")
 		.number("reference_maps", &O::referenceMaps, "",
 			"also build single-resolution OctoMaps (octomap's own insertion, both resolutions) from the same frames "
 			"and poses and compare (stats.json \"reference\"): a measurement mode, slow");
@@ -198,6 +226,29 @@ class Checkpoints
 	bool m_written = false;
 	std::optional<std::size_t> m_writtenAfter;  // the last frame of the last checkpoint
 };
+/** [pipeline] rebuild_map, at the end of a run: what it cost, or nothing when
+ *  it was not due (or the run was interrupted). */
+std::optional<RunSummary::MapRebuildCost> rebuildMap(const TPipelineOptions& opt, const fs::path& rawlog,
+	detail::FrameProcessor& processor, bool interrupted, mrpt::system::COutputLogger& log)
+{
+	const std::size_t loops = processor.counts().loopsClosed;
+	if (opt.rebuildMap == MapRebuild::Never || (opt.rebuildMap == MapRebuild::AfterLoops && loops == 0))
+		return std::nullopt;
+	if (interrupted)
+	{
+		log.logFmt(mrpt::system::LVL_WARN,
+			"the run was interrupted: the map is not rebuilt at the final poses (%zu loops closed)\n", loops);
+		return std::nullopt;
+	}
+	log.logFmt(mrpt::system::LVL_INFO, "rebuilding the map at the final poses (%zu loops closed): reading %s again\n",
+		loops, rawlog.c_str());
+	detail::FrameSequence frames(rawlog, opt.repeat, opt.readAheadFrames);
+	const auto cost = processor.rebuildMap([&frames] { return frames.next(); });
+	log.logFmt(mrpt::system::LVL_INFO, "map rebuilt: %zu frames in %.2f s (%.2f s CPU)\n", cost.frames, cost.seconds,
+		cost.cpuSeconds);
+	return cost;
+}
+
 }  // namespace
 
 struct MappingPipeline::Impl
@@ -396,8 +447,6 @@ RunSummary MappingPipeline::runFrames(const fs::path& rawlog, const fs::path& ou
 		if (checkpoints.enabled() && processor.readyForCheckpoint() && !checkpoints.holds(processor.lastFrame()))
 			checkpoint(clock);
 		processor.finish();
-		const RunCost cost = clock.read();
-		if (view && !d.viewScreenshot.empty() && view->waitUntilDrawn(30)) view->saveScreenshot(d.viewScreenshot);
 		frames.close();
 		if (processor.counts().frames == 0)
 		{
@@ -405,9 +454,14 @@ RunSummary MappingPipeline::runFrames(const fs::path& rawlog, const fs::path& ou
 			if (!frames.skipped().empty()) why += " (" + frames.skipped().front() + ")";
 			throw std::runtime_error(why);
 		}
+		const bool interrupted = (stop && stop->load()) || viewClosed;
+		const auto rebuild = rebuildMap(opt, rawlog, processor, interrupted, *this);
+		const RunCost cost = clock.read();
+		if (view && !d.viewScreenshot.empty() && view->waitUntilDrawn(30)) view->saveScreenshot(d.viewScreenshot);
 
 		RunSummary summary = d.summarise(processor, frames, cost);
-		summary.interrupted = (stop && stop->load()) || viewClosed;
+		summary.interrupted = interrupted;
+		summary.mapRebuild = rebuild;
 		summary.checkpoint = checkpoints.times().summary();
 		summary.resumedAfterFrame = resumedAfter;
 		if (reference) summary.reference = reference->compare(map);

@@ -219,6 +219,14 @@ std::string statsJson(
 	if (summary.reference) writeReference(json, *summary.reference, summary.mapCpu);
 	json.value("odometry_ate_rmse_m", summary.ateRmse);
 	json.value("odometry_loops_closed", summary.loopsClosed);
+	json.beginObject("map_rebuild")
+		.value("when", toString(opt.rebuildMap))
+		.value("done", summary.mapRebuild.has_value());
+	if (summary.mapRebuild)
+		json.value("frames", summary.mapRebuild->frames)
+			.value("seconds", summary.mapRebuild->seconds)
+			.value("cpu_seconds", summary.mapRebuild->cpuSeconds);
+	json.endObject();
 	json.endObject();
 	return json.str();
 }

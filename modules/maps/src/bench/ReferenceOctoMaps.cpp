@@ -79,6 +79,14 @@ ReferenceOctoMaps::ReferenceOctoMaps(double highRes, double lowRes, double highM
 
 ReferenceOctoMaps::~ReferenceOctoMaps() = default;
 
+void ReferenceOctoMaps::clear()
+{
+	m_high = std::make_unique<octomap::OcTree>(m_high->getResolution());
+	m_low = std::make_unique<octomap::OcTree>(m_low->getResolution());
+	m_highMs = m_lowMs = 0;
+	m_frames = 0;
+}
+
 void ReferenceOctoMaps::insert(const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& robotPose)
 {
 	mrpt::maps::CSimplePointsMap pts;

@@ -64,6 +64,8 @@ class ReferenceOctoMaps
 	/** The scan's depth image, unprojected as MRPT does, into both maps
 	 *  (rays from the sensor at robotPose + obs.sensorPose). */
 	void insert(const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& robotPose);
+	/** Empty maps and timings, as constructed: for a map made again. */
+	void clear();
 
 	TReferenceComparison compare(const CAdaptiveOctoMap& adaptive) const;
 

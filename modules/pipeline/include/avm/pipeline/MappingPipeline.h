@@ -35,6 +35,16 @@ enum class PoseSource
 PoseSource poseSourceFromString(const std::string& name);  //!< throws on anything but vo/gt
 std::string toString(PoseSource source);
 
+/** When the map is made again from the rawlog at the trajectory's final poses. */
+enum class MapRebuild
+{
+	Never,       //!< "never": the map keeps every frame where it was inserted
+	AfterLoops,  //!< "after_loops": when the odometry closed a loop (it moved earlier poses)
+	Always       //!< "always": every run (its cost, and a check of the replay)
+};
+MapRebuild mapRebuildFromString(const std::string& name);  //!< throws on anything but the three names
+std::string toString(MapRebuild when);
+
 /** Section [pipeline]. */
 struct TPipelineOptions : public io::CIniKeyOptions<TPipelineOptions>
 {
@@ -69,6 +79,11 @@ struct TPipelineOptions : public io::CIniKeyOptions<TPipelineOptions>
 	 *  avm-map --resume continues from); 0 = none. One is also written before
 	 *  the first frame and after the last. */
 	double checkpointIntervalSeconds = 5;
+	/** After a loop closure the map holds frames inserted at the drifted
+	 *  poses of their time: at the end of the run, the map is cleared and
+	 *  every mapped frame inserted again from the rawlog at its corrected
+	 *  pose, persons and regions with it, in the run's order. */
+	MapRebuild rebuildMap = MapRebuild::AfterLoops;
 	/** `gui`, `gui_fps`: the live view of the run. */
 	viewer::TViewerOptions viewer;
 	std::string mapSection = "map";  //!< section with MRPT's map definition
@@ -89,9 +104,16 @@ struct RunSummary
 	std::size_t regions = 0;        //!< person sightings that placed a region
 	std::size_t persons = 0;        //!< person tracks
 	std::optional<double> ateRmse;  //!< [m] odometry vs ground truth, when both exist
-	/** Loops the odometry closed: each moved the trajectory's earlier poses
-	 *  (the map keeps what it inserted at the poses of the time). */
+	/** Loops the odometry closed: each moved the trajectory's earlier poses. */
 	std::size_t loopsClosed = 0;
+	/** The map made again at the final poses ([pipeline] rebuild_map): what it cost. */
+	struct MapRebuildCost
+	{
+		std::size_t frames = 0;  //!< frames inserted again
+		double seconds = 0;      //!< wall time, the rawlog read again included
+		double cpuSeconds = 0;   //!< of the process (all threads)
+	};
+	std::optional<MapRebuildCost> mapRebuild;
 	double peakMemoryMb = 0;   //!< [MiB] peak resident memory of the process
 	double cpuMsPerFrame = 0;  //!< [ms] CPU time of the run (all threads) per frame mapped
 	/** [0..1] share of the machine's CPU time a hypervisor took during the run. */
