@@ -218,23 +218,17 @@ std::optional<VisualOdometry::Impl::Relocalisation> VisualOdometry::Impl::reloca
 	for (const auto& c : candidates)
 	{
 		const MapKeyframe& kf = *keyframeMap.find(c.keyframe);
-		// The keyframe's features as landmarks in the world, by feature index.
-		LandmarkMap points;
-		addKeyframePoints(kf.T_cw, kf.descriptors, kf.points, 0, points);
+		const LandmarkMap points = pointsOf(kf);
 		const auto matches = frontend.matchByDescriptor(f, points);
 		if (int(matches.size()) < options.relocalisation_min_inliers) continue;
 		const auto pnp = frontend.solvePnp(f, points, matches, kf.T_cw);
 		if (!pnp) continue;
-		Eigen::Isometry3d T = pnp->T_cw;
-		backend.refinePose(T, observationsOf(f, pnp->inliers), points, f.K);
-		if (!T.matrix().allFinite()) continue;
-		double sq = 0;
-		auto inliers = inliersAt(T, f, matches, points, options.ransac_reprojection, sq);
-		if (int(inliers.size()) < options.relocalisation_min_inliers ||
-			(best && inliers.size() <= best->inliers.size()))
+		auto refined = backend.refinePnp(f, *pnp, matches, points);
+		if (!refined || int(refined->inliers.size()) < options.relocalisation_min_inliers ||
+			(best && refined->inliers.size() <= best->inliers.size()))
 			continue;
-		best = Relocalisation{c.keyframe, T, std::move(inliers), 0};
-		best->rmse = std::sqrt(sq / best->inliers.size());
+		const double rmse = std::sqrt(refined->squaredErrors / double(refined->inliers.size()));
+		best = Relocalisation{c.keyframe, refined->T_cw, std::move(refined->inliers), rmse};
 	}
 	return best;
 }
@@ -293,16 +287,14 @@ OdometryEstimate VisualOdometry::Impl::track(const FrameFeatures& f)
 	matchTimer.stop();
 	if (!pnp) return lost(f, std::to_string(matches.size()) + " matches, PnP found no consistent pose");
 
-	Eigen::Isometry3d T = pnp->T_cw;
-	{
-		mrpt::system::CTimeLoggerEntry t(stageTimer, "3 pose refinement");
-		backend.refinePose(T, observationsOf(f, pnp->inliers), landmarks, f.K);
-	}
-
-	// Inliers at the refined pose among all matches.
-	double sq = 0;
-	const auto inliers = inliersAt(T, f, matches, landmarks, options.ransac_reprojection, sq);
-	if (int(inliers.size()) < options.min_inliers || !T.matrix().allFinite())
+	mrpt::system::CTimeLoggerEntry refineTimer(stageTimer, "3 pose refinement");
+	const auto refined = backend.refinePnp(f, *pnp, matches, landmarks);
+	refineTimer.stop();
+	if (!refined) return lost(f, "the pose refinement diverged");
+	Eigen::Isometry3d T = refined->T_cw;
+	const auto& inliers = refined->inliers;
+	const double sq = refined->squaredErrors;
+	if (int(inliers.size()) < options.min_inliers)
 		return lost(f, std::to_string(inliers.size()) + " inliers after refinement");
 
 	OdometryEstimate e;

@@ -50,6 +50,16 @@ void CeresBackend::refinePose(Eigen::Isometry3d& T_cw, const std::vector<Observa
 	T_cw = fromParams(pose, T_cw);
 }
 
+std::optional<CeresBackend::RefinedPose> CeresBackend::refinePnp(const FrameFeatures& f,
+	const FeatureFrontend::PnpResult& pnp, const std::vector<Match>& matches, const LandmarkMap& landmarks) const
+{
+	RefinedPose r{pnp.T_cw, {}, 0};
+	refinePose(r.T_cw, observationsOf(f, pnp.inliers), landmarks, f.K);
+	if (!r.T_cw.matrix().allFinite()) return std::nullopt;
+	r.inliers = inliersAt(r.T_cw, f, matches, landmarks, m_options.ransac_reprojection, r.squaredErrors);
+	return r;
+}
+
 void CeresBackend::bundleAdjust(std::deque<Keyframe>& window, LandmarkMap& landmarks, const io::DepthCamera& K) const
 {
 	if (window.size() < 2) return;

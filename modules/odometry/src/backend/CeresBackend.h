@@ -4,6 +4,7 @@
 #pragma once
 
 #include <deque>
+#include <optional>
 #include <vector>
 
 #include "../Types.h"
@@ -29,6 +30,19 @@ class CeresBackend
 	/** Refines T_cw in place from observations of fixed landmarks. */
 	void refinePose(Eigen::Isometry3d& T_cw, const std::vector<Observation>& observations, const LandmarkMap& landmarks,
 		const io::DepthCamera& K) const;
+
+	/** The end of every pose against fixed points (tracking, relocalisation,
+	 *  a loop's measurement): PnP's pose refined from its inliers, and the
+	 *  matches that reproject within ransac_reprojection there. Nothing when
+	 *  the refinement diverged. */
+	struct RefinedPose
+	{
+		Eigen::Isometry3d T_cw;
+		std::vector<Match> inliers;
+		double squaredErrors = 0;  //!< [px^2] summed over the inliers
+	};
+	std::optional<RefinedPose> refinePnp(const FrameFeatures& f, const FeatureFrontend::PnpResult& pnp,
+		const std::vector<Match>& matches, const LandmarkMap& landmarks) const;
 
 	/** Bundle adjustment over the window: the oldest keyframe is held fixed
 	 *  (it anchors the gauge); landmarks seen by at least two keyframes move. */

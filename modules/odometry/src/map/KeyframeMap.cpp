@@ -9,6 +9,13 @@
 
 namespace avm::odometry::detail
 {
+LandmarkMap pointsOf(const MapKeyframe& kf)
+{
+	LandmarkMap points;
+	addKeyframePoints(kf.T_cw, kf.descriptors, kf.points, 0, points);
+	return points;
+}
+
 namespace
 {
 // The vocabulary is trained once, on the descriptors of the first keyframes

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "../Types.h"
+#include "../frontend/FeatureFrontend.h"
 #include "BinaryVocabulary.h"
 #include "avm/odometry/TOdometryOptions.h"
 
@@ -32,6 +33,9 @@ struct MapKeyframe
 	std::vector<Eigen::Vector3d> points;  //!< [m] camera optical frame, from the keyframe's depth
 	BowVector words;                      //!< from descriptors, once the vocabulary exists
 };
+
+/** A keyframe's own points in the world, as landmarks numbered by feature index. */
+LandmarkMap pointsOf(const MapKeyframe& kf);
 
 class KeyframeMap
 {

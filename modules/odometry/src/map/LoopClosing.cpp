@@ -48,27 +48,25 @@ std::optional<LoopMeasurement> measureLoop(const FrameFeatures& f, const Eigen::
 		if (!pnp || int(pnp->inliers.size()) < options.loop_min_inliers)
 		{
 			const MapKeyframe& kf = *map.find(c.keyframe);
-			LandmarkMap own;
-			addKeyframePoints(kf.T_cw, kf.descriptors, kf.points, 0, own);
+			const LandmarkMap own = pointsOf(kf);
 			const auto start = frontend.solvePnp(f, own, frontend.matchByDescriptor(f, own), kf.T_cw);
 			if (!start) continue;
 			matches = frontend.matchByProjection(f, place, start->T_cw);
 			pnp = frontend.solvePnp(f, place, matches, start->T_cw);
 			if (!pnp) continue;
 		}
-		Eigen::Isometry3d T = pnp->T_cw;
-		backend.refinePose(T, observationsOf(f, pnp->inliers), place, f.K);
-		if (!T.matrix().allFinite()) continue;
-		double squaredErrors = 0;
-		const auto inliers = inliersAt(T, f, matches, place, options.ransac_reprojection, squaredErrors);
-		if (int(inliers.size()) < options.loop_min_inliers || (best && inliers.size() <= best->inliers)) continue;
+		auto refined = backend.refinePnp(f, *pnp, matches, place);
+		if (!refined || int(refined->inliers.size()) < options.loop_min_inliers ||
+			(best && refined->inliers.size() <= best->inliers))
+			continue;
+		const Eigen::Isometry3d& T = refined->T_cw;
 		LoopMeasurement m;
 		m.candidate = c.keyframe;
 		m.T_cw = T;
-		m.inliers = inliers.size();
+		m.inliers = refined->inliers.size();
 		m.translation = (cameraCentre(T) - cameraCentre(T_cw)).norm();
 		m.rotation = mrpt::RAD2DEG(Eigen::AngleAxisd(T.rotation() * T_cw.rotation().transpose()).angle());
-		m.inlierMatches = inliers;
+		m.inlierMatches = std::move(refined->inliers);
 		best = m;
 	}
 	return best;
