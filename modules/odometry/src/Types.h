@@ -60,12 +60,16 @@ struct Landmark
 {
 	Eigen::Vector3d position;  //!< [m] world
 	OrbDescriptor descriptor;  //!< from the latest keyframe that saw it
+	/** A point of the keyframe map a loop joined: the window's adjustment
+	 *  holds it where the map has it, so the local map stays in the old map's frame. */
+	bool anchored = false;
 };
 
 /** A landmark seen at a pixel with a measured depth. */
 struct Observation
 {
 	int landmark = -1;
+	int feature = -1;  //!< the feature of its frame (FrameFeatures) it is
 	Eigen::Vector2d pixel;
 	double depth = 0;  //!< [m]
 };

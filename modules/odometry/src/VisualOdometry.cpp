@@ -76,7 +76,7 @@ FrameImages imagesOf(const mrpt::obs::CObservation3DRangeScan& obs)
 }
 
 /** Layout version of the saveState stream; change it with the layout. */
-constexpr std::uint8_t stateVersion = 3;
+constexpr std::uint8_t stateVersion = 4;
 }  // namespace
 
 struct VisualOdometry::Impl
@@ -137,7 +137,7 @@ struct VisualOdometry::Impl
 	 *  keyframe. */
 	void moveTo(const std::map<int, Eigen::Isometry3d>& poses, const Eigen::Isometry3d& newestPose);
 	/** The newest keyframe's features that a loop matched observe the place's points from now on. */
-	void joinPlace(const FrameFeatures& f, const LoopMeasurement& loop);
+	void joinPlace(const LoopMeasurement& loop);
 	/** Drops the local map and starts a new one with this frame as its keyframe at T; the loss is over. */
 	void restartLocalMap(const FrameFeatures& f, const Eigen::Isometry3d& T);
 	OdometryEstimate lost(const FrameFeatures& f, const std::string& why);
@@ -373,12 +373,12 @@ void VisualOdometry::Impl::closeLoop(const FrameFeatures& f, OdometryEstimate& e
 	const int candidate = loop->candidate;
 	const Eigen::Isometry3d T_loop = loop->T_cw * (keyframeMap.find(candidate)->T_cw.inverse() * poses->at(candidate));
 	moveTo(*poses, T_loop);
-	joinPlace(f, *loop);
+	joinPlace(*loop);
 	e.status += "closed, poses corrected";
 	e.loopClosed = true;
 }
 
-void VisualOdometry::Impl::joinPlace(const FrameFeatures& f, const LoopMeasurement& loop)
+void VisualOdometry::Impl::joinPlace(const LoopMeasurement& loop)
 {
 	// The new keyframe's features that matched the place now observe the
 	// place's points: tracking goes on against the old map there, not against
@@ -388,12 +388,12 @@ void VisualOdometry::Impl::joinPlace(const FrameFeatures& f, const LoopMeasureme
 		placeAround(loop.candidate, newest.id - options.loop_min_separation, keyframeMap, options.loop_neighbours);
 	for (const auto& m : loop.inlierMatches)
 	{
-		const Eigen::Vector2d pixel(f.keypoints[m.feature].pt.x, f.keypoints[m.feature].pt.y);
 		const auto o = std::find_if(newest.observations.begin(), newest.observations.end(),
-			[&](const Observation& o) { return o.pixel == pixel; });
+			[&](const Observation& o) { return o.feature == m.feature; });
 		if (o == newest.observations.end()) continue;
 		const int id = nextLandmarkId++;
 		landmarks[id] = place.at(m.landmark);
+		landmarks[id].anchored = true;
 		o->landmark = id;
 	}
 	forgetUnobservedLandmarks();
@@ -457,8 +457,7 @@ void VisualOdometry::Impl::addKeyframe(
 	{
 		matched[m.feature] = true;
 		landmarks.at(m.landmark).descriptor = f.descriptor(m.feature);
-		kf.observations.push_back({m.landmark,
-			Eigen::Vector2d(f.keypoints[m.feature].pt.x, f.keypoints[m.feature].pt.y), f.points[m.feature].z()});
+		kf.observations.push_back(observationOf(f, m.feature, m.landmark));
 	}
 	const Eigen::Isometry3d T_wc = T.inverse();
 	for (std::size_t i = 0; i < f.keypoints.size(); ++i)
@@ -466,7 +465,7 @@ void VisualOdometry::Impl::addKeyframe(
 		if (matched[i]) continue;
 		const int id = nextLandmarkId++;
 		landmarks[id] = Landmark{T_wc * f.points[i], f.descriptor(int(i))};
-		kf.observations.push_back({id, Eigen::Vector2d(f.keypoints[i].pt.x, f.keypoints[i].pt.y), f.points[i].z()});
+		kf.observations.push_back(observationOf(f, int(i), id));
 	}
 	window.push_back(std::move(kf));
 	while (window.size() > std::size_t(std::max(1, options.window_size))) window.pop_front();
@@ -506,6 +505,7 @@ void VisualOdometry::Impl::saveState(mrpt::serialization::CArchive& out) const
 		out << std::int32_t(id);
 		write(out, lm.position.data(), 3);
 		write(out, lm.descriptor.data(), lm.descriptor.size());
+		out << lm.anchored;
 	}
 	out << std::uint32_t(window.size());
 	for (const auto& kf : window)
@@ -515,7 +515,7 @@ void VisualOdometry::Impl::saveState(mrpt::serialization::CArchive& out) const
 		out << std::uint64_t(kf.bestInliers) << std::uint32_t(kf.observations.size());
 		for (const auto& o : kf.observations)
 		{
-			out << std::int32_t(o.landmark);
+			out << std::int32_t(o.landmark) << std::int32_t(o.feature);
 			write(out, o.pixel.data(), 2);
 			out << o.depth;
 		}
@@ -552,6 +552,7 @@ void VisualOdometry::Impl::loadState(mrpt::serialization::CArchive& in)
 		Landmark lm;
 		read(in, lm.position.data(), 3);
 		read(in, lm.descriptor.data(), lm.descriptor.size());
+		lm.anchored = read<bool>(in);
 		if (id < 0 || id >= nextId || !lm.position.allFinite() || !map.emplace(id, lm).second)
 			throw badState("corrupt odometry state (landmark " + std::to_string(id) + ")");
 	}
@@ -566,6 +567,7 @@ void VisualOdometry::Impl::loadState(mrpt::serialization::CArchive& in)
 		{
 			Observation& o = kf.observations.emplace_back();
 			o.landmark = read<std::int32_t>(in);
+			o.feature = read<std::int32_t>(in);
 			read(in, o.pixel.data(), 2);
 			o.depth = read<double>(in);
 			if (!map.count(o.landmark))

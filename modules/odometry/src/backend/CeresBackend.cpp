@@ -73,8 +73,12 @@ void CeresBackend::bundleAdjust(std::deque<Keyframe>& window, LandmarkMap& landm
 	// The landmarks seen most often tie the window together best; a cap on
 	// their number bounds the time a keyframe takes.
 	std::vector<std::pair<int, int>> shared;  // (views, id)
+	std::vector<int> anchored;                // held fixed; one view ties a pose to them
 	for (const auto& [id, n] : seenBy)
-		if (n >= 2) shared.emplace_back(n, id);
+		if (landmarks.at(id).anchored)
+			anchored.push_back(id);
+		else if (n >= 2)
+			shared.emplace_back(n, id);
 	const std::size_t cap = m_options.ba_max_landmarks > 0 ? std::size_t(m_options.ba_max_landmarks) : shared.size();
 	if (shared.size() > cap)
 	{
@@ -82,6 +86,11 @@ void CeresBackend::bundleAdjust(std::deque<Keyframe>& window, LandmarkMap& landm
 		shared.resize(cap);
 	}
 	for (const auto& [n, id] : shared)
+	{
+		const auto& p = landmarks.at(id).position;
+		points[id] = {p.x(), p.y(), p.z()};
+	}
+	for (const int id : anchored)
 	{
 		const auto& p = landmarks.at(id).position;
 		points[id] = {p.x(), p.y(), p.z()};
@@ -101,7 +110,14 @@ void CeresBackend::bundleAdjust(std::deque<Keyframe>& window, LandmarkMap& landm
 				ReprojectionDepthCost::create(o, K, m_options.depth_weight), &loss, poses[k].data(), it->second.data());
 		}
 	if (!problem.HasParameterBlock(poses.front().data())) return;  // nothing ties the window to its anchor
-	problem.SetParameterBlockConstant(poses.front().data());
+	bool anchoredSeen = false;
+	for (const int id : anchored)
+		if (problem.HasParameterBlock(points[id].data()))
+		{
+			problem.SetParameterBlockConstant(points[id].data());
+			anchoredSeen = true;
+		}
+	if (!anchoredSeen) problem.SetParameterBlockConstant(poses.front().data());
 	ceres::Solver::Summary summary;
 	ceres::Solve(solverOptions(m_options.ba_iterations, m_options.threads, ceres::DENSE_SCHUR), &problem, &summary);
 	if (!summary.IsSolutionUsable()) return;

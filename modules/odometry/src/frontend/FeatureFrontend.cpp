@@ -260,13 +260,17 @@ std::optional<FeatureFrontend::PnpResult> FeatureFrontend::solvePnp(const FrameF
 	if (consistent < m_options.min_inliers) out.T_cw = guess;
 	return out;
 }
+Observation observationOf(const FrameFeatures& f, int feature, int landmark)
+{
+	return {landmark, feature, Eigen::Vector2d(f.keypoints[feature].pt.x, f.keypoints[feature].pt.y),
+		f.points[feature].z()};
+}
+
 std::vector<Observation> observationsOf(const FrameFeatures& f, const std::vector<Match>& matches)
 {
 	std::vector<Observation> out;
 	out.reserve(matches.size());
-	for (const auto& m : matches)
-		out.push_back({m.landmark, Eigen::Vector2d(f.keypoints[m.feature].pt.x, f.keypoints[m.feature].pt.y),
-			f.points[m.feature].z()});
+	for (const auto& m : matches) out.push_back(observationOf(f, m.feature, m.landmark));
 	return out;
 }
 

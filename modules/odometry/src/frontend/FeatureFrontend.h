@@ -57,6 +57,8 @@ class FeatureFrontend
 	const TOdometryOptions& m_options;
 	cv::Ptr<cv::ORB> m_orb;
 };
+/** The frame's feature as an observation of `landmark`. */
+Observation observationOf(const FrameFeatures& f, int feature, int landmark);
 /** The frame's features of `matches` as observations of their landmarks. */
 std::vector<Observation> observationsOf(const FrameFeatures& f, const std::vector<Match>& matches);
 
