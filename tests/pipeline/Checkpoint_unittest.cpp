@@ -51,6 +51,9 @@ TEST(PipelineCheckpoint, AResumedRunEndsLikeARunThatWasNeverStopped)
 	const auto dir = test::scratchDir("pipeline-checkpoint");
 	auto ini = defaultIni();
 	ini.write("pipeline", "checkpoint_interval_s", "0");
+	// The map made again at the end: the resumed run's rebuild replays the
+	// persons and frames of the part before its checkpoint too.
+	ini.write("pipeline", "rebuild_map", "always");
 	const auto uninterrupted = dir / "uninterrupted";
 	pipeline::MappingPipeline(ini, AVM_SOURCE_DIR).run(test::bonnRawlog(), uninterrupted);
 	EXPECT_FALSE(fs::exists(pipeline::checkpointFile(uninterrupted))) << "checkpoint_interval_s = 0 writes none";
@@ -80,6 +83,9 @@ TEST(PipelineCheckpoint, AResumedRunEndsLikeARunThatWasNeverStopped)
 	EXPECT_EQ(*resumed.resumedAfterFrame, 99u);
 	EXPECT_EQ(resumed.frames, 150u);
 	EXPECT_FALSE(resumed.interrupted);
+	EXPECT_FALSE(first.mapRebuild) << "an interrupted run is not rebuilt";
+	ASSERT_TRUE(resumed.mapRebuild);
+	EXPECT_EQ(resumed.mapRebuild->frames, 150u);
 	for (const char* name : kRunFiles)
 	{
 		EXPECT_GT(test::fileBytes(uninterrupted / name).size(), 100u) << name;
