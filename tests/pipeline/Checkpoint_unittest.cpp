@@ -14,6 +14,7 @@
 #include <map>
 #include <optional>
 
+#include "DefaultIni.h"
 #include "TestData.h"
 #include "avm/maps/CAdaptiveOctoMap.h"
 #include "avm/pipeline/MappingPipeline.h"
@@ -23,11 +24,10 @@ namespace fs = std::filesystem;
 
 namespace
 {
+/** The default configuration on 150 frames, without pictures. */
 mrpt::config::CConfigFileMemory defaultIni()
 {
-	mrpt::config::CConfigFileMemory ini;
-	ini.setContent(mrpt::io::file_get_contents((fs::path(AVM_SOURCE_DIR) / "ini/default.ini").string()));
-	ini.write("detection", "model", test::sharedFile("models/yolox_nano.onnx").string());
+	auto ini = test::defaultIni();
 	ini.write("pipeline", "max_frames", "150");
 	ini.write("pipeline", "picture_size", "0");
 	return ini;

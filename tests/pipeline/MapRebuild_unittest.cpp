@@ -10,6 +10,7 @@
 
 #include <vector>
 
+#include "DefaultIni.h"
 #include "TestData.h"
 #include "avm/io/ProgramMain.h"
 #include "avm/io/RawlogFrameReader.h"
@@ -20,12 +21,10 @@ namespace fs = std::filesystem;
 
 namespace
 {
-/** ini/default.ini as shipped, with the model of ../shared. */
+/** The default configuration without pictures or checkpoints. */
 mrpt::config::CConfigFileMemory defaultIni()
 {
-	mrpt::config::CConfigFileMemory ini;
-	ini.setContent(mrpt::io::file_get_contents((fs::path(AVM_SOURCE_DIR) / "ini/default.ini").string()));
-	ini.write("detection", "model", test::sharedFile("models/yolox_nano.onnx").string());
+	auto ini = test::defaultIni();
 	ini.write("pipeline", "picture_size", "0");
 	ini.write("pipeline", "checkpoint_interval_s", "0");
 	return ini;

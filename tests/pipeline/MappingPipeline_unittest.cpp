@@ -12,6 +12,7 @@
 #include <mutex>
 #include <sstream>
 
+#include "DefaultIni.h"
 #include "TestData.h"
 #include "avm/io/RawlogFrameReader.h"
 #include "avm/io/RgbdFrame.h"
@@ -74,12 +75,7 @@ const DefaultRun& defaultRun()
 		{
 			run.out = test::scratchDir(
 				std::string("pipeline-gt-") + ::testing::UnitTest::GetInstance()->current_test_info()->name());
-			// ini/default.ini as shipped, with the model of ../shared: the tests
-			// do not depend on scripts/get-data.sh having been run.
-			mrpt::config::CConfigFileMemory ini;
-			ini.setContent(mrpt::io::file_get_contents((fs::path(AVM_SOURCE_DIR) / "ini/default.ini").string()));
-			ini.write("detection", "model", test::sharedFile("models/yolox_nano.onnx").string());
-			pipeline::MappingPipeline p(ini, AVM_SOURCE_DIR);
+			pipeline::MappingPipeline p(test::defaultIni(), AVM_SOURCE_DIR);
 			p.setPoseSource(pipeline::PoseSource::GroundTruth);
 			run.summary = p.run(test::bonnRawlog(), run.out);
 		});
@@ -328,9 +324,7 @@ TEST(PipelineDeterminism, TheSameRawlogGivesTheSameRun)
 	const auto dir = test::scratchDir("pipeline-determinism");
 	const auto runOnce = [&](const std::string& name)
 	{
-		mrpt::config::CConfigFileMemory ini;
-		ini.setContent(mrpt::io::file_get_contents((fs::path(AVM_SOURCE_DIR) / "ini/default.ini").string()));
-		ini.write("detection", "model", test::sharedFile("models/yolox_nano.onnx").string());
+		auto ini = test::defaultIni();
 		ini.write("pipeline", "max_frames", "160");
 		ini.write("pipeline", "picture_size", "0");
 		pipeline::MappingPipeline p(ini, AVM_SOURCE_DIR);
