@@ -34,8 +34,10 @@ run_ctest --test-dir "$build" "$@"
 # view's tests drive wxWidgets and Mesa, which are not instrumented either:
 # tests labelled stock-app or gui run in the release pass only, and so does
 # the kill test (label kill: SIGKILL timing on the uninstrumented binary; the
-# checkpoint code itself runs under the sanitizers in test-pipeline).
+# checkpoint code itself runs under the sanitizers in test-pipeline), and the
+# long pipeline runs (label long: the code they run is covered under the
+# sanitizers by shorter tests).
 echo "== AddressSanitizer + UndefinedBehaviorSanitizer build and tests ($build-asan)"
 cmake -S "$root" -B "$build-asan" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DAVM_SANITIZE=ON -DAVM_BUILD_TESTS=ON >/dev/null
 cmake --build "$build-asan" -j "$jobs"
-run_ctest --test-dir "$build-asan" -LE 'stock-app|gui|kill' "$@"
+run_ctest --test-dir "$build-asan" -LE 'stock-app|gui|kill|long' "$@"
