@@ -226,6 +226,7 @@ class Checkpoints
 	bool m_written = false;
 	std::optional<std::size_t> m_writtenAfter;  // the last frame of the last checkpoint
 };
+
 /** [pipeline] rebuild_map, at the end of a run: what it cost, or nothing when
  *  it was not due (or the run was interrupted). */
 std::optional<RunSummary::MapRebuildCost> rebuildMap(const TPipelineOptions& opt, const fs::path& rawlog,
@@ -248,7 +249,6 @@ std::optional<RunSummary::MapRebuildCost> rebuildMap(const TPipelineOptions& opt
 		cost.cpuSeconds);
 	return cost;
 }
-
 }  // namespace
 
 struct MappingPipeline::Impl

@@ -85,12 +85,10 @@ void CeresBackend::bundleAdjust(std::deque<Keyframe>& window, LandmarkMap& landm
 		std::nth_element(shared.begin(), shared.begin() + cap, shared.end(), std::greater<>());
 		shared.resize(cap);
 	}
-	for (const auto& [n, id] : shared)
-	{
-		const auto& p = landmarks.at(id).position;
-		points[id] = {p.x(), p.y(), p.z()};
-	}
-	for (const int id : anchored)
+	std::vector<int> inProblem;
+	for (const auto& [n, id] : shared) inProblem.push_back(id);
+	inProblem.insert(inProblem.end(), anchored.begin(), anchored.end());
+	for (const int id : inProblem)
 	{
 		const auto& p = landmarks.at(id).position;
 		points[id] = {p.x(), p.y(), p.z()};
