@@ -25,6 +25,10 @@ int main(int argc, char** argv)
 				"c", "config", "ini with an [odometry] section (default: built-in defaults)", false, "", "FILE", cmd);
 			TCLAP::ValueArg<std::string> argStats(
 				"", "stats", "per-frame CSV (time, inliers, RMSE, status)", false, "", "FILE.csv", cmd);
+			TCLAP::ValueArg<std::string> argLoops("", "loops",
+				"per-loop CSV (frames, measured and tracked relative poses, their errors against the rawlog's ground "
+				"truth)",
+				false, "", "FILE.csv", cmd);
 			TCLAP::ValueArg<std::string> argPersons("", "persons",
 				"person boxes from: detector, labels (pixelLabels \"person\"), none (default detector)", false,
 				"detector", "detector|labels|none", cmd);
@@ -76,7 +80,8 @@ int main(int argc, char** argv)
 			io::writeTumTrajectory(
 				argOut.getValue(), run.trajectory(), "avm-odometry camera optical frame in the world");
 			if (argStats.isSet()) run.writeFrameStats(argStats.getValue());
-			std::cout << run.timingSummary();
+			if (argLoops.isSet()) run.writeLoops(argLoops.getValue());
+			std::cout << run.timingSummary() << run.loopSummary();
 			if (argStages.getValue()) std::cout << run.stageTimes;
 			return 0;
 		});

@@ -4,6 +4,9 @@
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include "TestData.h"
 #include "avm/io/Trajectory.h"
@@ -37,6 +40,43 @@ TEST(AvmOdometry, WritesTrajectoryStatsAndTiming)
 	const std::string all(std::istreambuf_iterator<char>(csv), {});
 	EXPECT_EQ(std::count(all.begin(), all.end(), '\n'), 21);
 	EXPECT_NE(all.find("\"tracking\""), std::string::npos);
+}
+
+TEST(AvmOdometry, WritesTheLoopsItVerifiedWithTheirErrorsAgainstGroundTruth)
+{
+	const auto dir = test::scratchDir("avm-odometry-loops");
+	const auto loops = dir / "loops.csv";
+	const auto [rc, text] =
+		run(dir, test::bonnRawlog().string() + " " + (dir / "vo.txt").string() + " --persons none --loops " +
+					 loops.string() + " --config " + AVM_SOURCE_DIR + "/ini/loop-closure.ini");
+	ASSERT_EQ(rc, 0) << text;
+	std::size_t verified = 0, closed = 0;
+	const auto said = text.find("loops ");
+	ASSERT_NE(said, std::string::npos) << text;
+	ASSERT_EQ(std::sscanf(text.c_str() + said, "loops %zu verified, %zu closed", &verified, &closed), 2) << text;
+	EXPECT_GE(closed, 1u);
+	EXPECT_NE(text.find("loop poses against ground truth"), std::string::npos) << text;
+
+	std::ifstream csv(loops);
+	std::string line;
+	ASSERT_TRUE(std::getline(csv, line));
+	EXPECT_EQ(line.rfind("frame,timestamp,candidate_frame,", 0), 0u) << line;
+	std::size_t rows = 0, closedRows = 0;
+	while (std::getline(csv, line))
+	{
+		++rows;
+		std::vector<std::string> cells;
+		std::stringstream row(line);
+		for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+		ASSERT_EQ(cells.size(), 24u) << line;
+		EXPECT_LT(std::stoul(cells[2]), std::stoul(cells[0])) << "the old keyframe comes first: " << line;
+		closedRows += cells[5] == "1";
+		// Both frames of sub300 have ground truth: every error is there, in metres and degrees.
+		for (std::size_t c = 20; c < 24; ++c) EXPECT_GE(std::stod(cells[c]), 0.0) << line;
+		EXPECT_LT(std::stod(cells[20]), 0.2) << line;
+	}
+	EXPECT_EQ(rows, verified);
+	EXPECT_EQ(closedRows, closed);
 }
 
 TEST(AvmOdometry, BadInputNamesTheProblem)

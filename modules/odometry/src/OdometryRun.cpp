@@ -7,6 +7,10 @@
 #include <limits>
 #include <sstream>
 
+#include <mrpt/core/bits_math.h>
+#include <mrpt/math/CQuaternion.h>
+#include <mrpt/poses/Lie/SO.h>
+
 #include "avm/io/AtomicFile.h"
 #include "avm/io/IniOptions.h"
 #include "avm/io/RawlogFrameReader.h"
@@ -69,6 +73,104 @@ void OdometryRun::writeFrameStats(const std::filesystem::path& csv) const
 		});
 }
 
+LoopAccuracy loopAccuracy(
+	const LoopReport& loop, const mrpt::poses::CPose3D& truthOld, const mrpt::poses::CPose3D& truthNew)
+{
+	const mrpt::poses::CPose3D truth = truthNew - truthOld;
+	const auto metres = [&](const mrpt::poses::CPose3D& p) { return (p.translation() - truth.translation()).norm(); };
+	const auto degrees = [&](const mrpt::poses::CPose3D& p)
+	{ return mrpt::RAD2DEG(mrpt::poses::Lie::SO<3>::log((p - truth).getRotationMatrix()).norm()); };
+	return {metres(loop.measured), degrees(loop.measured), metres(loop.tracked), degrees(loop.tracked)};
+}
+
+namespace
+{
+/** The accuracy of the loop verified at frame f, when both its frames have ground truth. */
+std::optional<LoopAccuracy> accuracyOf(const OdometryRun& run, const FrameRecord& f)
+{
+	const auto& old = run.frames.at(f.estimate.loop->candidateFrame);
+	if (!f.groundTruth || !old.groundTruth) return std::nullopt;
+	return loopAccuracy(*f.estimate.loop, *old.groundTruth, *f.groundTruth);
+}
+
+std::string poseColumns(const mrpt::poses::CPose3D& p)
+{
+	mrpt::math::CQuaternionDouble q;
+	p.getAsQuaternion(q);
+	char text[160];
+	std::snprintf(
+		text, sizeof(text), "%.6f,%.6f,%.6f,%.7f,%.7f,%.7f,%.7f", p.x(), p.y(), p.z(), q.x(), q.y(), q.z(), q.r());
+	return text;
+}
+}  // namespace
+
+void OdometryRun::writeLoops(const std::filesystem::path& csv) const
+{
+	io::writeFileAtomically(csv,
+		[&](const std::filesystem::path& tmp)
+		{
+			std::ofstream out(tmp);
+			out << "frame,timestamp,candidate_frame,candidate_timestamp,inliers,closed,"
+				   "measured_x,measured_y,measured_z,measured_qx,measured_qy,measured_qz,measured_qw,"
+				   "tracked_x,tracked_y,tracked_z,tracked_qx,tracked_qy,tracked_qz,tracked_qw,"
+				   "measured_error_m,measured_error_deg,tracked_error_m,tracked_error_deg\n";
+			for (std::size_t i = 0; i < frames.size(); ++i)
+			{
+				const auto& f = frames[i];
+				if (!f.estimate.loop) continue;
+				const LoopReport& loop = *f.estimate.loop;
+				char line[160];
+				std::snprintf(line, sizeof(line), "%zu,%.6f,%zu,%.6f,%zu,%d,", i, f.timestamp, loop.candidateFrame,
+					frames.at(loop.candidateFrame).timestamp, loop.inliers, int(f.estimate.loopClosed));
+				out << line << poseColumns(loop.measured) << ',' << poseColumns(loop.tracked) << ',';
+				if (const auto a = accuracyOf(*this, f))
+				{
+					std::snprintf(line, sizeof(line), "%.5f,%.4f,%.5f,%.4f", a->measuredMetres, a->measuredDegrees,
+						a->trackedMetres, a->trackedDegrees);
+					out << line;
+				}
+				else
+					out << ",,,";
+				out << '\n';
+			}
+			if (!out) throw std::runtime_error(csv.string() + ": cannot write");
+		});
+}
+
+std::string OdometryRun::loopSummary() const
+{
+	std::size_t verified = 0, closed = 0;
+	std::vector<LoopAccuracy> accuracies;
+	for (const auto& f : frames)
+	{
+		if (!f.estimate.loop) continue;
+		++verified;
+		closed += f.estimate.loopClosed;
+		if (const auto a = accuracyOf(*this, f)) accuracies.push_back(*a);
+	}
+	if (verified == 0) return {};
+	std::string text = "loops " + std::to_string(verified) + " verified, " + std::to_string(closed) + " closed\n";
+	if (accuracies.empty()) return text;
+	const auto meanAndMax = [&](double LoopAccuracy::*field, double scale)
+	{
+		double sum = 0, most = 0;
+		for (const auto& a : accuracies) sum += a.*field, most = std::max(most, a.*field);
+		return std::make_pair(scale * sum / double(accuracies.size()), scale * most);
+	};
+	const auto line = [&](const char* name, double LoopAccuracy::*metres, double LoopAccuracy::*degrees)
+	{
+		const auto [m, mMax] = meanAndMax(metres, 100);
+		const auto [d, dMax] = meanAndMax(degrees, 1);
+		char out[160];
+		std::snprintf(out, sizeof(out), "  %s: mean %.2f cm %.2f deg, max %.2f cm %.2f deg\n", name, m, d, mMax, dMax);
+		return std::string(out);
+	};
+	return text + "loop poses against ground truth, relative to the old keyframe (" +
+		   std::to_string(accuracies.size()) + " loops):\n" +
+		   line("measured", &LoopAccuracy::measuredMetres, &LoopAccuracy::measuredDegrees) +
+		   line("tracked ", &LoopAccuracy::trackedMetres, &LoopAccuracy::trackedDegrees);
+}
+
 OdometryRun runOdometry(const std::filesystem::path& rawlog, const TOdometryOptions& options,
 	const PersonBoxSource& personBoxes, std::size_t maxFrames, const std::function<void(std::size_t)>& progress)
 {
@@ -82,6 +184,7 @@ OdometryRun runOdometry(const std::filesystem::path& rawlog, const TOdometryOpti
 		FrameRecord rec;
 		rec.index = frame->index;
 		rec.timestamp = frame->timestamp();
+		rec.groundTruth = frame->groundTruth;
 		const auto boxes = personBoxes ? personBoxes(*frame) : std::vector<cv::Rect>{};
 		rec.personBoxes = boxes.size();
 		const auto start = std::chrono::steady_clock::now();

@@ -339,6 +339,12 @@ void VisualOdometry::Impl::closeLoop(const FrameFeatures& f, OdometryEstimate& e
 	const auto loop =
 		measureLoop(f, newest.T_cw, newest.id - options.loop_min_separation, keyframeMap, frontend, backend, options);
 	if (!loop) return;
+	const Eigen::Isometry3d T_candidate = keyframeMap.find(loop->candidate)->T_cw;
+	// The frame that made a keyframe is the first tracked against it.
+	const auto made =
+		std::find_if(frames.begin(), frames.end(), [&](const FramePose& p) { return p.keyframe == loop->candidate; });
+	e.loop = LoopReport{std::size_t(made - frames.begin()), loop->inliers, toPose(T_candidate * loop->T_cw.inverse()),
+		toPose(T_candidate * newest.T_cw.inverse())};
 	char said[160];
 	std::snprintf(said, sizeof(said), "; loop with keyframe %d (%zu inliers, %.3f m, %.2f deg): ", loop->candidate,
 		loop->inliers, loop->translation, loop->rotation);
@@ -370,8 +376,7 @@ void VisualOdometry::Impl::closeLoop(const FrameFeatures& f, OdometryEstimate& e
 	}
 	// The graph moved the place too; the loop measured the new keyframe
 	// against the place as it was.
-	const int candidate = loop->candidate;
-	const Eigen::Isometry3d T_loop = loop->T_cw * (keyframeMap.find(candidate)->T_cw.inverse() * poses->at(candidate));
+	const Eigen::Isometry3d T_loop = loop->T_cw * (T_candidate.inverse() * poses->at(loop->candidate));
 	moveTo(*poses, T_loop);
 	joinPlace(*loop);
 	e.status += "closed, poses corrected";

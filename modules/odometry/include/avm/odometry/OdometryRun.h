@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,7 +26,19 @@ struct FrameRecord
 	std::size_t personBoxes = 0;
 	double milliseconds = 0;     //!< wall time of VisualOdometry::process (not I/O or detection)
 	double cpuMilliseconds = 0;  //!< CPU time of the calling thread in it (unaffected by other processes)
+	std::optional<mrpt::poses::CPose3D> groundTruth;  //!< the rawlog's, when it has one (camera optical frame)
 };
+
+/** How far a loop's measured and tracked poses (relative to the old
+ *  keyframe's camera) are from the ground truth's relative pose of the same
+ *  two frames: camera centre [m] and rotation [deg]. */
+struct LoopAccuracy
+{
+	double measuredMetres = 0, measuredDegrees = 0;
+	double trackedMetres = 0, trackedDegrees = 0;
+};
+LoopAccuracy loopAccuracy(
+	const LoopReport& loop, const mrpt::poses::CPose3D& truthOld, const mrpt::poses::CPose3D& truthNew);
 
 struct OdometryRun
 {
@@ -39,6 +52,14 @@ struct OdometryRun
 	std::string timingSummary() const;
 	/** Writes one CSV line per frame (atomically). */
 	void writeFrameStats(const std::filesystem::path& csv) const;
+	/** Writes one CSV line per verified loop (atomically): the frames, the
+	 *  measured and tracked relative poses, and their loopAccuracy when both
+	 *  frames have ground truth. */
+	void writeLoops(const std::filesystem::path& csv) const;
+	/** "loops N verified, C closed", and with ground truth the mean and
+	 *  largest error of the measured and of the tracked relative poses; empty
+	 *  when no loop was verified. */
+	std::string loopSummary() const;
 };
 
 /** Runs the odometry over the rawlog's frames (the first maxFrames, 0 = all),

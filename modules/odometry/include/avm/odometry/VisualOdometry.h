@@ -18,6 +18,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -31,6 +32,19 @@ class CArchive;
 
 namespace avm::odometry
 {
+/** A loop verified at a keyframe (loop closure on): where it puts the
+ *  camera and where the odometry had it, both relative to the camera of the
+ *  old keyframe whose place it saw again. Against the ground truth's relative
+ *  pose of the same two frames (loopAccuracy, OdometryRun.h) this says how
+ *  good a loop measurement is beside the drift it would correct. */
+struct LoopReport
+{
+	std::size_t candidateFrame = 0;  //!< the old keyframe's frame (process() calls, from 0)
+	std::size_t inliers = 0;         //!< matches with the place after the refinement
+	mrpt::poses::CPose3D measured;   //!< this camera in the old keyframe's camera frame, as the loop measured it
+	mrpt::poses::CPose3D tracked;    //!< and as the odometry had tracked it
+};
+
 struct OdometryEstimate
 {
 	mrpt::poses::CPose3D pose;  //!< camera optical frame in the world (never NaN)
@@ -39,6 +53,8 @@ struct OdometryEstimate
 	/** A loop closed at this frame and moved the poses of earlier frames:
 	 *  VisualOdometry::trajectory() has them. */
 	bool loopClosed = false;
+	/** The loop verified at this keyframe, whether it moved the poses or not. */
+	std::optional<LoopReport> loop;
 	std::size_t inliers = 0;      //!< matches consistent with the pose
 	double reprojectionRmse = 0;  //!< [px] over the inliers
 	std::string status;           //!< "tracking", "initialised", or why tracking was lost
