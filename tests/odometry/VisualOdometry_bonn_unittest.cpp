@@ -215,22 +215,16 @@ TEST(VisualOdometryBonn, WithPeopleLeftUnmaskedLoopsCorrectTheDrift)
 	// the ground truth; the places it saw before people came are seen again.
 	const auto open = runBonn(false), closed = runBonn(false, true);
 	const double openAte = ate(open.trajectory(), 0, 0), closedAte = ate(closed.trajectory(), 0, 0);
-	std::vector<odometry::LoopAccuracy> loops;
-	std::size_t loopsClosed = 0;
-	for (const auto& f : closed.frames)
-	{
-		loopsClosed += f.estimate.loopClosed;
-		if (f.estimate.loop)
-			loops.push_back(odometry::loopAccuracy(
-				*f.estimate.loop, *closed.frames.at(f.estimate.loop->candidateFrame).groundTruth, *f.groundTruth));
-	}
+	const auto loops = closed.loopAccuracies();
+	const auto loopsClosed = std::count_if(closed.frames.begin(), closed.frames.end(),
+		[](const odometry::FrameRecord& f) { return f.estimate.loopClosed; });
 	std::cout << "people unmasked: ATE " << openAte << " m, with loop closure " << closedAte << " m\n"
 			  << closed.loopSummary();
-	EXPECT_GE(loopsClosed, 1u);
+	EXPECT_GE(loopsClosed, 1);
 	EXPECT_LT(closedAte, 0.6 * openAte);
 	// Relative to the old keyframe, every loop is nearer the ground truth than the drifted track, or close to it.
 	ASSERT_FALSE(loops.empty());
-	for (const auto& l : loops) EXPECT_LT(l.measuredMetres, std::max(l.trackedMetres, 0.05));
+	for (const auto& l : loops) EXPECT_LT(l.measured.metres, std::max(l.tracked.metres, 0.05));
 }
 
 TEST(VisualOdometryBonn, TrajectoryIsTheOpticalFrameOfTheGroundTruth)
@@ -322,9 +316,11 @@ TEST(VisualOdometryBonn, ShownItsStartAgainTheCameraClosesALoop)
 	// A loop is worth closing only if it knows better than the odometry where
 	// the camera is relative to the old place: on average it does.
 	ASSERT_GE(closed.loops.size(), closed.loopsClosed);
-	double measured = 0, tracked = 0;
-	for (const auto& l : closed.loops) measured += l.measuredMetres, tracked += l.trackedMetres;
-	measured /= double(closed.loops.size()), tracked /= double(closed.loops.size());
+	std::vector<double> measuredErrors, trackedErrors;
+	for (const auto& l : closed.loops)
+		measuredErrors.push_back(l.measured.metres), trackedErrors.push_back(l.tracked.metres);
+	const double measured = evaluation::statisticsOf(measuredErrors).mean;
+	const double tracked = evaluation::statisticsOf(trackedErrors).mean;
 	std::cout << closed.loops.size() << " loops verified; mean error against the ground truth relative to the old "
 			  << "keyframe: measured " << measured << " m, tracked " << tracked << " m\n";
 	EXPECT_LT(measured, tracked);

@@ -81,6 +81,14 @@ mrpt::poses::CPose3D alignRigid(
 	return mrpt::poses::CPose3D(m);
 }
 
+PoseError poseError(const mrpt::poses::CPose3D& estimate, const mrpt::poses::CPose3D& truth)
+{
+	const auto err = estimate - truth;
+	const auto R = err.getRotationMatrix();
+	const double c = std::clamp((R(0, 0) + R(1, 1) + R(2, 2) - 1.0) / 2.0, -1.0, 1.0);
+	return {err.translation().norm(), mrpt::RAD2DEG(std::acos(c))};
+}
+
 ErrorStatistics statisticsOf(std::vector<double> errors)
 {
 	ErrorStatistics s;
@@ -145,13 +153,10 @@ TrajectoryErrors evaluateTrajectory(
 		while (l < pairs.size() && range[pairs[l].first].timestamp < tk + options.rpeDelta) ++l;
 		if (l >= pairs.size()) break;
 		const double dt = range[pairs[l].first].timestamp - tk;
-		const auto relEst = range[pairs[l].first].pose - range[pairs[k].first].pose;
-		const auto relGt = groundTruth[pairs[l].second].pose - groundTruth[pairs[k].second].pose;
-		const auto err = relEst - relGt;
-		rpeT.push_back(err.translation().norm() / dt);
-		const auto R = err.getRotationMatrix();
-		const double c = std::clamp((R(0, 0) + R(1, 1) + R(2, 2) - 1.0) / 2.0, -1.0, 1.0);
-		rpeR.push_back(mrpt::RAD2DEG(std::acos(c)) / dt);
+		const auto err = poseError(range[pairs[l].first].pose - range[pairs[k].first].pose,
+			groundTruth[pairs[l].second].pose - groundTruth[pairs[k].second].pose);
+		rpeT.push_back(err.metres / dt);
+		rpeR.push_back(err.degrees / dt);
 	}
 	out.rpeTranslation = statisticsOf(std::move(rpeT));
 	out.rpeRotation = statisticsOf(std::move(rpeR));

@@ -7,9 +7,7 @@
 #include <limits>
 #include <sstream>
 
-#include <mrpt/core/bits_math.h>
 #include <mrpt/math/CQuaternion.h>
-#include <mrpt/poses/Lie/SO.h>
 
 #include "avm/io/AtomicFile.h"
 #include "avm/io/IniOptions.h"
@@ -77,10 +75,7 @@ LoopAccuracy loopAccuracy(
 	const LoopReport& loop, const mrpt::poses::CPose3D& truthOld, const mrpt::poses::CPose3D& truthNew)
 {
 	const mrpt::poses::CPose3D truth = truthNew - truthOld;
-	const auto metres = [&](const mrpt::poses::CPose3D& p) { return (p.translation() - truth.translation()).norm(); };
-	const auto degrees = [&](const mrpt::poses::CPose3D& p)
-	{ return mrpt::RAD2DEG(mrpt::poses::Lie::SO<3>::log((p - truth).getRotationMatrix()).norm()); };
-	return {metres(loop.measured), degrees(loop.measured), metres(loop.tracked), degrees(loop.tracked)};
+	return {evaluation::poseError(loop.measured, truth), evaluation::poseError(loop.tracked, truth)};
 }
 
 namespace
@@ -125,8 +120,8 @@ void OdometryRun::writeLoops(const std::filesystem::path& csv) const
 				out << line << poseColumns(loop.measured) << ',' << poseColumns(loop.tracked) << ',';
 				if (const auto a = accuracyOf(*this, f))
 				{
-					std::snprintf(line, sizeof(line), "%.5f,%.4f,%.5f,%.4f", a->measuredMetres, a->measuredDegrees,
-						a->trackedMetres, a->trackedDegrees);
+					std::snprintf(line, sizeof(line), "%.5f,%.4f,%.5f,%.4f", a->measured.metres, a->measured.degrees,
+						a->tracked.metres, a->tracked.degrees);
 					out << line;
 				}
 				else
@@ -137,38 +132,38 @@ void OdometryRun::writeLoops(const std::filesystem::path& csv) const
 		});
 }
 
+std::vector<LoopAccuracy> OdometryRun::loopAccuracies() const
+{
+	std::vector<LoopAccuracy> out;
+	for (const auto& f : frames)
+		if (f.estimate.loop)
+			if (const auto a = accuracyOf(*this, f)) out.push_back(*a);
+	return out;
+}
+
 std::string OdometryRun::loopSummary() const
 {
-	std::size_t verified = 0, closed = 0;
-	std::vector<LoopAccuracy> accuracies;
-	for (const auto& f : frames)
-	{
-		if (!f.estimate.loop) continue;
-		++verified;
-		closed += f.estimate.loopClosed;
-		if (const auto a = accuracyOf(*this, f)) accuracies.push_back(*a);
-	}
+	const auto verified =
+		std::count_if(frames.begin(), frames.end(), [](const FrameRecord& f) { return bool(f.estimate.loop); });
+	const auto closed =
+		std::count_if(frames.begin(), frames.end(), [](const FrameRecord& f) { return f.estimate.loopClosed; });
 	if (verified == 0) return {};
 	std::string text = "loops " + std::to_string(verified) + " verified, " + std::to_string(closed) + " closed\n";
+	const auto accuracies = loopAccuracies();
 	if (accuracies.empty()) return text;
-	const auto meanAndMax = [&](double LoopAccuracy::*field, double scale)
+	const auto line = [&](const char* name, evaluation::PoseError LoopAccuracy::*which)
 	{
-		double sum = 0, most = 0;
-		for (const auto& a : accuracies) sum += a.*field, most = std::max(most, a.*field);
-		return std::make_pair(scale * sum / double(accuracies.size()), scale * most);
-	};
-	const auto line = [&](const char* name, double LoopAccuracy::*metres, double LoopAccuracy::*degrees)
-	{
-		const auto [m, mMax] = meanAndMax(metres, 100);
-		const auto [d, dMax] = meanAndMax(degrees, 1);
+		std::vector<double> metres, degrees;
+		for (const auto& a : accuracies) metres.push_back((a.*which).metres), degrees.push_back((a.*which).degrees);
+		const auto m = evaluation::statisticsOf(metres), d = evaluation::statisticsOf(degrees);
 		char out[160];
-		std::snprintf(out, sizeof(out), "  %s: mean %.2f cm %.2f deg, max %.2f cm %.2f deg\n", name, m, d, mMax, dMax);
+		std::snprintf(out, sizeof(out), "  %s: mean %.2f cm %.2f deg, max %.2f cm %.2f deg\n", name, 100 * m.mean,
+			d.mean, 100 * m.max, d.max);
 		return std::string(out);
 	};
 	return text + "loop poses against ground truth, relative to the old keyframe (" +
-		   std::to_string(accuracies.size()) + " loops):\n" +
-		   line("measured", &LoopAccuracy::measuredMetres, &LoopAccuracy::measuredDegrees) +
-		   line("tracked ", &LoopAccuracy::trackedMetres, &LoopAccuracy::trackedDegrees);
+		   std::to_string(accuracies.size()) + " loops):\n" + line("measured", &LoopAccuracy::measured) +
+		   line("tracked ", &LoopAccuracy::tracked);
 }
 
 OdometryRun runOdometry(const std::filesystem::path& rawlog, const TOdometryOptions& options,

@@ -61,6 +61,14 @@ std::vector<std::pair<std::size_t, std::size_t>> associateByTimestamp(
 mrpt::poses::CPose3D alignRigid(
 	const std::vector<mrpt::math::TPoint3D>& src, const std::vector<mrpt::math::TPoint3D>& dst);
 
+/** How far an estimated pose is from the true one: the distance between
+ *  their positions [m] and the angle of the rotation between them [deg]. */
+struct PoseError
+{
+	double metres = 0, degrees = 0;
+};
+PoseError poseError(const mrpt::poses::CPose3D& estimate, const mrpt::poses::CPose3D& truth);
+
 /** Statistics of a list of errors (all zero for an empty list). */
 ErrorStatistics statisticsOf(std::vector<double> errors);
 

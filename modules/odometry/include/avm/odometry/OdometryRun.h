@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "avm/evaluation/TrajectoryEvaluation.h"
 #include "avm/io/RgbdFrame.h"
 #include "avm/io/Trajectory.h"
 #include "avm/odometry/VisualOdometry.h"
@@ -31,11 +32,10 @@ struct FrameRecord
 
 /** How far a loop's measured and tracked poses (relative to the old
  *  keyframe's camera) are from the ground truth's relative pose of the same
- *  two frames: camera centre [m] and rotation [deg]. */
+ *  two frames. */
 struct LoopAccuracy
 {
-	double measuredMetres = 0, measuredDegrees = 0;
-	double trackedMetres = 0, trackedDegrees = 0;
+	evaluation::PoseError measured, tracked;
 };
 LoopAccuracy loopAccuracy(
 	const LoopReport& loop, const mrpt::poses::CPose3D& truthOld, const mrpt::poses::CPose3D& truthNew);
@@ -56,6 +56,8 @@ struct OdometryRun
 	 *  measured and tracked relative poses, and their loopAccuracy when both
 	 *  frames have ground truth. */
 	void writeLoops(const std::filesystem::path& csv) const;
+	/** The loopAccuracy of every verified loop whose two frames have ground truth, in frame order. */
+	std::vector<LoopAccuracy> loopAccuracies() const;
 	/** "loops N verified, C closed", and with ground truth the mean and
 	 *  largest error of the measured and of the tracked relative poses; empty
 	 *  when no loop was verified. */
