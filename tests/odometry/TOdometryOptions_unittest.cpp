@@ -26,7 +26,7 @@ TEST(TOdometryOptions, SaveAndLoadUseTheSameKeys)
 	EXPECT_DOUBLE_EQ(b.huber_delta, 1.5);
 	std::vector<std::string> keys;
 	cfg.getAllKeys("odometry", keys);
-	EXPECT_EQ(keys.size(), 42u);
+	EXPECT_EQ(keys.size(), 44u);
 }
 
 TEST(TOdometryOptions, BadValueNamesSectionAndKey)
@@ -51,6 +51,18 @@ TEST(TOdometryOptions, BadValueNamesSectionAndKey)
 	EXPECT_THROW(odometry::VisualOdometry{o}, std::invalid_argument);
 	EXPECT_THROW(
 		odometry::VisualOdometry({}, mrpt::poses::CPose3D(std::nan(""), 0, 0, 0, 0, 0)), std::invalid_argument);
+	// The motion prior needs keyframes that keep their tracked pose.
+	mrpt::config::CConfigFileMemory prior("[odometry]\nmotion_prior_sigma = 0.005\n");
+	o = {};
+	try
+	{
+		o.loadFromConfigFile(prior, "odometry");
+		ADD_FAILURE() << "motion_prior_sigma without keyframe_tracked_pose accepted";
+	}
+	catch (const std::invalid_argument& e)
+	{
+		EXPECT_NE(std::string(e.what()).find("keyframe_tracked_pose"), std::string::npos) << e.what();
+	}
 }
 
 TEST(TOdometryOptions, ProjectIniLoadsWithoutUnknownKeys)
@@ -60,6 +72,11 @@ TEST(TOdometryOptions, ProjectIniLoadsWithoutUnknownKeys)
 		odometry::loadOdometryOptions(std::string(AVM_SOURCE_DIR) + "/ini/odometry.ini", "odometry", unknown);
 	EXPECT_TRUE(unknown.empty()) << unknown.front();
 	EXPECT_TRUE(o.mask_people);
+	const auto tracked =
+		odometry::loadOdometryOptions(std::string(AVM_SOURCE_DIR) + "/ini/tracked-keyframes.ini", "odometry", unknown);
+	EXPECT_TRUE(unknown.empty()) << unknown.front();
+	EXPECT_TRUE(tracked.keyframe_tracked_pose);
+	EXPECT_DOUBLE_EQ(tracked.motion_prior_sigma, 0.005);
 
 	const auto dir = test::scratchDir("odometry-ini");
 	std::ofstream(dir / "typo.ini") << "[odometry]\nnum_featurs = 10\n";

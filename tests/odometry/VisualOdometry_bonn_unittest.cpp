@@ -49,9 +49,8 @@ std::vector<cv::Rect> personBoxesOf(const io::RgbdFrame& f)
 	return it == boxes.end() ? std::vector<cv::Rect>{} : it->second;
 }
 
-odometry::OdometryRun runBonn(bool maskPeople, bool loopClosure = false)
+odometry::OdometryRun runBonn(bool maskPeople, bool loopClosure = false, odometry::TOdometryOptions opt = {})
 {
-	odometry::TOdometryOptions opt;
 	opt.mask_people = maskPeople;
 	opt.loop_closure = loopClosure;
 	// Boxes are only for masking: an unmasked run does without the detector.
@@ -207,6 +206,29 @@ TEST(VisualOdometryBonn, AccurateOnTheCrowdSequenceAndMaskingPeopleHelps)
 			f.estimate.reprojectionRmse < 3)
 			++withQuality;
 	EXPECT_GT(withQuality, 280u);
+}
+
+TEST(VisualOdometryBonn, TrackedKeyframePosesAndTheMotionPriorSteadyTheCameraFromFrameToFrame)
+{
+	// ini/tracked-keyframes.ini: the camera centre no longer jumps from one
+	// frame to the next where the true one moves smoothly, and the run is
+	// at least as accurate.
+	odometry::TOdometryOptions steadyOptions;
+	steadyOptions.keyframe_tracked_pose = true;
+	steadyOptions.motion_prior_sigma = 0.005;
+	const auto plain = runBonn(true).trajectory(), steady = runBonn(true, false, steadyOptions).trajectory();
+	evaluation::TEvaluationOptions frameToFrame;
+	frameToFrame.rpeDelta = 0.03;  // the next frame, 33.5 ms on
+	const auto plainErrors = evaluation::evaluateTrajectory(plain, groundTruth(), frameToFrame);
+	const auto steadyErrors = evaluation::evaluateTrajectory(steady, groundTruth(), frameToFrame);
+	std::cout << "frame to frame RPE " << plainErrors.rpeTranslation.rmse << " m/s, " << plainErrors.rpeRotation.rmse
+			  << " deg/s; with tracked keyframe poses and the motion prior " << steadyErrors.rpeTranslation.rmse
+			  << " m/s, " << steadyErrors.rpeRotation.rmse << " deg/s; ATE " << plainErrors.ate.rmse << " m and "
+			  << steadyErrors.ate.rmse << " m\n";
+	ASSERT_EQ(steadyErrors.rpeTranslation.count, 299u);
+	EXPECT_LT(steadyErrors.rpeTranslation.rmse, 0.75 * plainErrors.rpeTranslation.rmse);
+	EXPECT_LT(steadyErrors.rpeRotation.rmse, plainErrors.rpeRotation.rmse);
+	EXPECT_LE(steadyErrors.ate.rmse, 0.02);
 }
 
 TEST(VisualOdometryBonn, WithPeopleLeftUnmaskedLoopsCorrectTheDrift)

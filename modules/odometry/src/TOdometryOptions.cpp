@@ -49,6 +49,11 @@ io::IniKeys<TOdometryOptions> TOdometryOptions::iniKeys()
 			{[](double v) { return v >= 0; }, "must be >= 0"})
 		.number("refine_iterations", &O::refine_iterations, "", "Ceres iterations of the per-frame refinement, 0 = off",
 			{[](int v) { return v >= 0; }, "must be >= 0"})
+		.number("motion_prior_sigma", &O::motion_prior_sigma, "m",
+			"standard deviation of a tracked frame's camera centre about where the constant-velocity model puts it, "
+			"in the per-frame refinement; 0 = no prior. With keyframe_tracked_pose = true (the model then sees no jump "
+			"at a keyframe)",
+			{[](double v) { return v >= 0; }, "must be >= 0 m"})
 		.number("window_size", &O::window_size, "", "keyframes in the bundle adjustment, 0 = no BA",
 			{[](int v) { return v == 0 || v >= 2; }, "must be 0 (off) or >= 2"})
 		.number("ba_iterations", &O::ba_iterations, "", "Ceres iterations of one bundle adjustment",
@@ -64,6 +69,12 @@ io::IniKeys<TOdometryOptions> TOdometryOptions::iniKeys()
 		.number("keyframe_overlap", &O::keyframe_overlap, "",
 			"keyframe when inliers fall below this share of the most the keyframe gave",
 			{[](double v) { return v > 0 && v <= 1; }, "must be in (0, 1]"})
+		.number("keyframe_tracked_pose", &O::keyframe_tracked_pose, "",
+			"the frame that makes a keyframe keeps its tracked pose (true), or takes the pose the window bundle "
+			"adjustment gives the keyframe (false)")
+		.check(
+			"motion_prior_sigma", [](const O& o) { return o.motion_prior_sigma == 0 || o.keyframe_tracked_pose; },
+			"must be 0 unless keyframe_tracked_pose = true (the prediction would jump at every keyframe)")
 		.number("map_max_keyframes", &O::map_max_keyframes, "",
 			"keyframes kept for the whole run, about 70 kB each (descriptors, points, words); when full, the older of "
 			"the two closest keyframes goes, >= 10",

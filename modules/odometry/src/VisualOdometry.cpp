@@ -133,7 +133,7 @@ struct VisualOdometry::Impl
 	 *  it. What it found goes to e's status; e.loopClosed when the poses moved. */
 	void closeLoop(const FrameFeatures& f, OdometryEstimate& e);
 	/** Moves the map keyframes to `poses` (T_cw by id), the local map rigidly
-	 *  with its newest keyframe to `newestPose`, and every frame with its
+	 *  with the current frame to `newestPose`, and every frame with its
 	 *  keyframe. */
 	void moveTo(const std::map<int, Eigen::Isometry3d>& poses, const Eigen::Isometry3d& newestPose);
 	/** The newest keyframe's features that a loop matched observe the place's points from now on. */
@@ -288,7 +288,10 @@ OdometryEstimate VisualOdometry::Impl::track(const FrameFeatures& f)
 	if (!pnp) return lost(f, std::to_string(matches.size()) + " matches, PnP found no consistent pose");
 
 	mrpt::system::CTimeLoggerEntry refineTimer(stageTimer, "3 pose refinement");
-	const auto refined = backend.refinePnp(f, *pnp, matches, landmarks);
+	std::optional<CeresBackend::CentrePrior> prior;
+	if (options.motion_prior_sigma > 0 && lostFrames == 0)
+		prior = CeresBackend::CentrePrior{predicted.inverse().translation(), options.motion_prior_sigma};
+	const auto refined = backend.refinePnp(f, *pnp, matches, landmarks, prior);
 	refineTimer.stop();
 	if (!refined) return lost(f, "the pose refinement diverged");
 	Eigen::Isometry3d T = refined->T_cw;
@@ -320,7 +323,7 @@ OdometryEstimate VisualOdometry::Impl::track(const FrameFeatures& f)
 		rotationAngleDeg(rel.rotation()) > options.keyframe_rotation || overlap < options.keyframe_overlap)
 	{
 		addKeyframe(f, inliers, T);
-		T = window.back().T_cw;  // as the bundle adjustment left it
+		if (!options.keyframe_tracked_pose) T = window.back().T_cw;
 		e.keyframe = true;
 	}
 	velocity = recovered ? Eigen::Isometry3d::Identity() : Eigen::Isometry3d(T * previous.inverse());
@@ -337,14 +340,14 @@ void VisualOdometry::Impl::closeLoop(const FrameFeatures& f, OdometryEstimate& e
 	mrpt::system::CTimeLoggerEntry timer(stageTimer, "6 loop closing");
 	const Keyframe& newest = window.back();
 	const auto loop =
-		measureLoop(f, newest.T_cw, newest.id - options.loop_min_separation, keyframeMap, frontend, backend, options);
+		measureLoop(f, T_cw, newest.id - options.loop_min_separation, keyframeMap, frontend, backend, options);
 	if (!loop) return;
 	const Eigen::Isometry3d T_candidate = keyframeMap.find(loop->candidate)->T_cw;
 	// The frame that made a keyframe is the first tracked against it.
 	const auto made =
 		std::find_if(frames.begin(), frames.end(), [&](const FramePose& p) { return p.keyframe == loop->candidate; });
 	e.loop = LoopReport{std::size_t(made - frames.begin()), loop->inliers, toPose(T_candidate * loop->T_cw.inverse()),
-		toPose(T_candidate * newest.T_cw.inverse())};
+		toPose(T_candidate * T_cw.inverse())};
 	char said[160];
 	std::snprintf(said, sizeof(said), "; loop with keyframe %d (%zu inliers, %.3f m, %.2f deg): ", loop->candidate,
 		loop->inliers, loop->translation, loop->rotation);
@@ -410,9 +413,10 @@ void VisualOdometry::Impl::moveTo(const std::map<int, Eigen::Isometry3d>& poses,
 	// the world frame that a frame tracked against the keyframe shares.
 	std::map<int, Eigen::Isometry3d> corrections;
 	for (const auto& [id, T] : poses) corrections[id] = keyframeMap.find(id)->T_cw.inverse() * T;
-	// The local map moves rigidly with its newest keyframe, so that tracking
-	// goes on against landmarks and window poses that agree with each other.
-	const Eigen::Isometry3d D = keyframeMap.find(window.back().id)->T_cw.inverse() * newestPose;
+	// The local map moves rigidly with the frame that closed the loop (its
+	// pose is where the next frames are tracked from), so that tracking goes
+	// on against landmarks and window poses that agree with each other.
+	const Eigen::Isometry3d D = T_cw.inverse() * newestPose;
 	for (auto& kf : window)
 	{
 		corrections[kf.id] = D;

@@ -25,10 +25,25 @@ ceres::Solver::Options solverOptions(int iterations, int threads, ceres::LinearS
 	o.minimizer_progress_to_stdout = false;
 	return o;
 }
+
+/** The camera centre -R^T t of a pose against its prior, over the prior's sigma. */
+struct CentrePriorCost
+{
+	template <typename T>
+	bool operator()(const T* pose, T* residual) const
+	{
+		const T inverse[3] = {-pose[0], -pose[1], -pose[2]};
+		T rotated[3];
+		ceres::AngleAxisRotatePoint(inverse, pose + 3, rotated);
+		for (int i = 0; i < 3; ++i) residual[i] = (-rotated[i] - T(prior.centre[i])) / T(prior.sigma);
+		return true;
+	}
+	CeresBackend::CentrePrior prior;
+};
 }  // namespace
 
 void CeresBackend::refinePose(Eigen::Isometry3d& T_cw, const std::vector<Observation>& observations,
-	const LandmarkMap& landmarks, const io::DepthCamera& K) const
+	const LandmarkMap& landmarks, const io::DepthCamera& K, const std::optional<CentrePrior>& prior) const
 {
 	if (m_options.refine_iterations == 0 || observations.empty()) return;
 	PoseParams pose = toParams(T_cw);
@@ -45,16 +60,20 @@ void CeresBackend::refinePose(Eigen::Isometry3d& T_cw, const std::vector<Observa
 			pose.data(), points[i].data());
 		problem.SetParameterBlockConstant(points[i].data());
 	}
+	if (prior)
+		problem.AddResidualBlock(
+			new ceres::AutoDiffCostFunction<CentrePriorCost, 3, 6>(new CentrePriorCost{*prior}), nullptr, pose.data());
 	ceres::Solver::Summary summary;
 	ceres::Solve(solverOptions(m_options.refine_iterations, m_options.threads, ceres::DENSE_QR), &problem, &summary);
 	T_cw = fromParams(pose, T_cw);
 }
 
 std::optional<CeresBackend::RefinedPose> CeresBackend::refinePnp(const FrameFeatures& f,
-	const FeatureFrontend::PnpResult& pnp, const std::vector<Match>& matches, const LandmarkMap& landmarks) const
+	const FeatureFrontend::PnpResult& pnp, const std::vector<Match>& matches, const LandmarkMap& landmarks,
+	const std::optional<CentrePrior>& prior) const
 {
 	RefinedPose r{pnp.T_cw, {}, 0};
-	refinePose(r.T_cw, observationsOf(f, pnp.inliers), landmarks, f.K);
+	refinePose(r.T_cw, observationsOf(f, pnp.inliers), landmarks, f.K, prior);
 	if (!r.T_cw.matrix().allFinite()) return std::nullopt;
 	r.inliers = inliersAt(r.T_cw, f, matches, landmarks, m_options.ransac_reprojection, r.squaredErrors);
 	return r;

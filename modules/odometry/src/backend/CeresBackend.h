@@ -27,9 +27,17 @@ class CeresBackend
    public:
 	explicit CeresBackend(const TOdometryOptions& options) : m_options(options) {}
 
-	/** Refines T_cw in place from observations of fixed landmarks. */
+	/** Where the camera centre should be, and how sure that is. */
+	struct CentrePrior
+	{
+		Eigen::Vector3d centre;
+		double sigma = 0;  //!< [m]
+	};
+
+	/** Refines T_cw in place from observations of fixed landmarks, and the
+	 *  camera centre's prior if there is one. */
 	void refinePose(Eigen::Isometry3d& T_cw, const std::vector<Observation>& observations, const LandmarkMap& landmarks,
-		const io::DepthCamera& K) const;
+		const io::DepthCamera& K, const std::optional<CentrePrior>& prior = std::nullopt) const;
 
 	/** The end of every pose against fixed points (tracking, relocalisation,
 	 *  a loop's measurement): PnP's pose refined from its inliers, and the
@@ -42,7 +50,8 @@ class CeresBackend
 		double squaredErrors = 0;  //!< [px^2] summed over the inliers
 	};
 	std::optional<RefinedPose> refinePnp(const FrameFeatures& f, const FeatureFrontend::PnpResult& pnp,
-		const std::vector<Match>& matches, const LandmarkMap& landmarks) const;
+		const std::vector<Match>& matches, const LandmarkMap& landmarks,
+		const std::optional<CentrePrior>& prior = std::nullopt) const;
 
 	/** Bundle adjustment over the window: the oldest keyframe is held fixed
 	 *  (it anchors the gauge); landmarks seen by at least two keyframes move. */

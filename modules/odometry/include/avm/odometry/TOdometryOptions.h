@@ -33,6 +33,12 @@ struct TOdometryOptions : public io::CIniKeyOptions<TOdometryOptions>
 	/** Weight of the depth residual fx*(z-d)/d [px] beside the reprojection error (0 = off). */
 	double depth_weight = 0.05;
 	int refine_iterations = 10;  //!< Ceres iterations of the per-frame pose refinement
+	/** [m] Standard deviation of a tracked frame's camera centre about where
+	 *  the constant-velocity model puts it, in the per-frame refinement (0 =
+	 *  off): PnP alone gets the motion from one frame to the next wrong by
+	 *  about a centimetre (a small turn and a sideways shift look alike),
+	 *  where the true camera moves smoothly. Needs keyframe_tracked_pose. */
+	double motion_prior_sigma = 0.0;
 	int window_size = 8;         //!< keyframes in the sliding-window bundle adjustment (0 = no BA)
 	int ba_iterations = 8;       //!< Ceres iterations of one bundle adjustment
 	int ba_max_landmarks = 250;  //!< landmarks in one bundle adjustment, the most-viewed first (0 = all)
@@ -41,6 +47,10 @@ struct TOdometryOptions : public io::CIniKeyOptions<TOdometryOptions>
 	double keyframe_rotation = 8.0;      //!< [deg] rotation from the last keyframe that makes a keyframe
 	/** A keyframe is made when the tracked share of the last keyframe's landmarks falls below this. */
 	double keyframe_overlap = 0.6;
+	/** The frame that makes a keyframe keeps its tracked pose; else it takes
+	 *  the one the window bundle adjustment gives the keyframe, which the
+	 *  next frames' landmarks (placed from the tracked pose) disagree with. */
+	bool keyframe_tracked_pose = false;
 	// --- keyframe map (kept through tracking loss) and relocalisation
 	/** Keyframes kept for the whole run (about 70 kB each); beyond, the most redundant goes. */
 	int map_max_keyframes = 300;
