@@ -7,7 +7,8 @@
 # the odometry: moving one keyframe moves every later pose, and the ATE of 300
 # frames shifts by tens of percent with it (doc/odometry.md, "More than one
 # sequence"). Prints a markdown table, the ATE RMSE [m] of each ini on each
-# sequence, and the commands that made it.
+# sequence, the forward-backward end pose's error and sub300's frame-to-frame
+# error, and the commands that made it.
 # Usage: scripts/odometry-sequences.sh [INI...]   (default ini/default.ini)
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -75,6 +76,7 @@ header="| ini |" rule="|---|"
 rawlogs=(datasets/bonn_crowd_sub300.rawlog)
 for s in every2nd every2nd-odd every3rd forward-backward; do rawlogs+=("$out/$s.rawlog"); done
 for r in "${rawlogs[@]}"; do header+=" $(basename "$r" .rawlog) |"; rule+="---|"; done
+header+=" forward-backward end | bonn_crowd_sub300 frame to frame |" rule+="---|---|"
 rows=() commands=()
 bin=${build#"$root/"}/bin
 for ini in "${inis[@]}"; do
@@ -86,9 +88,20 @@ for ini in "${inis[@]}"; do
     commands+=("$bin/avm-odometry -c $ini $rawlog $trajectory" "$bin/avm-eval $trajectory $ground")
     row+=" $("$bin/avm-eval" "$trajectory" "$ground" | awk '$1 == "ATE" {print $3}') |"
   done
+  # forward-backward ran last: its last frame is frame 0 again, where the run
+  # started at the ground truth.
+  row+=" $(awk 'FNR == NR { if (!/^#/ && !n++) split($0, start, " "); next } !/^#/ { split($0, p, " ") }
+    END { printf "%.4f", sqrt((p[2] - start[2])^2 + (p[3] - start[3])^2 + (p[4] - start[4])^2) }' \
+    "$ground" "$trajectory") |"
+  trajectory=$out/$(basename "$ini" .ini)-bonn_crowd_sub300.txt
+  ground=${rawlogs[0]%.rawlog}_groundtruth.txt
+  commands+=("$bin/avm-eval --rpe-delta 0.03 $trajectory $ground")
+  row+=" $("$bin/avm-eval" --rpe-delta 0.03 "$trajectory" "$ground" | awk '$1 == "RPE" && $2 == "trans" {print $4}') |"
   rows+=("$row")
 done
-echo "ATE RMSE [m], SE(3)-aligned; $(date -u +%F), $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores"
+echo "ATE RMSE [m], SE(3)-aligned; forward-backward end: the last pose's distance from the ground truth [m]" \
+  "(not aligned); frame to frame: RPE RMSE over one frame (33.5 ms) [m/s];" \
+  "$(date -u +%F), $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores"
 echo
 echo "$header"
 echo "$rule"
