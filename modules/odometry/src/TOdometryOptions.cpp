@@ -51,8 +51,9 @@ io::IniKeys<TOdometryOptions> TOdometryOptions::iniKeys()
 			{[](int v) { return v >= 0; }, "must be >= 0"})
 		.number("motion_prior_sigma", &O::motion_prior_sigma, "m",
 			"standard deviation of a tracked frame's camera centre about where the constant-velocity model puts it, "
-			"in the per-frame refinement; 0 = no prior. With keyframe_tracked_pose = true (the model then sees no jump "
-			"at a keyframe)",
+			"in the per-frame refinement; 0 = no prior. Needs keyframe_tracked_pose = true (else the prediction jumps "
+			"at "
+			"every keyframe)",
 			{[](double v) { return v >= 0; }, "must be >= 0 m"})
 		.number("window_size", &O::window_size, "", "keyframes in the bundle adjustment, 0 = no BA",
 			{[](int v) { return v == 0 || v >= 2; }, "must be 0 (off) or >= 2"})

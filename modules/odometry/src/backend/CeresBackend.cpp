@@ -26,7 +26,9 @@ ceres::Solver::Options solverOptions(int iterations, int threads, ceres::LinearS
 	return o;
 }
 
-/** The camera centre -R^T t of a pose against its prior, over the prior's sigma. */
+/** The camera centre -R^T t of a pose against its prior, over the prior's
+ *  sigma: in standard deviations, as the pixel residuals beside it are (about
+ *  a pixel of noise each), so that Ceres weighs the two fairly. */
 struct CentrePriorCost
 {
 	template <typename T>
