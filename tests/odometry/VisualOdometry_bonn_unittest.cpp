@@ -49,10 +49,9 @@ std::vector<cv::Rect> personBoxesOf(const io::RgbdFrame& f)
 	return it == boxes.end() ? std::vector<cv::Rect>{} : it->second;
 }
 
-odometry::OdometryRun runBonn(bool maskPeople, bool loopClosure = false, odometry::TOdometryOptions opt = {})
+odometry::OdometryRun runBonn(bool maskPeople, odometry::TOdometryOptions opt = {})
 {
 	opt.mask_people = maskPeople;
-	opt.loop_closure = loopClosure;
 	// Boxes are only for masking: an unmasked run does without the detector.
 	return odometry::runOdometry(
 		test::bonnRawlog(), opt, maskPeople ? odometry::PersonBoxSource(personBoxesOf) : odometry::PersonBoxSource());
@@ -216,7 +215,7 @@ TEST(VisualOdometryBonn, TrackedKeyframePosesAndTheMotionPriorSteadyTheCameraFro
 	odometry::TOdometryOptions steadyOptions;
 	steadyOptions.keyframe_tracked_pose = true;
 	steadyOptions.motion_prior_sigma = 0.005;
-	const auto plain = runBonn(true).trajectory(), steady = runBonn(true, false, steadyOptions).trajectory();
+	const auto plain = runBonn(true).trajectory(), steady = runBonn(true, steadyOptions).trajectory();
 	evaluation::TEvaluationOptions frameToFrame;
 	frameToFrame.rpeDelta = 0.03;  // the next frame, 33.5 ms on
 	const auto plainErrors = evaluation::evaluateTrajectory(plain, groundTruth(), frameToFrame);
@@ -235,7 +234,9 @@ TEST(VisualOdometryBonn, WithPeopleLeftUnmaskedLoopsCorrectTheDrift)
 {
 	// Features on walking people drag the unmasked odometry up to 0.2 m off
 	// the ground truth; the places it saw before people came are seen again.
-	const auto open = runBonn(false), closed = runBonn(false, true);
+	odometry::TOdometryOptions loopClosure;
+	loopClosure.loop_closure = true;
+	const auto open = runBonn(false), closed = runBonn(false, loopClosure);
 	const double openAte = ate(open.trajectory(), 0, 0), closedAte = ate(closed.trajectory(), 0, 0);
 	const auto loops = closed.loopAccuracies();
 	const auto loopsClosed = std::count_if(closed.frames.begin(), closed.frames.end(),
