@@ -38,6 +38,40 @@ TEST(TrajectoryEvaluation, RigidlyMovedCopyHasZeroErrorAndTheTransformIsRecovere
 	EXPECT_LT(std::abs(residual.yaw()) + std::abs(residual.pitch()) + std::abs(residual.roll()), 1e-6);
 }
 
+TEST(TrajectoryEvaluation, AccelerationIsExactOnAParabolaAndSeesFrameToFrameNoise)
+{
+	// p(t) = a t^2 / 2 at uneven times, and one timestamp repeated: the
+	// central difference over uneven steps is exact on a parabola.
+	const mrpt::math::TPoint3D a(0.3, -0.4, 1.2);  // [m/s^2], |a| = 1.3
+	io::Trajectory parabola;
+	for (const double t : {0.0, 0.03, 0.07, 0.07, 0.1, 0.16, 0.2})
+		parabola.push_back({t, CPose3D(0.5 * a.x * t * t, 0.5 * a.y * t * t, 0.5 * a.z * t * t, 0, 0, 0)});
+	const auto accelerations = evaluation::cameraAcceleration(parabola);
+	ASSERT_EQ(accelerations.size(), 4u);
+	for (const double value : accelerations) EXPECT_NEAR(value, 1.3, 1e-9);
+
+	// The Bonn motion-capture path, moved rigidly and then shaken by 2 mm
+	// from one pose to the next: the first does not change its acceleration,
+	// the second adds about 4 * 2 mm / dt^2 to it.
+	const auto gt = bonnGroundTruth();
+	const CPose3D T(1.5, -2.0, 0.7, mrpt::DEG2RAD(40.0), mrpt::DEG2RAD(-15.0), mrpt::DEG2RAD(20.0));
+	io::Trajectory moved = gt, shaken = gt;
+	for (std::size_t k = 0; k < gt.size(); ++k)
+	{
+		moved[k].pose = T + gt[k].pose;
+		shaken[k].pose.x_incr(k % 2 ? 0.002 : -0.002);
+	}
+	const auto still = evaluation::evaluateTrajectory(moved, gt, {});
+	EXPECT_NEAR(still.acceleration.median, still.groundTruthAcceleration.median, 1e-6);
+	EXPECT_EQ(still.acceleration.count, gt.size() - 2);
+	// A hand-held camera: a fraction of g.
+	EXPECT_LT(still.groundTruthAcceleration.median, 2.0);
+	const double dt = (gt.back().timestamp - gt.front().timestamp) / double(gt.size() - 1);
+	const auto noisy = evaluation::evaluateTrajectory(shaken, gt, {});
+	EXPECT_GT(noisy.acceleration.median, 0.8 * 4 * 0.002 / (dt * dt)) << "mean time step " << dt << " s";
+	EXPECT_NEAR(noisy.groundTruthAcceleration.median, still.groundTruthAcceleration.median, 1e-9);
+}
+
 TEST(TrajectoryEvaluation, KnownDriftGivesItsRateAsRpe)
 {
 	// A straight 1 m/s path sampled at 30 Hz. One estimate drifts sideways at
@@ -150,6 +184,15 @@ TEST(AvmEval, ReportsOnFilesAndFailsOnBadInput)
 	EXPECT_EQ(ok, 0) << text;
 	EXPECT_NE(text.find("poses evaluated: 60"), std::string::npos) << text;
 	EXPECT_NE(text.find("ATE        rmse 0.0000"), std::string::npos) << text;
+	// The ground truth against itself: its acceleration line twice.
+	const auto lineAfter = [&](const std::string& label)
+	{
+		const auto at = text.find(label);
+		return at == std::string::npos ? std::string()
+									   : text.substr(at + label.size(), text.find('\n', at) - at - label.size());
+	};
+	EXPECT_FALSE(lineAfter("accel      rmse").empty()) << text;
+	EXPECT_EQ(lineAfter("accel      rmse"), lineAfter("accel gt   rmse")) << text;
 
 	const auto [bad, msg] = run((dir / "missing.txt").string() + " " + gtFile.string());
 	EXPECT_NE(bad, 0);

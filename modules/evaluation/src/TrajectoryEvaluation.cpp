@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <iomanip>
 #include <numeric>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -109,6 +110,31 @@ ErrorStatistics statisticsOf(std::vector<double> errors)
 	return s;
 }
 
+std::vector<double> cameraAcceleration(const io::Trajectory& poses)
+{
+	constexpr double kMinStep = 1e-3;  // [s]
+	const auto velocity = [&](std::size_t a, std::size_t b)
+	{
+		return (poses[b].pose.translation() - poses[a].pose.translation()) *
+			   (1.0 / (poses[b].timestamp - poses[a].timestamp));
+	};
+	std::vector<double> out;
+	std::optional<std::size_t> before;
+	std::size_t at = 0;
+	for (std::size_t next = 1; next < poses.size(); ++next)
+	{
+		if (poses[next].timestamp - poses[at].timestamp < kMinStep) continue;
+		if (before)
+		{
+			const double halfSpan = 0.5 * (poses[next].timestamp - poses[*before].timestamp);
+			out.push_back((velocity(at, next) - velocity(*before, at)).norm() / halfSpan);
+		}
+		before = at;
+		at = next;
+	}
+	return out;
+}
+
 TrajectoryErrors evaluateTrajectory(
 	const io::Trajectory& estimate, const io::Trajectory& groundTruth, const TEvaluationOptions& options)
 {
@@ -160,6 +186,15 @@ TrajectoryErrors evaluateTrajectory(
 	}
 	out.rpeTranslation = statisticsOf(std::move(rpeT));
 	out.rpeRotation = statisticsOf(std::move(rpeR));
+
+	io::Trajectory matchedEstimate, matchedTruth;
+	for (const auto& [i, j] : pairs)
+	{
+		matchedEstimate.push_back(range[i]);
+		matchedTruth.push_back(groundTruth[j]);
+	}
+	out.acceleration = statisticsOf(cameraAcceleration(matchedEstimate));
+	out.groundTruthAcceleration = statisticsOf(cameraAcceleration(matchedTruth));
 	return out;
 }
 
@@ -176,6 +211,8 @@ std::string formatReport(const TrajectoryErrors& e)
 	line("ATE       ", e.ate, "m", 4);
 	line("RPE trans ", e.rpeTranslation, "m/s", 4);
 	line("RPE rot   ", e.rpeRotation, "deg/s", 3);
+	line("accel     ", e.acceleration, "m/s^2", 3);
+	line("accel gt  ", e.groundTruthAcceleration, "m/s^2", 3);
 	return s.str();
 }
 }  // namespace avm::evaluation

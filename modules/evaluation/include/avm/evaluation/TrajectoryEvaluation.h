@@ -1,6 +1,10 @@
 // Accuracy of an estimated trajectory against ground truth: the absolute
 // trajectory error (ATE) after the best rigid (SE(3), Horn/Umeyama) alignment,
-// and the relative pose error (RPE) over a fixed time step, expressed per second.
+// and the relative pose error (RPE) over a fixed time step, expressed per second;
+// and how much the camera centre accelerates from pose to pose, in the estimate
+// and in the ground truth: a hand-held or robot camera moves smoothly, so an
+// estimate that accelerates far more than its ground truth is noisy from frame
+// to frame, whatever the calibration between the two (which RPE depends on).
 // Both trajectories are in the same frame convention (for avm: the camera
 // optical frame in the world, as TUM ground truth).
 #pragma once
@@ -45,6 +49,10 @@ struct TrajectoryErrors
 	ErrorStatistics ate;             //!< [m] position error after alignment
 	ErrorStatistics rpeTranslation;  //!< [m/s] relative translation error per second
 	ErrorStatistics rpeRotation;     //!< [deg/s] relative rotation error per second
+	/** [m/s^2] the estimated camera centre's acceleration at each matched
+	 *  pose between two others (cameraAcceleration), and the ground truth's
+	 *  at the same poses. */
+	ErrorStatistics acceleration, groundTruthAcceleration;
 	std::size_t matchedPairs = 0;    //!< estimated poses with a ground-truth match
 	std::size_t evaluatedPoses = 0;  //!< estimated poses in the frame range
 	/** The alignment applied to the estimate: gt ≈ alignment (+) estimate. */
@@ -69,10 +77,16 @@ struct PoseError
 };
 PoseError poseError(const mrpt::poses::CPose3D& estimate, const mrpt::poses::CPose3D& truth);
 
+/** [m/s^2] The camera centre's acceleration at each pose between two others:
+ *  |v(k, k+1) - v(k-1, k)| over half the time from pose k-1 to k+1, with v
+ *  the mean velocity between two poses. Poses closer in time than 1 ms are
+ *  skipped (a repeated timestamp says nothing of the motion). */
+std::vector<double> cameraAcceleration(const io::Trajectory& poses);
+
 /** Statistics of a list of errors (all zero for an empty list). */
 ErrorStatistics statisticsOf(std::vector<double> errors);
 
-/** ATE and RPE of `estimate` against `groundTruth`. Throws std::runtime_error
+/** ATE, RPE and accelerations of `estimate` against `groundTruth`. Throws std::runtime_error
  *  when fewer than 3 poses can be matched (nothing meaningful to align). */
 TrajectoryErrors evaluateTrajectory(
 	const io::Trajectory& estimate, const io::Trajectory& groundTruth, const TEvaluationOptions& options);
