@@ -7,8 +7,11 @@
 # the odometry: moving one keyframe moves every later pose, and the ATE of 300
 # frames shifts by tens of percent with it (doc/odometry.md, "More than one
 # sequence"). Prints a markdown table, the ATE RMSE [m] of each ini on each
-# sequence, the forward-backward end pose's error and sub300's frame-to-frame
-# error, and the commands that made it.
+# sequence, the forward-backward end pose's error, sub300's frame-to-frame
+# error and the median acceleration of its estimated camera (a hand-held
+# camera's is a fraction of g, the ground truth's is printed beside it: what
+# the estimate has beyond that is frame-to-frame noise, whatever the
+# calibration between camera and ground truth), and the commands that made it.
 # Usage: scripts/odometry-sequences.sh [INI...]   (default ini/default.ini)
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -76,11 +79,12 @@ header="| ini |" rule="|---|"
 rawlogs=(datasets/bonn_crowd_sub300.rawlog)
 for s in every2nd every2nd-odd every3rd forward-backward; do rawlogs+=("$out/$s.rawlog"); done
 for r in "${rawlogs[@]}"; do header+=" $(basename "$r" .rawlog) |"; rule+="---|"; done
-header+=" forward-backward end | bonn_crowd_sub300 frame to frame |" rule+="---|---|"
+header+=" forward-backward end | bonn_crowd_sub300 frame to frame | bonn_crowd_sub300 acceleration |"
+rule+="---|---|---|"
 rows=() commands=()
 bin=${build#"$root/"}/bin
 for ini in "${inis[@]}"; do
-  row="| $ini |" end= frameToFrame=
+  row="| $ini |" end= frameToFrame= acceleration=
   for rawlog in "${rawlogs[@]}"; do
     name=$(basename "$rawlog" .rawlog)
     trajectory=$out/$(basename "$ini" .ini)-$name.txt
@@ -92,7 +96,10 @@ for ini in "${inis[@]}"; do
     report=$("$bin/avm-eval" --rpe-delta 0.03 "$trajectory" "$ground")
     row+=" $(awk '$1 == "ATE" {print $3}' <<<"$report") |"
     case $name in
-      bonn_crowd_sub300) frameToFrame=$(awk '$1 == "RPE" && $2 == "trans" {print $4}' <<<"$report") ;;
+      bonn_crowd_sub300)
+        frameToFrame=$(awk '$1 == "RPE" && $2 == "trans" {print $4}' <<<"$report")
+        acceleration=$(awk '$1 == "accel" && $2 == "rmse" {print $7}' <<<"$report")
+        truthAcceleration=$(awk '$1 == "accel" && $2 == "gt" {print $8}' <<<"$report") ;;
       # Its last frame is frame 0 again, where the run started at the ground truth.
       forward-backward)
         end=$(awk 'FNR == NR { if (!/^#/ && !n++) split($0, start, " "); next } !/^#/ { split($0, p, " ") }
@@ -100,10 +107,11 @@ for ini in "${inis[@]}"; do
           "$ground" "$trajectory") ;;
     esac
   done
-  rows+=("$row $end | $frameToFrame |")
+  rows+=("$row $end | $frameToFrame | $acceleration |")
 done
 echo "ATE RMSE [m], SE(3)-aligned; forward-backward end: the last pose's distance from the ground truth [m]" \
-  "(not aligned); frame to frame: RPE RMSE over one frame (33.5 ms) [m/s];" \
+  "(not aligned); frame to frame: RPE RMSE over one frame (33.5 ms) [m/s]; acceleration: the median of the" \
+  "estimated camera centre's [m/s^2] (the ground truth's: ${truthAcceleration:-?});" \
   "$(date -u +%F), $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores"
 echo
 echo "$header"
