@@ -1,4 +1,4 @@
-// avm-eval: ATE (after SE(3) alignment) and RPE per second of a TUM trajectory
+// avm-eval: ATE (after SE(3) alignment), RPE per second and the camera's acceleration of a TUM trajectory
 // against a TUM ground truth.
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 
@@ -9,7 +9,8 @@
 
 int main(int argc, char** argv)
 {
-	return avm::io::runProgram("avm-eval", "ATE (SE(3)-aligned) and RPE of a TUM trajectory against TUM ground truth.",
+	return avm::io::runProgram("avm-eval",
+		"ATE (SE(3)-aligned), RPE and camera acceleration of a TUM trajectory against TUM ground truth.",
 		[&](avm::io::CommandLine& cmd)
 		{
 			TCLAP::UnlabeledValueArg<std::string> argEst(
