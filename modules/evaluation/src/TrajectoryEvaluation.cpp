@@ -153,9 +153,14 @@ TrajectoryErrors evaluateTrajectory(
 			"only " + std::to_string(pairs.size()) +
 			" estimated poses match a ground-truth timestamp (need 3; check --max-dt and the time base)");
 
+	// ATE, RPE and acceleration all read the matched poses, in pairs: the
+	// estimate's k-th with the ground truth's k-th.
+	io::Trajectory matchedEstimate, matchedTruth;
 	std::vector<mrpt::math::TPoint3D> est, gt;
 	for (const auto& [i, j] : pairs)
 	{
+		matchedEstimate.push_back(range[i]);
+		matchedTruth.push_back(groundTruth[j]);
 		est.push_back(range[i].pose.translation());
 		gt.push_back(groundTruth[j].pose.translation());
 	}
@@ -172,27 +177,20 @@ TrajectoryErrors evaluateTrajectory(
 	// RPE over pairs (k, l) with the first l whose time is >= t_k + delta; the
 	// error is divided by the actual time step so it reads per second.
 	std::vector<double> rpeT, rpeR;
-	for (std::size_t k = 0, l = 0; k < pairs.size(); ++k)
+	for (std::size_t k = 0, l = 0; k < matchedEstimate.size(); ++k)
 	{
-		const double tk = range[pairs[k].first].timestamp;
+		const double tk = matchedEstimate[k].timestamp;
 		l = std::max(l, k + 1);
-		while (l < pairs.size() && range[pairs[l].first].timestamp < tk + options.rpeDelta) ++l;
-		if (l >= pairs.size()) break;
-		const double dt = range[pairs[l].first].timestamp - tk;
-		const auto err = poseError(range[pairs[l].first].pose - range[pairs[k].first].pose,
-			groundTruth[pairs[l].second].pose - groundTruth[pairs[k].second].pose);
+		while (l < matchedEstimate.size() && matchedEstimate[l].timestamp < tk + options.rpeDelta) ++l;
+		if (l >= matchedEstimate.size()) break;
+		const double dt = matchedEstimate[l].timestamp - tk;
+		const auto err =
+			poseError(matchedEstimate[l].pose - matchedEstimate[k].pose, matchedTruth[l].pose - matchedTruth[k].pose);
 		rpeT.push_back(err.metres / dt);
 		rpeR.push_back(err.degrees / dt);
 	}
 	out.rpeTranslation = statisticsOf(std::move(rpeT));
 	out.rpeRotation = statisticsOf(std::move(rpeR));
-
-	io::Trajectory matchedEstimate, matchedTruth;
-	for (const auto& [i, j] : pairs)
-	{
-		matchedEstimate.push_back(range[i]);
-		matchedTruth.push_back(groundTruth[j]);
-	}
 	out.acceleration = statisticsOf(cameraAcceleration(matchedEstimate));
 	out.groundTruthAcceleration = statisticsOf(cameraAcceleration(matchedTruth));
 	return out;
