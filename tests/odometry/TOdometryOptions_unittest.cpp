@@ -26,7 +26,7 @@ TEST(TOdometryOptions, SaveAndLoadUseTheSameKeys)
 	EXPECT_DOUBLE_EQ(b.huber_delta, 1.5);
 	std::vector<std::string> keys;
 	cfg.getAllKeys("odometry", keys);
-	EXPECT_EQ(keys.size(), 44u);
+	EXPECT_EQ(keys.size(), 45u);
 }
 
 TEST(TOdometryOptions, BadValueNamesSectionAndKey)
@@ -45,6 +45,9 @@ TEST(TOdometryOptions, BadValueNamesSectionAndKey)
 	o = {};
 	o.max_depth = 0.1;
 	EXPECT_THROW(o.validate("odometry"), std::invalid_argument);
+	EXPECT_THROW(odometry::VisualOdometry{o}, std::invalid_argument);
+	o = {};
+	o.refine_rounds = 0;
 	EXPECT_THROW(odometry::VisualOdometry{o}, std::invalid_argument);
 	o = {};
 	o.pyramid_scale = 0.5;  // OpenCV would reject it too, but with its own message
@@ -77,6 +80,7 @@ TEST(TOdometryOptions, ProjectIniLoadsWithoutUnknownKeys)
 	EXPECT_TRUE(unknown.empty()) << unknown.front();
 	EXPECT_TRUE(tracked.keyframe_tracked_pose);
 	EXPECT_DOUBLE_EQ(tracked.motion_prior_sigma, 0.005);
+	EXPECT_EQ(tracked.refine_rounds, 4);
 
 	const auto dir = test::scratchDir("odometry-ini");
 	std::ofstream(dir / "typo.ini") << "[odometry]\nnum_featurs = 10\n";

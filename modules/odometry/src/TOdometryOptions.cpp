@@ -49,6 +49,10 @@ io::IniKeys<TOdometryOptions> TOdometryOptions::iniKeys()
 			{[](double v) { return v >= 0; }, "must be >= 0"})
 		.number("refine_iterations", &O::refine_iterations, "", "Ceres iterations of the per-frame refinement, 0 = off",
 			{[](int v) { return v >= 0; }, "must be >= 0"})
+		.number("refine_rounds", &O::refine_rounds, "",
+			"refinements of a frame's pose: the first from PnP RANSAC's inliers, each further one from the matches "
+			"within ransac_reprojection at the last refined pose",
+			{[](int v) { return v >= 1; }, "must be >= 1"})
 		.number("motion_prior_sigma", &O::motion_prior_sigma, "m",
 			"standard deviation of a tracked frame's camera centre about where the constant-velocity model puts it, "
 			"in the per-frame refinement; 0 = no prior. Needs keyframe_tracked_pose = true (else the prediction jumps "

@@ -74,10 +74,18 @@ std::optional<CeresBackend::RefinedPose> CeresBackend::refinePnp(const FrameFeat
 	const FeatureFrontend::PnpResult& pnp, const std::vector<Match>& matches, const LandmarkMap& landmarks,
 	const std::optional<CentrePrior>& prior) const
 {
-	RefinedPose r{pnp.T_cw, {}, 0};
-	refinePose(r.T_cw, observationsOf(f, pnp.inliers), landmarks, f.K, prior);
-	if (!r.T_cw.matrix().allFinite()) return std::nullopt;
-	r.inliers = inliersAt(r.T_cw, f, matches, landmarks, m_options.ransac_reprojection, r.squaredErrors);
+	RefinedPose r{pnp.T_cw, pnp.inliers, 0};
+	for (int round = 0; round < m_options.refine_rounds && !r.inliers.empty(); ++round)
+	{
+		refinePose(r.T_cw, observationsOf(f, r.inliers), landmarks, f.K, prior);
+		if (!r.T_cw.matrix().allFinite()) return std::nullopt;
+		auto inliers = inliersAt(r.T_cw, f, matches, landmarks, m_options.ransac_reprojection, r.squaredErrors);
+		// The same inliers again: the pose is already their refinement.
+		const bool settled = std::equal(inliers.begin(), inliers.end(), r.inliers.begin(), r.inliers.end(),
+			[](const Match& a, const Match& b) { return a.feature == b.feature && a.landmark == b.landmark; });
+		r.inliers = std::move(inliers);
+		if (settled) break;
+	}
 	return r;
 }
 

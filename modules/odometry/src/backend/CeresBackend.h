@@ -40,9 +40,10 @@ class CeresBackend
 		const io::DepthCamera& K, const std::optional<CentrePrior>& prior = std::nullopt) const;
 
 	/** The end of every pose against fixed points (tracking, relocalisation,
-	 *  a loop's measurement): PnP's pose refined from its inliers, and the
-	 *  matches that reproject within ransac_reprojection there. Nothing when
-	 *  the refinement diverged. */
+	 *  a loop's measurement): PnP's pose refined from its inliers, then
+	 *  refine_rounds - 1 times more from the matches that reproject within
+	 *  ransac_reprojection at the last refined pose; those matches at the
+	 *  end. Nothing when a refinement diverged. */
 	struct RefinedPose
 	{
 		Eigen::Isometry3d T_cw;

@@ -33,6 +33,12 @@ struct TOdometryOptions : public io::CIniKeyOptions<TOdometryOptions>
 	/** Weight of the depth residual fx*(z-d)/d [px] beside the reprojection error (0 = off). */
 	double depth_weight = 0.05;
 	int refine_iterations = 10;  //!< Ceres iterations of the per-frame pose refinement
+	/** Refinements of a frame's pose against fixed points. The first starts
+	 *  from PnP RANSAC's inliers, chosen at PnP's pose; each further one from
+	 *  the matches that reproject within ransac_reprojection at the last
+	 *  refined pose, a better one. With one round, a frame's pose swings by
+	 *  millimetres with the inliers RANSAC happened to pick. */
+	int refine_rounds = 1;
 	/** [m] Standard deviation of a tracked frame's camera centre about where
 	 *  the constant-velocity model puts it, in the per-frame refinement (0 =
 	 *  off): PnP alone gets the motion from one frame to the next wrong by
