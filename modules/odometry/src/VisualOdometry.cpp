@@ -1,5 +1,6 @@
 #include "avm/odometry/VisualOdometry.h"
 
+#include <mrpt/core/Clock.h>
 #include <mrpt/core/bits_math.h>
 #include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/CTimeLogger.h>
@@ -76,7 +77,7 @@ FrameImages imagesOf(const mrpt::obs::CObservation3DRangeScan& obs)
 }
 
 /** Layout version of the saveState stream; change it with the layout. */
-constexpr std::uint8_t stateVersion = 4;
+constexpr std::uint8_t stateVersion = 5;
 }  // namespace
 
 struct VisualOdometry::Impl
@@ -114,6 +115,7 @@ struct VisualOdometry::Impl
 	{
 		int keyframe = -1;
 		Eigen::Isometry3d T_cw;
+		double timestamp = 0;  //!< [s] the observation's
 	};
 	std::vector<FramePose> frames;
 	mrpt::system::CTimeLogger stageTimer{true, "avm odometry stages"};
@@ -138,6 +140,11 @@ struct VisualOdometry::Impl
 	void moveTo(const std::map<int, Eigen::Isometry3d>& poses, const Eigen::Isometry3d& newestPose);
 	/** The newest keyframe's features that a loop matched observe the place's points from now on. */
 	void joinPlace(const LoopMeasurement& loop);
+	/** The `count` frames before the newest, bridged while the track was
+	 *  lost, placed between the last tracked frame and the newest one,
+	 *  which found the track again: the camera went from the one to the
+	 *  other, the motion model only guessed where. */
+	void placeBridgedFrames(std::size_t count);
 	/** Drops the local map and starts a new one with this frame as its keyframe at T; the loss is over. */
 	void restartLocalMap(const FrameFeatures& f, const Eigen::Isometry3d& T);
 	OdometryEstimate lost(const FrameFeatures& f, const std::string& why);
@@ -201,6 +208,28 @@ OdometryEstimate VisualOdometry::Impl::lost(const FrameFeatures& f, const std::s
 	return e;
 }
 
+void VisualOdometry::Impl::placeBridgedFrames(std::size_t count)
+{
+	if (frames.size() < count + 2) return;
+	const FramePose& from = frames[frames.size() - count - 2];
+	const FramePose& to = frames.back();
+	const Eigen::Isometry3d T_wa = from.T_cw.inverse(), T_wb = to.T_cw.inverse();
+	const Eigen::Quaterniond qa(T_wa.rotation()), qb(T_wb.rotation());
+	const double span = to.timestamp - from.timestamp;
+	for (std::size_t k = 1; k <= count; ++k)
+	{
+		FramePose& frame = frames[frames.size() - count - 2 + k];
+		// By time where the stamps allow, else by frame count.
+		const double s = span > 0 && frame.timestamp > from.timestamp && frame.timestamp < to.timestamp
+							 ? (frame.timestamp - from.timestamp) / span
+							 : double(k) / double(count + 1);
+		Eigen::Isometry3d T_wc = Eigen::Isometry3d::Identity();
+		T_wc.linear() = qa.slerp(s, qb).toRotationMatrix();
+		T_wc.translation() = (1 - s) * T_wa.translation() + s * T_wb.translation();
+		frame.T_cw = T_wc.inverse();
+	}
+}
+
 void VisualOdometry::Impl::restartLocalMap(const FrameFeatures& f, const Eigen::Isometry3d& T)
 {
 	window.clear();
@@ -244,8 +273,14 @@ OdometryEstimate VisualOdometry::Impl::process(
 		return frontend.extract(
 			grey, depth, K, options.mask_people ? boxes : std::vector<cv::Rect>{}, reportFeatures ? &masked : nullptr);
 	}();
+	const std::size_t bridged = std::size_t(lostFrames);
 	auto e = track(f);
-	frames.push_back({window.empty() ? -1 : window.back().id, T_cw});
+	frames.push_back({window.empty() ? -1 : window.back().id, T_cw, mrpt::Clock::toDouble(obs.timestamp)});
+	if (e.tracked && bridged > 0)
+	{
+		placeBridgedFrames(bridged);
+		e.bridgedFramesPlaced = bridged;
+	}
 	if (reportFeatures)
 	{
 		cv::KeyPoint::convert(f.keypoints, e.features);
@@ -543,6 +578,7 @@ void VisualOdometry::Impl::saveState(mrpt::serialization::CArchive& out) const
 	{
 		out << std::int32_t(frame.keyframe);
 		writePose(out, frame.T_cw);
+		out << frame.timestamp;
 	}
 }
 
@@ -608,6 +644,7 @@ void VisualOdometry::Impl::loadState(mrpt::serialization::CArchive& in)
 		FramePose& frame = framePoses.emplace_back();
 		frame.keyframe = read<std::int32_t>(in);
 		frame.T_cw = readPose(in);
+		frame.timestamp = read<double>(in);
 		if (frame.keyframe < -1 || frame.keyframe >= nextKeyframe)
 			throw badState("corrupt odometry state (frame of keyframe " + std::to_string(frame.keyframe) + ")");
 	}

@@ -153,7 +153,7 @@ std::optional<CPose3D> FrameProcessor::estimatePose(const io::RgbdFrame& frame)
 		if (!m_lastEstimate.tracked)
 			m_log.logFmt(mrpt::system::LVL_WARN, "frame %zu: odometry lost (%s), pose bridged\n", frame.index,
 				m_lastEstimate.status.c_str());
-		if (m_lastEstimate.loopClosed) takeCorrectedTrajectory(frame.index);
+		if (m_lastEstimate.loopClosed || m_lastEstimate.bridgedFramesPlaced > 0) takeCorrectedTrajectory(frame.index);
 		pose = m_lastEstimate.pose;
 	}
 	if (!io::isFinite(pose))
@@ -173,11 +173,18 @@ void FrameProcessor::takeCorrectedTrajectory(std::size_t frameIndex)
 	if (corrected.size() != m_trajectory.size() + 1)
 	{
 		m_log.logFmt(mrpt::system::LVL_WARN,
-			"frame %zu: loop closed, but the odometry has %zu poses for %zu frames: trajectory left as it was\n",
+			"frame %zu: earlier poses moved, but the odometry has %zu poses for %zu frames: trajectory left as it "
+			"was\n",
 			frameIndex, corrected.size(), m_trajectory.size() + 1);
 		return;
 	}
 	for (std::size_t i = 0; i < m_trajectory.size(); ++i) m_trajectory[i].pose = corrected[i];
+	if (m_lastEstimate.bridgedFramesPlaced > 0)
+		m_log.logFmt(mrpt::system::LVL_INFO,
+			"frame %zu: odometry back after %zu lost frames, their poses placed between the last tracked one and "
+			"this one\n",
+			frameIndex, m_lastEstimate.bridgedFramesPlaced);
+	if (!m_lastEstimate.loopClosed) return;
 	++m_counts.loopsClosed;
 	m_log.logFmt(mrpt::system::LVL_INFO, "frame %zu: loop closed, the trajectory so far corrected\n", frameIndex);
 }

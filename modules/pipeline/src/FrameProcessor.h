@@ -157,7 +157,8 @@ class FrameProcessor
 	void applyDueDetections(std::size_t frameIndex);
 	// 2. Camera pose (optical frame in the world); nothing when not usable.
 	std::optional<mrpt::poses::CPose3D> estimatePose(const io::RgbdFrame& frame);
-	/** After the odometry closed a loop: the earlier poses as it corrected them. */
+	/** After the odometry closed a loop or placed the frames it bridged
+	 *  through a loss: the earlier poses as it has them now. */
 	void takeCorrectedTrajectory(std::size_t frameIndex);
 	// 3. Persons and their regions, once the previous frame is in the map.
 	void updatePersons();

@@ -53,6 +53,10 @@ struct OdometryEstimate
 	/** A loop closed at this frame and moved the poses of earlier frames:
 	 *  VisualOdometry::trajectory() has them. */
 	bool loopClosed = false;
+	/** The track came back at this frame after this many lost frames; their
+	 *  poses, bridged by the motion model at the time, are placed between
+	 *  the last tracked pose and this one in VisualOdometry::trajectory(). */
+	std::size_t bridgedFramesPlaced = 0;
 	/** The loop verified at this keyframe, whether it moved the poses or not. */
 	std::optional<LoopReport> loop;
 	std::size_t inliers = 0;      //!< matches consistent with the pose
