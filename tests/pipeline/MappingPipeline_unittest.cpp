@@ -2,9 +2,14 @@
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/containers/yaml.h>
+#include <mrpt/img/CImage.h>
+#include <mrpt/io/CFileOutputStream.h>
 #include <mrpt/io/vector_loadsave.h>
+#include <mrpt/obs/CObservationRobotPose.h>
 #include <mrpt/opengl/COpenGLScene.h>
+#include <mrpt/serialization/CArchive.h>
 #include <octomap/OcTree.h>
+#include <opencv2/core.hpp>
 
 #include <algorithm>
 #include <cstdio>
@@ -14,6 +19,7 @@
 
 #include "DefaultIni.h"
 #include "TestData.h"
+#include "avm/io/ProgramMain.h"
 #include "avm/io/RawlogFrameReader.h"
 #include "avm/io/RgbdFrame.h"
 #include "avm/io/Trajectory.h"
@@ -339,4 +345,83 @@ TEST(PipelineDeterminism, TheSameRawlogGivesTheSameRun)
 		EXPECT_GT(test::fileBytes(a / name).size(), 100u) << name;
 		EXPECT_EQ(test::fileBytes(a / name), test::fileBytes(b / name)) << name;
 	}
+}
+
+TEST(PipelineTrackingLoss, FramesBridgedThroughALossArePlacedBetweenItsEnds)
+{
+	// Bonn frames 0-119 with the lens covered on frames 60-66 (a grey image,
+	// no depth): the odometry loses the track there and finds it again at
+	// frame 67. The trajectory avm-map writes has the covered frames on the
+	// way from frame 59 to frame 67, still marked bridged.
+	constexpr std::size_t first = 60, last = 66, frames = 120;
+	const auto dir = test::scratchDir("pipeline-tracking-loss");
+	const auto rawlog = dir / "covered.rawlog";
+	fs::create_directory_symlink(io::imagesDirectoryOf(test::bonnRawlog()), dir / "covered_Images");
+	{
+		io::useImagesFolderOf(test::bonnRawlog());
+		io::RawlogFrameReader reader(test::bonnRawlog(), /*loadImages=*/false);
+		mrpt::io::CFileOutputStream file(rawlog.string());
+		auto out = mrpt::serialization::archiveFrom(file);
+		while (auto f = reader.next())
+		{
+			if (f->index >= frames) break;
+			auto obs = std::make_shared<mrpt::obs::CObservation3DRangeScan>(*f->observation);
+			if (f->index >= first && f->index <= last)
+			{
+				obs->load();
+				const cv::Mat grey(obs->intensityImage.getHeight(), obs->intensityImage.getWidth(), CV_8UC3,
+					cv::Scalar(128, 128, 128));
+				obs->intensityImage = mrpt::img::CImage(grey, mrpt::img::DEEP_COPY);
+				if (obs->rangeImage_isExternallyStored()) obs->rangeImage_forceResetExternalStorage();
+				obs->rangeImage.setZero();
+			}
+			out << *obs;
+			auto gt = mrpt::obs::CObservationRobotPose::Create();
+			gt->sensorLabel = "GROUND_TRUTH";
+			gt->timestamp = obs->timestamp;
+			gt->pose = mrpt::poses::CPose3DPDFGaussian(f->groundTruth.value());
+			out << *gt;
+		}
+	}
+	auto ini = test::defaultIni();
+	ini.write("pipeline", "picture_size", "0");
+	ini.write("pipeline", "checkpoint_interval_s", "0");
+	io::useImagesFolderOf(rawlog);
+	pipeline::MappingPipeline p(ini, AVM_SOURCE_DIR);
+	const auto out = dir / "run";
+	EXPECT_EQ(p.run(rawlog, out).frames, frames);
+
+	const auto trajectory = io::readTumTrajectory(out / "trajectory.txt");
+	ASSERT_EQ(trajectory.size(), frames);
+	std::istringstream status(test::fileBytes(out / "trajectory_status.txt"));
+	std::vector<int> tracked;
+	for (std::string line; std::getline(status, line);)
+	{
+		double timestamp = 0;
+		int t = -1;
+		if (!line.empty() && line[0] != '#' && std::sscanf(line.c_str(), "%lf %d", &timestamp, &t) == 2)
+			tracked.push_back(t);
+	}
+	ASSERT_EQ(tracked.size(), frames);
+	for (std::size_t i = 0; i < frames; ++i) EXPECT_EQ(tracked[i], i >= first && i <= last ? 0 : 1) << i;
+
+	const auto centre = [&](std::size_t i)
+	{
+		const auto& p = trajectory[i].pose;
+		return Eigen::Vector3d(p.x(), p.y(), p.z());
+	};
+	const Eigen::Vector3d from = centre(first - 1), to = centre(last + 1);
+	const Eigen::Vector3d step = to - from;
+	ASSERT_GT(step.norm(), 0.01) << "the camera moved during the cover";
+	double previous = 0;
+	for (std::size_t i = first; i <= last; ++i)
+	{
+		const Eigen::Vector3d d = centre(i) - from;
+		const double along = d.dot(step) / step.squaredNorm();
+		EXPECT_LT((d - along * step).norm(), 1e-4) << "frame " << i << " off the way from frame 59 to frame 67";
+		EXPECT_GT(along, previous) << i;
+		EXPECT_LT(along, 1.0) << i;
+		previous = along;
+	}
+	EXPECT_NE(test::fileBytes(out / "avm-map.log").find("odometry back after 7 lost frames"), std::string::npos);
 }

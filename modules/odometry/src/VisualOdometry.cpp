@@ -647,6 +647,7 @@ void VisualOdometry::Impl::loadState(mrpt::serialization::CArchive& in)
 		frame.timestamp = read<double>(in);
 		if (frame.keyframe < -1 || frame.keyframe >= nextKeyframe)
 			throw badState("corrupt odometry state (frame of keyframe " + std::to_string(frame.keyframe) + ")");
+		if (!std::isfinite(frame.timestamp)) throw badState("corrupt odometry state (frame timestamp)");
 	}
 	for (const auto& kf : keyframes)
 		if (kf.id < 0 || kf.id >= nextKeyframe)
