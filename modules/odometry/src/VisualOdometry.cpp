@@ -12,10 +12,12 @@
 #include <cstdint>
 #include <cstdio>
 #include <deque>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 
 #include "avm/io/RgbdFrame.h"
+#include "avm/io/Trajectory.h"
 #include "StateStream.h"
 #include "backend/CeresBackend.h"
 #include "frontend/FeatureFrontend.h"
@@ -142,8 +144,9 @@ struct VisualOdometry::Impl
 	void joinPlace(const LoopMeasurement& loop);
 	/** The `count` frames before the newest, bridged while the track was
 	 *  lost, placed between the last tracked frame and the newest one,
-	 *  which found the track again: the camera went from the one to the
-	 *  other, the motion model only guessed where. */
+	 *  which found the track again, by timestamp (io::interpolatePose): the
+	 *  camera went from the one to the other, the motion model only guessed
+	 *  where. A frame whose stamp is not between the two keeps its guess. */
 	void placeBridgedFrames(std::size_t count);
 	/** Drops the local map and starts a new one with this frame as its keyframe at T; the loss is over. */
 	void restartLocalMap(const FrameFeatures& f, const Eigen::Isometry3d& T);
@@ -213,21 +216,10 @@ void VisualOdometry::Impl::placeBridgedFrames(std::size_t count)
 	if (frames.size() < count + 2) return;
 	const FramePose& from = frames[frames.size() - count - 2];
 	const FramePose& to = frames.back();
-	const Eigen::Isometry3d T_wa = from.T_cw.inverse(), T_wb = to.T_cw.inverse();
-	const Eigen::Quaterniond qa(T_wa.rotation()), qb(T_wb.rotation());
-	const double span = to.timestamp - from.timestamp;
-	for (std::size_t k = 1; k <= count; ++k)
-	{
-		FramePose& frame = frames[frames.size() - count - 2 + k];
-		// By time where the stamps allow, else by frame count.
-		const double s = span > 0 && frame.timestamp > from.timestamp && frame.timestamp < to.timestamp
-							 ? (frame.timestamp - from.timestamp) / span
-							 : double(k) / double(count + 1);
-		Eigen::Isometry3d T_wc = Eigen::Isometry3d::Identity();
-		T_wc.linear() = qa.slerp(s, qb).toRotationMatrix();
-		T_wc.translation() = (1 - s) * T_wa.translation() + s * T_wb.translation();
-		frame.T_cw = T_wc.inverse();
-	}
+	const io::Trajectory ends{{from.timestamp, toPose(from.T_cw.inverse())}, {to.timestamp, toPose(to.T_cw.inverse())}};
+	for (std::size_t k = frames.size() - count - 1; k + 1 < frames.size(); ++k)
+		if (const auto pose = io::interpolatePose(ends, frames[k].timestamp, std::numeric_limits<double>::infinity()))
+			frames[k].T_cw = toIsometry(*pose).inverse();
 }
 
 void VisualOdometry::Impl::restartLocalMap(const FrameFeatures& f, const Eigen::Isometry3d& T)
