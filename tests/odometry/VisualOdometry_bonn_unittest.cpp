@@ -14,6 +14,7 @@
 #include <mrpt/img/CImage.h>
 #include <opencv2/imgproc.hpp>
 
+#include "CoveredLens.h"
 #include "TestData.h"
 #include "avm/detection/Detector.h"
 #include "avm/evaluation/TrajectoryEvaluation.h"
@@ -144,14 +145,6 @@ ForwardBackward playForwardBackward(const odometry::TOdometryOptions& opt)
 	const auto endPose = vo->trajectory().back();
 	out.endError = (endPose.translation() - start->translation()).norm();
 	return out;
-}
-
-/** The lens covered: no depth and a uniform grey image. */
-void coverLens(mrpt::obs::CObservation3DRangeScan& obs)
-{
-	const cv::Mat grey(io::colourImage(obs).size(), CV_8UC3, cv::Scalar(128, 128, 128));
-	obs.intensityImage = mrpt::img::CImage(grey, mrpt::img::DEEP_COPY);
-	obs.rangeImage.setZero();
 }
 
 /** Motion blur of someone passing right in front of the lens: the colour
@@ -290,7 +283,7 @@ TEST(VisualOdometryBonn, LensCoveredForElevenFramesIsReportedAndRelocalised)
 {
 	constexpr std::size_t first = 150, last = 160;
 	io::Trajectory covered;
-	const auto estimates = runBonnSpoilt(first, last, coverLens, covered);
+	const auto estimates = runBonnSpoilt(first, last, test::coverLens, covered);
 	ASSERT_EQ(estimates.size(), 300u);
 	for (std::size_t i = first; i <= last; ++i)
 	{

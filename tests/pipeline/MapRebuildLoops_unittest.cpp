@@ -4,7 +4,6 @@
 // checkpoint tests; two runs of 599 frames take minutes there).
 #include <gtest/gtest.h>
 #include <mrpt/io/CFileOutputStream.h>
-#include <mrpt/obs/CObservationRobotPose.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <iostream>
@@ -42,15 +41,9 @@ fs::path writeForwardBackwardRawlog(const fs::path& dir, std::size_t last)
 	auto out = mrpt::serialization::archiveFrom(file);
 	for (std::size_t i = 0; i < order.size(); ++i)
 	{
-		const auto stamp = mrpt::Clock::fromDouble(t0 + double(i) * dt);
-		auto obs = std::make_shared<mrpt::obs::CObservation3DRangeScan>(*order[i]->observation);
-		obs->timestamp = stamp;
-		out << *obs;
-		auto gt = mrpt::obs::CObservationRobotPose::Create();
-		gt->sensorLabel = "GROUND_TRUTH";
-		gt->timestamp = stamp;
-		gt->pose = mrpt::poses::CPose3DPDFGaussian(order[i]->groundTruth.value());
-		out << *gt;
+		auto obs = *order[i]->observation;
+		obs.timestamp = mrpt::Clock::fromDouble(t0 + double(i) * dt);
+		io::writeFrame(out, obs, order[i]->groundTruth.value());
 	}
 	return rawlog;
 }

@@ -159,4 +159,15 @@ std::size_t countFrames(const fs::path& rawlog)
 	while (reader.next()) ++n;
 	return n;
 }
+void writeFrame(mrpt::serialization::CArchive& out, const mrpt::obs::CObservation3DRangeScan& observation,
+	const std::optional<mrpt::poses::CPose3D>& groundTruth)
+{
+	out << observation;
+	if (!groundTruth) return;
+	auto gt = mrpt::obs::CObservationRobotPose::Create();
+	gt->sensorLabel = "GROUND_TRUTH";
+	gt->timestamp = observation.timestamp;
+	gt->pose = mrpt::poses::CPose3DPDFGaussian(*groundTruth);
+	out << *gt;
+}
 }  // namespace avm::io

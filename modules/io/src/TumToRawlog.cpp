@@ -4,7 +4,6 @@
 #include <mrpt/io/CFileOutputStream.h>
 #include <mrpt/math/CMatrixFixed.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
-#include <mrpt/obs/CObservationRobotPose.h>
 #include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/datetime.h>
 
@@ -14,6 +13,7 @@
 #include <stdexcept>
 
 #include "avm/io/AtomicFile.h"
+#include "avm/io/RawlogFrameReader.h"
 #include "avm/io/RgbdFrame.h"
 #include "avm/io/Trajectory.h"
 
@@ -195,7 +195,7 @@ TumConversionSummary convertTumToRawlog(const fs::path& dir, const fs::path& out
 				for (std::size_t i = 0; i < pairs.size(); ++i)
 				{
 					auto obs = makeObservation(pairs[i], dir, opt, partialImages);
-					out << *obs;
+					std::optional<mrpt::poses::CPose3D> camera;
 					if (groundTruth)
 					{
 						const double t = pairs[i].depth.timestamp;
@@ -215,14 +215,10 @@ TumConversionSummary convertTumToRawlog(const fs::path& dir, const fs::path& out
 											   "truth"
 										 : std::string("a gap in the ground truth around it")));
 						}
-						const mrpt::poses::CPose3D camera = *body + opt.groundTruthBodyToCamera;
-						auto gt = mrpt::obs::CObservationRobotPose::Create();
-						gt->sensorLabel = "GROUND_TRUTH";
-						gt->timestamp = obs->timestamp;
-						gt->pose = mrpt::poses::CPose3DPDFGaussian(camera);
-						out << *gt;
-						cameraTrajectory.push_back({t, camera});
+						camera = *body + opt.groundTruthBodyToCamera;
+						cameraTrajectory.push_back({t, *camera});
 					}
+					writeFrame(out, *obs, camera);
 					if (progress) progress(i + 1, pairs.size());
 				}
 			});

@@ -5,6 +5,9 @@
 #pragma once
 
 #include <mrpt/obs/CObservation.h>
+#include <mrpt/obs/CObservation3DRangeScan.h>
+#include <mrpt/poses/CPose3D.h>
+#include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/COutputLogger.h>
 
 #include <deque>
@@ -67,6 +70,12 @@ class RawlogFrameReader : public mrpt::system::COutputLogger
  *  `_IMAGES` or `Images` beside it, the names MRPT's
  *  CRawlog::detectImagesDirectory tries (`<name>_Images` when none exists). */
 std::filesystem::path imagesDirectoryOf(const std::filesystem::path& rawlog);
+
+/** Appends a frame to a rawlog as RawlogFrameReader reads it back: the
+ *  observation, then its ground-truth camera pose, if any, as a
+ *  CObservationRobotPose labelled GROUND_TRUTH with the same timestamp. */
+void writeFrame(mrpt::serialization::CArchive& out, const mrpt::obs::CObservation3DRangeScan& observation,
+	const std::optional<mrpt::poses::CPose3D>& groundTruth);
 
 /** Number of RGB-D frames in a rawlog (reads it through, images not loaded). */
 std::size_t countFrames(const std::filesystem::path& rawlog);
