@@ -12,17 +12,23 @@
 # camera's is a fraction of g, the ground truth's is printed beside it: what
 # the estimate has beyond that is frame-to-frame noise, whatever the
 # calibration between camera and ground truth), and the commands that made it.
-# Usage: scripts/odometry-sequences.sh [INI...]   (default ini/default.ini)
+# With --pipeline, each ini runs the main job instead, `avm-map -c INI`
+# (odometry, person detection and the map; person boxes reach the odometry a
+# fixed lag after their frame, where avm-odometry detects in every frame), and
+# its trajectory.txt is evaluated the same way.
+# Usage: scripts/odometry-sequences.sh [--pipeline] [INI...]   (default ini/default.ini)
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${AVM_BUILD_DIR:-$root/build}
 out=output/odometry-sequences  # relative to the root, as the printed commands are
 work=$root/$out
+pipeline=
+if [ "${1:-}" = --pipeline ]; then pipeline=--pipeline; shift; fi
 inis=("$@")
 [ ${#inis[@]} -gt 0 ] || inis=(ini/default.ini)
 
 source "$root/scripts/prepare.sh"
-avm_prepare "$build" -DCMAKE_BUILD_TYPE=Release avm-odometry-app avm-eval >&2
+avm_prepare "$build" -DCMAKE_BUILD_TYPE=Release avm-odometry-app avm-map avm-eval >&2
 dataset=$root/datasets/bonn_crowd_sub300
 truth=$root/datasets/bonn_crowd_sub300_groundtruth.txt  # the camera's, one pose a frame
 
@@ -90,12 +96,20 @@ for ini in "${inis[@]}"; do
   row="| $ini |" end= frameToFrame= acceleration=
   for rawlog in "${rawlogs[@]}"; do
     name=$(basename "$rawlog" .rawlog)
-    trajectory=$out/$(basename "$ini" .ini)-$name.txt
     ground=${rawlog%.rawlog}_groundtruth.txt
-    "$bin/avm-odometry" -c "$ini" "$rawlog" "$trajectory" >/dev/null
+    if [ -n "$pipeline" ]; then
+      run=$out/pipeline-$(basename "$ini" .ini)-$name
+      trajectory=$run/trajectory.txt
+      commands+=("$bin/avm-map -q -c $ini -r $rawlog -o $run")
+      "$bin/avm-map" -q -c "$ini" -r "$rawlog" -o "$run" >/dev/null
+    else
+      trajectory=$out/$(basename "$ini" .ini)-$name.txt
+      commands+=("$bin/avm-odometry -c $ini $rawlog $trajectory")
+      "$bin/avm-odometry" -c "$ini" "$rawlog" "$trajectory" >/dev/null
+    fi
     # One avm-eval a run: the ATE does not depend on the RPE's time step, and
     # 0.03 s makes the RPE the error from one frame to the next.
-    commands+=("$bin/avm-odometry -c $ini $rawlog $trajectory" "$bin/avm-eval --rpe-delta 0.03 $trajectory $ground")
+    commands+=("$bin/avm-eval --rpe-delta 0.03 $trajectory $ground")
     report=$("$bin/avm-eval" --rpe-delta 0.03 "$trajectory" "$ground")
     row+=" $(awk '$1 == "ATE" {print $3}' <<<"$report") |"
     case $name in
@@ -111,7 +125,8 @@ for ini in "${inis[@]}"; do
   done
   rows+=("$row $end | $frameToFrame | $acceleration |")
 done
-echo "ATE RMSE [m], SE(3)-aligned; forward-backward end: the last pose's distance from the ground truth [m]" \
+echo "$([ -n "$pipeline" ] && echo "avm-map (the main job)" || echo avm-odometry):" \
+  "ATE RMSE [m], SE(3)-aligned; forward-backward end: the last pose's distance from the ground truth [m]" \
   "(not aligned); frame to frame: RPE RMSE over one frame (33.5 ms) [m/s]; acceleration: the median of the" \
   "estimated camera centre's [m/s^2] (the ground truth's: $truthAcceleration);" \
   "$(date -u +%F), $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores"
@@ -121,6 +136,6 @@ echo "$rule"
 printf '%s\n' "${rows[@]}"
 echo
 echo '```'
-echo "scripts/odometry-sequences.sh ${inis[*]}"
+echo "scripts/odometry-sequences.sh $pipeline${pipeline:+ }${inis[*]}"
 printf '%s\n' "${commands[@]}"
 echo '```'
