@@ -394,7 +394,9 @@ TEST(PipelineTrackingLoss, FramesBridgedThroughALossArePlacedBetweenItsEnds)
 	};
 	const Eigen::Vector3d from = centre(first - 1), to = centre(last + 1);
 	const Eigen::Vector3d step = to - from;
-	ASSERT_GT(step.norm(), 0.01) << "the camera moved during the cover";
+	// A step well above the 0.1 mm asked of the frames between gives the way a
+	// direction (the ground truth moves 14 mm).
+	ASSERT_GT(step.norm(), 0.005) << "the camera moved during the cover";
 	double previous = 0;
 	for (std::size_t i = first; i <= last; ++i)
 	{
