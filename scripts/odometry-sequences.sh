@@ -22,13 +22,14 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${AVM_BUILD_DIR:-$root/build}
 out=output/odometry-sequences  # relative to the root, as the printed commands are
 work=$root/$out
-pipeline=
-if [ "${1:-}" = --pipeline ]; then pipeline=--pipeline; shift; fi
+# The program each ini runs: its build target and how the caption names it.
+pipeline= target=avm-odometry-app program=avm-odometry
+if [ "${1:-}" = --pipeline ]; then pipeline=--pipeline target=avm-map program="avm-map (the main job)"; shift; fi
 inis=("$@")
 [ ${#inis[@]} -gt 0 ] || inis=(ini/default.ini)
 
 source "$root/scripts/prepare.sh"
-avm_prepare "$build" -DCMAKE_BUILD_TYPE=Release avm-odometry-app avm-map avm-eval >&2
+avm_prepare "$build" -DCMAKE_BUILD_TYPE=Release "$target" avm-eval >&2
 dataset=$root/datasets/bonn_crowd_sub300
 truth=$root/datasets/bonn_crowd_sub300_groundtruth.txt  # the camera's, one pose a frame
 
@@ -98,19 +99,18 @@ for ini in "${inis[@]}"; do
     name=$(basename "$rawlog" .rawlog)
     ground=${rawlog%.rawlog}_groundtruth.txt
     if [ -n "$pipeline" ]; then
-      run=$out/pipeline-$(basename "$ini" .ini)-$name
-      trajectory=$run/trajectory.txt
-      commands+=("$bin/avm-map -q -c $ini -r $rawlog -o $run")
-      "$bin/avm-map" -q -c "$ini" -r "$rawlog" -o "$run" >/dev/null
+      trajectory=$out/pipeline-$(basename "$ini" .ini)-$name/trajectory.txt
+      run=("$bin/avm-map" -q -c "$ini" -r "$rawlog" -o "$(dirname "$trajectory")")
     else
       trajectory=$out/$(basename "$ini" .ini)-$name.txt
-      commands+=("$bin/avm-odometry -c $ini $rawlog $trajectory")
-      "$bin/avm-odometry" -c "$ini" "$rawlog" "$trajectory" >/dev/null
+      run=("$bin/avm-odometry" -c "$ini" "$rawlog" "$trajectory")
     fi
     # One avm-eval a run: the ATE does not depend on the RPE's time step, and
     # 0.03 s makes the RPE the error from one frame to the next.
-    commands+=("$bin/avm-eval --rpe-delta 0.03 $trajectory $ground")
-    report=$("$bin/avm-eval" --rpe-delta 0.03 "$trajectory" "$ground")
+    evaluate=("$bin/avm-eval" --rpe-delta 0.03 "$trajectory" "$ground")
+    commands+=("${run[*]}" "${evaluate[*]}")
+    "${run[@]}" >/dev/null
+    report=$("${evaluate[@]}")
     row+=" $(awk '$1 == "ATE" {print $3}' <<<"$report") |"
     case $name in
       bonn_crowd_sub300)
@@ -125,7 +125,7 @@ for ini in "${inis[@]}"; do
   done
   rows+=("$row $end | $frameToFrame | $acceleration |")
 done
-echo "$([ -n "$pipeline" ] && echo "avm-map (the main job)" || echo avm-odometry):" \
+echo "$program:" \
   "ATE RMSE [m], SE(3)-aligned; forward-backward end: the last pose's distance from the ground truth [m]" \
   "(not aligned); frame to frame: RPE RMSE over one frame (33.5 ms) [m/s]; acceleration: the median of the" \
   "estimated camera centre's [m/s^2] (the ground truth's: $truthAcceleration);" \
