@@ -189,6 +189,12 @@ TrajectoryErrors evaluateTrajectory(
 		rpeT.push_back(err.metres / dt);
 		rpeR.push_back(err.degrees / dt);
 	}
+	std::vector<double> stepErrors;
+	for (std::size_t k = 1; k < matchedEstimate.size(); ++k)
+		stepErrors.push_back(poseError(
+			matchedEstimate[k].pose - matchedEstimate[k - 1].pose, matchedTruth[k].pose - matchedTruth[k - 1].pose)
+								 .metres);
+	out.frameToFrame = statisticsOf(std::move(stepErrors));
 	out.rpeTranslation = statisticsOf(std::move(rpeT));
 	out.rpeRotation = statisticsOf(std::move(rpeR));
 	out.acceleration = statisticsOf(cameraAcceleration(matchedEstimate));
@@ -209,6 +215,7 @@ std::string formatReport(const TrajectoryErrors& e)
 	line("ATE       ", e.ate, "m", 4);
 	line("RPE trans ", e.rpeTranslation, "m/s", 4);
 	line("RPE rot   ", e.rpeRotation, "deg/s", 3);
+	line("step trans", e.frameToFrame, "m", 4);
 	line("accel     ", e.acceleration, "m/s^2", 3);
 	line("accel gt  ", e.groundTruthAcceleration, "m/s^2", 3);
 	return s.str();

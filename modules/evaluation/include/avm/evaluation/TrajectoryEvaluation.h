@@ -49,6 +49,10 @@ struct TrajectoryErrors
 	ErrorStatistics ate;             //!< [m] position error after alignment
 	ErrorStatistics rpeTranslation;  //!< [m/s] relative translation error per second
 	ErrorStatistics rpeRotation;     //!< [deg/s] relative rotation error per second
+	/** [m] The translation error of the motion from each matched pose to the
+	 *  next: a jump of the estimate shows here at its full size, where the
+	 *  RPE per second averages it with the frames around it. */
+	ErrorStatistics frameToFrame;
 	/** [m/s^2] the estimated camera centre's acceleration at each matched
 	 *  pose between two others (cameraAcceleration), and the ground truth's
 	 *  at the same poses. */
