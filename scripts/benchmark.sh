@@ -4,7 +4,10 @@
 # setting of the default against its alternative (detector input, read-ahead,
 # mapping thread, a gzip rawlog with PNG colour), and a long run (the sequence
 # replayed 10 times, 3000 frames, ground-truth poses), written to
-# doc/performance.md with the commands and the machine.
+# doc/performance.md with the commands and the machine. Where the whole
+# rgbd_bonn_crowd is in datasets/ (scripts/get-data.sh --whole-sequence), also
+# avm-map on it on one core (taskset -c 0), twice, and whether the two
+# trajectories are the same bytes.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${AVM_BUILD_DIR:-$root/build}
@@ -110,6 +113,37 @@ tmp=$(mktemp "$root/doc/.performance.XXXX")
   echo
   run every-frame --set pipeline:detect_every_n=1 --set pipeline:async_detection=false
   echo
+  if [ -f "$root/datasets/rgbd_bonn_crowd/rgb.txt" ]; then
+    [ -f "$root/datasets/rgbd_bonn_crowd.rawlog" ] ||
+      "$build/bin/avm-tum2rawlog" -q --camera bonn --gt-body bonn --embed-images --compression 0 --trim-to-ground-truth \
+        "$root/datasets/rgbd_bonn_crowd" "$root/datasets/rgbd_bonn_crowd.rawlog" >/dev/null
+    echo "## The whole sequence on one core"
+    echo
+    echo "All 926 frames of \`rgbd_bonn_crowd\` that the ground truth covers, every thread of avm-map on the first core (\`taskset -c 0\`), twice. Targets: at least 30 frames per second, odometry at most 20 ms a frame, and the two runs' trajectories the same bytes:"
+    echo
+    for i in 1 2; do
+      map_command "whole-one-core-$i" --rawlog datasets/rgbd_bonn_crowd.rawlog
+      cmd=(taskset -c 0 "${cmd[@]}")
+      echo "\`\`\`"
+      echo "${cmd[*]}"
+      (cd "$root" && "${cmd[@]}" | grep -vE '^ done\.$|^outputs in')
+      echo "\`\`\`"
+    done
+    echo
+    echo "| run | fps | odometry [ms a frame] | CPU [ms a frame, all threads] | odometry ATE RMSE [m] |"
+    echo "|---|---:|---:|---:|---:|"
+    for i in 1 2; do
+      r=whole-one-core-$i
+      echo "| $r | $(field "$r" fps | awk '{printf "%.1f", $1}') | $(stage "$r" odometry) | $(field "$r" cpu_ms_per_frame | awk '{printf "%.1f", $1}') | $(field "$r" odometry_ate_rmse_m | awk '{printf "%.4f", $1}') |"
+    done
+    echo
+    if cmp -s "$out/whole-one-core-1/trajectory.txt" "$out/whole-one-core-2/trajectory.txt"; then
+      echo "\`cmp output/benchmark/whole-one-core-1/trajectory.txt output/benchmark/whole-one-core-2/trajectory.txt\`: the same bytes."
+    else
+      echo "\`cmp output/benchmark/whole-one-core-1/trajectory.txt output/benchmark/whole-one-core-2/trajectory.txt\`: **the two trajectories differ**."
+    fi
+    echo
+  fi
   echo "## Long run: the sequence 10 times in one process (3000 frames), ground-truth poses"
   echo
   echo "Peak memory after each replay is in \`output/benchmark/long-run/stats.json\` (\`peak_memory_mb_per_replay\`):"

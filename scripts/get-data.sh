@@ -5,9 +5,20 @@
 #   DEST/models/yolox_nano.onnx  YOLOX-Nano (COCO), the default person detector
 # From ../shared when it is there (linked, not copied); otherwise downloaded from
 # the public sources and checked against the checksums in datasets/*.sha256.
+# With --whole-sequence, also the whole "rgbd_bonn_crowd" (928 colour, 927 depth
+# frames, 31 s; the benchmark of doc/odometry.md):
+#   DEST/rgbd_bonn_crowd/        a link to FOLDER when one is given (a TUM-layout
+#                                folder with rgb.txt, depth.txt, groundtruth.txt),
+#                                otherwise downloaded from the Bonn site.
+# Usage: scripts/get-data.sh [--whole-sequence[=FOLDER]] [DEST]
 set -euo pipefail
 
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+whole= whole_from=
+case "${1:-}" in
+  --whole-sequence) whole=1; shift ;;
+  --whole-sequence=*) whole=1 whole_from=${1#--whole-sequence=}; shift ;;
+esac
 dest=${1:-$root/datasets}
 shared=${AVM_SHARED_DIR:-$root/../shared}
 bonn_url=${AVM_BONN_URL:-https://www.ipb.uni-bonn.de/html/projects/rgbd_dynamic2019/rgbd_bonn_crowd.zip}
@@ -28,6 +39,37 @@ verify() {  # verify MANIFEST DIR
   (cd "$2" && sha256sum --quiet -c "$1") || die "checksum mismatch in $2 (against $1)"
 }
 
+# download_sequence DIR: the whole rgbd_bonn_crowd from the Bonn site, unpacked into DIR.
+download_sequence() {
+  command -v unzip >/dev/null || die "unzip is needed to unpack $bonn_url (apt-get install unzip)"
+  mkdir -p "$1"
+  echo "get-data: downloading $bonn_url"
+  fetch "$bonn_url" "$1/seq.zip" || die "the download of $bonn_url failed (no network? give the unpacked folder: --whole-sequence=FOLDER)"
+  unzip -q "$1/seq.zip" -d "$1/unpacked"
+  rm "$1/seq.zip"
+  local found; found=$(dirname "$(find "$1/unpacked" -name rgb.txt | head -n1)")
+  [ -f "$found/rgb.txt" ] || die "$bonn_url: no rgb.txt inside"
+  mv "$found"/* "$1/" && rm -rf "$1/unpacked"
+}
+
+# The whole sequence: linked from the folder given, or downloaded.
+get_whole_sequence() {
+  local out=$dest/rgbd_bonn_crowd
+  if [ -n "$whole_from" ]; then
+    for f in rgb.txt depth.txt groundtruth.txt; do [ -f "$whole_from/$f" ] || die "$whole_from: no $f (not a TUM-layout folder)"; done
+    ln -sfn "$(cd "$whole_from" && pwd)" "$out"
+    echo "get-data: whole sequence linked from $whole_from"
+    return 0
+  fi
+  [ -f "$out/rgb.txt" ] && return 0
+  local tmp; tmp=$(mktemp -d "$dest/.bonn-whole.XXXX")
+  trap 'rm -rf "$tmp"' EXIT
+  download_sequence "$tmp"
+  mv "$tmp" "$out"
+  trap - EXIT
+  echo "get-data: whole sequence downloaded into $out"
+}
+
 get_dataset() {
   local out=$dest/bonn_crowd_sub300
   [ -e "$out/associations.txt" ] || [ -e "$out/rgb.txt" ] && return 0
@@ -36,14 +78,10 @@ get_dataset() {
     echo "get-data: dataset linked from $shared/datasets/bonn_crowd_sub300"
     return 0
   fi
-  command -v unzip >/dev/null || die "unzip is needed to unpack $bonn_url (apt-get install unzip)"
   local tmp; tmp=$(mktemp -d "$dest/.bonn.XXXX")
   trap 'rm -rf "$tmp"' RETURN
-  echo "get-data: downloading $bonn_url"
-  fetch "$bonn_url" "$tmp/seq.zip" || die "no ../shared and the download of $bonn_url failed"
-  unzip -q "$tmp/seq.zip" -d "$tmp/src"
-  local src; src=$(dirname "$(find "$tmp/src" -name rgb.txt | head -n1)")
-  [ -f "$src/rgb.txt" ] || die "$bonn_url: no rgb.txt inside"
+  local src=$dest/rgbd_bonn_crowd
+  [ -f "$src/rgb.txt" ] || { download_sequence "$tmp/src"; src=$tmp/src; }
   local part=$tmp/bonn_crowd_sub300
   mkdir -p "$part/rgb" "$part/depth"
   while read -r _ file; do cp "$src/$file" "$part/$file"; done < "$root/datasets/bonn_crowd_sub300.sha256"
@@ -78,5 +116,6 @@ get_model() {
   echo "get-data: model downloaded and verified into $out"
 }
 
+[ -z "$whole" ] || get_whole_sequence
 get_dataset
 get_model

@@ -16,6 +16,9 @@
 # (odometry, person detection and the map; person boxes reach the odometry a
 # fixed lag after their frame, where avm-odometry detects in every frame), and
 # its trajectory.txt is evaluated the same way.
+# Where the whole rgbd_bonn_crowd is in datasets/ (scripts/get-data.sh
+# --whole-sequence), it is a sixth sequence (926 frames, 31 s; made into
+# datasets/rgbd_bonn_crowd.rawlog once), with its largest frame-to-frame error.
 # Usage: scripts/odometry-sequences.sh [--pipeline] [INI...]   (default ini/default.ini)
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -80,21 +83,29 @@ sequence every2nd bonn every 2 0
 sequence every2nd-odd bonn every 2 1
 sequence every3rd bonn every 3 0
 sequence forward-backward none forward_backward
+# The whole sequence: its first frame is before the ground truth starts.
+whole=$root/datasets/rgbd_bonn_crowd
+if [ -f "$whole/rgb.txt" ] && [ ! -f "$whole.rawlog" ]; then
+  "$build/bin/avm-tum2rawlog" -q --camera bonn --gt-body bonn --embed-images --compression 0 --trim-to-ground-truth \
+    "$whole" "$whole.rawlog" >&2
+fi
 
 cd "$root"
 header="| ini |" rule="|---|"
 rawlogs=(datasets/bonn_crowd_sub300.rawlog)
 for s in every2nd every2nd-odd every3rd forward-backward; do rawlogs+=("$out/$s.rawlog"); done
+[ -f "$whole.rawlog" ] && rawlogs+=(datasets/rgbd_bonn_crowd.rawlog)
 for r in "${rawlogs[@]}"; do header+=" $(basename "$r" .rawlog) |"; rule+="---|"; done
 header+=" forward-backward end | bonn_crowd_sub300 frame to frame | bonn_crowd_sub300 acceleration |"
 rule+="---|---|---|"
+if [ -f "$whole.rawlog" ]; then header+=" rgbd_bonn_crowd largest step |"; rule+="---|"; fi
 rows=() commands=()
 bin=${build#"$root/"}/bin
 # The true camera's acceleration, for the caption: the ground truth against itself.
 commands+=("$bin/avm-eval ${truth#"$root/"} ${truth#"$root/"}")
 truthAcceleration=$("$bin/avm-eval" "$truth" "$truth" | awk '$1 == "accel" && $2 == "rmse" {print $7}')
 for ini in "${inis[@]}"; do
-  row="| $ini |" end= frameToFrame= acceleration=
+  row="| $ini |" end= frameToFrame= acceleration= largestStep=
   for rawlog in "${rawlogs[@]}"; do
     name=$(basename "$rawlog" .rawlog)
     ground=${rawlog%.rawlog}_groundtruth.txt
@@ -116,6 +127,7 @@ for ini in "${inis[@]}"; do
       bonn_crowd_sub300)
         frameToFrame=$(awk '$1 == "RPE" && $2 == "trans" {print $4}' <<<"$report")
         acceleration=$(awk '$1 == "accel" && $2 == "rmse" {print $7}' <<<"$report") ;;
+      rgbd_bonn_crowd) largestStep=" $(awk '$1 == "step" {print $10}' <<<"$report") |" ;;
       # Its last frame is frame 0 again, where the run started at the ground truth.
       forward-backward)
         end=$(awk 'FNR == NR { if (!/^#/ && !n++) split($0, start, " "); next } !/^#/ { split($0, p, " ") }
@@ -123,12 +135,13 @@ for ini in "${inis[@]}"; do
           "$ground" "$trajectory") ;;
     esac
   done
-  rows+=("$row $end | $frameToFrame | $acceleration |")
+  rows+=("$row $end | $frameToFrame | $acceleration |$largestStep")
 done
 echo "$program:" \
   "ATE RMSE [m], SE(3)-aligned; forward-backward end: the last pose's distance from the ground truth [m]" \
   "(not aligned); frame to frame: RPE RMSE over one frame (33.5 ms) [m/s]; acceleration: the median of the" \
   "estimated camera centre's [m/s^2] (the ground truth's: $truthAcceleration);" \
+  "${largestStep:+largest step: the largest error, over the whole sequence, of the motion from one frame to the next [m];}" \
   "$(date -u +%F), $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores"
 echo
 echo "$header"
