@@ -62,14 +62,15 @@ odometry::OdometryRun runBonn(bool maskPeople, odometry::TOdometryOptions opt = 
  *  boxes there: the detector would not see one either). Per frame: the
  *  estimate. */
 std::vector<odometry::OdometryEstimate> runBonnSpoilt(std::size_t first, std::size_t last,
-	const std::function<void(mrpt::obs::CObservation3DRangeScan&)>& spoil, io::Trajectory& trajectory)
+	const std::function<void(mrpt::obs::CObservation3DRangeScan&)>& spoil, io::Trajectory& trajectory,
+	const odometry::TOdometryOptions& options = {})
 {
 	std::optional<odometry::VisualOdometry> vo;
 	std::vector<odometry::OdometryEstimate> estimates;
 	io::RawlogFrameReader reader(test::bonnRawlog());
 	while (auto f = reader.next())
 	{
-		if (!vo) vo.emplace(odometry::TOdometryOptions{}, f->groundTruth.value_or(mrpt::poses::CPose3D()));
+		if (!vo) vo.emplace(options, f->groundTruth.value_or(mrpt::poses::CPose3D()));
 		auto obs = *f->observation;
 		const bool spoilt = f->index >= first && f->index <= last;
 		if (spoilt) spoil(obs);
@@ -333,6 +334,63 @@ TEST(VisualOdometryBonn, HeavilyBlurredFramesKeepTheRunAccurate)
 	std::cout << "blurred frames lost: " << lostInBlur << " of " << last - first + 1 << "; ATE clear " << clear
 			  << " m, blurred " << withBlur << " m\n";
 	EXPECT_LE(withBlur, clear + 0.005);
+}
+
+TEST(VisualOdometryBonn, AViewThatAgreesOnAWrongPoseIsBridgedNotTrusted)
+{
+	// Frames 60 and 61 show what the camera saw 1.5 s later (frames 105 and
+	// 106, 11 cm away), at their own times: every feature agrees on a pose
+	// that is not the camera's, as the few features a person filling the
+	// view leaves can. The motion gate bridges them and places them between
+	// frames 59 and 62; without it the trajectory jumps there and back.
+	constexpr std::size_t first = 60, last = 61, ahead = 45;
+	const auto later = bonnFrames(first + ahead, last + ahead);
+	const auto run = [&](double gate, io::Trajectory& trajectory)
+	{
+		odometry::TOdometryOptions opt;
+		opt.keyframe_tracked_pose = true;
+		opt.motion_prior_sigma = 0.005;
+		opt.motion_gate = gate;
+		std::size_t next = 0;
+		const auto showLater = [&](mrpt::obs::CObservation3DRangeScan& obs)
+		{
+			const auto stamp = obs.timestamp;
+			obs = *later.at(next++).observation;
+			obs.timestamp = stamp;
+		};
+		return runBonnSpoilt(first, last, showLater, trajectory, opt);
+	};
+	io::Trajectory trusting, gated;
+	run(0, trusting);
+	const auto estimates = run(8, gated);
+	const auto step = [](const io::Trajectory& t, std::size_t i)
+	{ return (t[i].pose.translation() - t[i - 1].pose.translation()).norm(); };
+	std::cout << "step into frame " << first << ": " << step(trusting, first) << " m trusting the view, "
+			  << step(gated, first) << " m with the motion gate (" << estimates[first].status << ")\n";
+	EXPECT_GT(step(trusting, first), 0.05) << "the spoilt view does give a wrong pose";
+	for (std::size_t i = first; i <= last; ++i)
+	{
+		EXPECT_FALSE(estimates[i].tracked) << i;
+		EXPECT_NE(estimates[i].status.find("untrusted"), std::string::npos) << i << ": " << estimates[i].status;
+	}
+	ASSERT_TRUE(estimates[last + 1].tracked) << estimates[last + 1].status;
+	EXPECT_EQ(estimates[last + 1].bridgedFramesPlaced, last - first + 1);
+	// On the segment from frame first - 1 to last + 1, in order.
+	const auto a = gated[first - 1].pose.translation(), b = gated[last + 1].pose.translation();
+	double along = 0;
+	for (std::size_t i = first; i <= last; ++i)
+	{
+		const auto p = gated[i].pose.translation();
+		const auto ab = b - a, ap = p - a;
+		const double s = (ap.x * ab.x + ap.y * ab.y + ap.z * ab.z) / ab.sqrNorm();
+		EXPECT_LT((ap - ab * s).norm(), 1e-4) << i;
+		EXPECT_GT(s, along) << i;
+		along = s;
+	}
+	for (std::size_t i = first; i <= last + 1; ++i) EXPECT_LT(step(gated, i), 0.02) << i;
+	std::size_t untrusted = 0;
+	for (const auto& e : estimates) untrusted += e.status.find("untrusted") != std::string::npos;
+	EXPECT_EQ(untrusted, last - first + 1) << "no frame of the clean views is bridged";
 }
 
 TEST(VisualOdometryBonn, ShownItsStartAgainTheCameraClosesALoop)

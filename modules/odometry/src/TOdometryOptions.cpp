@@ -59,6 +59,10 @@ io::IniKeys<TOdometryOptions> TOdometryOptions::iniKeys()
 			"at "
 			"every keyframe)",
 			{[](double v) { return v >= 0; }, "must be >= 0 m"})
+		.number("motion_gate", &O::motion_gate, "",
+			"a tracked frame whose camera centre is farther from the constant-velocity prediction than this many times "
+			"the median distance of the last frames is bridged by the motion model as a lost frame is; 0 = off",
+			{[](double v) { return v == 0 || v >= 2; }, "must be 0 (off) or at least 2"})
 		.number("window_size", &O::window_size, "", "keyframes in the bundle adjustment, 0 = no BA",
 			{[](int v) { return v == 0 || v >= 2; }, "must be 0 (off) or >= 2"})
 		.number("ba_iterations", &O::ba_iterations, "", "Ceres iterations of one bundle adjustment",

@@ -89,7 +89,8 @@ std::optional<CeresBackend::RefinedPose> CeresBackend::refinePnp(const FrameFeat
 	return r;
 }
 
-void CeresBackend::bundleAdjust(std::deque<Keyframe>& window, LandmarkMap& landmarks, const io::DepthCamera& K) const
+void CeresBackend::bundleAdjust(const std::deque<Keyframe>& window, std::vector<Eigen::Isometry3d>& windowPoses,
+	LandmarkMap& landmarks, const io::DepthCamera& K) const
 {
 	if (window.size() < 2) return;
 	std::unordered_map<int, int> seenBy;
@@ -97,7 +98,7 @@ void CeresBackend::bundleAdjust(std::deque<Keyframe>& window, LandmarkMap& landm
 		for (const auto& o : kf.observations) ++seenBy[o.landmark];
 
 	std::vector<PoseParams> poses;
-	for (const auto& kf : window) poses.push_back(toParams(kf.T_cw));
+	for (const auto& T : windowPoses) poses.push_back(toParams(T));
 	std::unordered_map<int, std::array<double, 3>> points;
 	// The landmarks seen most often tie the window together best; a cap on
 	// their number bounds the time a keyframe takes.
@@ -149,7 +150,7 @@ void CeresBackend::bundleAdjust(std::deque<Keyframe>& window, LandmarkMap& landm
 	ceres::Solve(solverOptions(m_options.ba_iterations, m_options.threads, ceres::DENSE_SCHUR), &problem, &summary);
 	if (!summary.IsSolutionUsable()) return;
 
-	for (std::size_t k = 0; k < window.size(); ++k) window[k].T_cw = fromParams(poses[k], window[k].T_cw);
+	for (std::size_t k = 0; k < window.size(); ++k) windowPoses[k] = fromParams(poses[k], windowPoses[k]);
 	for (const auto& [id, p] : points)
 		if (std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]))
 			landmarks.at(id).position = Eigen::Vector3d(p[0], p[1], p[2]);

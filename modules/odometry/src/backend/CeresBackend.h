@@ -13,10 +13,12 @@
 
 namespace avm::odometry::detail
 {
+/** A keyframe of the bundle adjustment's window: what it observed. Its pose
+ *  is the map keyframe's of the same id (KeyframeMap, the one owner of
+ *  keyframe poses). */
 struct Keyframe
 {
 	int id = -1;  //!< the keyframe's id in the KeyframeMap
-	Eigen::Isometry3d T_cw;
 	std::vector<Observation> observations;
 	/** Most inliers a frame tracked against the map while this was the newest keyframe. */
 	std::size_t bestInliers = 0;
@@ -54,9 +56,11 @@ class CeresBackend
 		const std::vector<Match>& matches, const LandmarkMap& landmarks,
 		const std::optional<CentrePrior>& prior = std::nullopt) const;
 
-	/** Bundle adjustment over the window: the oldest keyframe is held fixed
+	/** Bundle adjustment over the window, whose poses (T_cw, one per
+	 *  keyframe, in window order) it moves: the oldest keyframe is held fixed
 	 *  (it anchors the gauge); landmarks seen by at least two keyframes move. */
-	void bundleAdjust(std::deque<Keyframe>& window, LandmarkMap& landmarks, const io::DepthCamera& K) const;
+	void bundleAdjust(const std::deque<Keyframe>& window, std::vector<Eigen::Isometry3d>& poses, LandmarkMap& landmarks,
+		const io::DepthCamera& K) const;
 
    private:
 	const TOdometryOptions& m_options;

@@ -25,7 +25,7 @@ constexpr std::size_t vocabularyKeyframes = 5;
 constexpr int vocabularyBranching = 10, vocabularyDepth = 3;
 }  // namespace
 
-void KeyframeMap::add(int id, MapKeyframe kf)
+void KeyframeMap::add(int id, MapKeyframe kf, int keepFrom)
 {
 	auto& stored = m_keyframes.emplace(id, std::move(kf)).first->second;
 	if (m_vocabulary.trained())
@@ -39,7 +39,9 @@ void KeyframeMap::add(int id, MapKeyframe kf)
 		m_inverted.assign(m_vocabulary.wordCount(), {});
 		for (auto& [kid, k] : m_keyframes) index(kid, k);
 	}
-	while (m_keyframes.size() > std::size_t(m_options->map_max_keyframes)) evictMostRedundant();
+	while (m_keyframes.size() > std::size_t(m_options->map_max_keyframes) && evictMostRedundant(keepFrom))
+	{
+	}
 }
 
 void KeyframeMap::index(int id, MapKeyframe& kf)
@@ -48,7 +50,7 @@ void KeyframeMap::index(int id, MapKeyframe& kf)
 	for (const auto& [w, weight] : kf.words) m_inverted[w].emplace_back(id, weight);
 }
 
-void KeyframeMap::evictMostRedundant()
+bool KeyframeMap::evictMostRedundant(int keepFrom)
 {
 	const auto distance = [&](const MapKeyframe& a, const MapKeyframe& b)
 	{
@@ -57,14 +59,15 @@ void KeyframeMap::evictMostRedundant()
 			   mrpt::RAD2DEG(Eigen::AngleAxisd(rel.rotation()).angle()) / m_options->keyframe_rotation;
 	};
 	double closest = std::numeric_limits<double>::infinity();
-	int victim = m_keyframes.begin()->first;
-	for (auto a = m_keyframes.begin(); a != m_keyframes.end(); ++a)
+	int victim = -1;
+	for (auto a = m_keyframes.begin(); a != m_keyframes.end() && a->first < keepFrom; ++a)
 		for (auto b = std::next(a); b != m_keyframes.end(); ++b)
 			if (const double d = distance(a->second, b->second); d < closest)
 			{
 				closest = d;
 				victim = a->first;  // a is the older of the two
 			}
+	if (victim < 0) return false;
 	for (const auto& [w, weight] : m_keyframes.at(victim).words)
 	{
 		auto& postings = m_inverted[w];
@@ -72,6 +75,7 @@ void KeyframeMap::evictMostRedundant()
 			std::find_if(postings.begin(), postings.end(), [&](const auto& p) { return p.first == victim; }));
 	}
 	m_keyframes.erase(victim);
+	return true;
 }
 
 void KeyframeMap::updatePose(int id, const Eigen::Isometry3d& T_cw)

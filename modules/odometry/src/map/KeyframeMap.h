@@ -43,8 +43,9 @@ class KeyframeMap
 	explicit KeyframeMap(const TOdometryOptions& options) : m_options(&options) {}
 
 	/** Adds the keyframe `id` (ids increase); trains the vocabulary on the
-	 *  first keyframes once there are enough, then keeps the cap. */
-	void add(int id, MapKeyframe kf);
+	 *  first keyframes once there are enough, then keeps the cap, never
+	 *  evicting a keyframe of id keepFrom or newer (those still in use). */
+	void add(int id, MapKeyframe kf, int keepFrom);
 	/** A keyframe's pose after the window bundle adjustment moved it. */
 	void updatePose(int id, const Eigen::Isometry3d& T_cw);
 	const MapKeyframe* find(int id) const;
@@ -71,7 +72,8 @@ class KeyframeMap
 
    private:
 	void index(int id, MapKeyframe& kf);
-	void evictMostRedundant();
+	/** Whether a keyframe older than keepFrom could go. */
+	bool evictMostRedundant(int keepFrom);
 
 	const TOdometryOptions* m_options;       //!< a pointer: a map loaded aside replaces the state by assignment
 	std::map<int, MapKeyframe> m_keyframes;  //!< by id: iteration in id order keeps runs reproducible

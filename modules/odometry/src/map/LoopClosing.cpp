@@ -80,7 +80,7 @@ bool confirmsLoopBefore(const LoopMeasurement& loop, const Keyframe& newest, con
 	const MapKeyframe* from = map.find(before.from);
 	const MapKeyframe* to = map.find(before.to);
 	if (!from || !to) return false;
-	const Eigen::Vector3d shift = cameraCentre(loop.T_cw) - cameraCentre(newest.T_cw);
+	const Eigen::Vector3d shift = cameraCentre(loop.T_cw) - cameraCentre(map.find(newest.id)->T_cw);
 	const Eigen::Vector3d shiftBefore = cameraCentre(before.T_to_from * from->T_cw) - cameraCentre(to->T_cw);
 	return (shift - shiftBefore).norm() < options.loop_min_correction;
 }

@@ -45,6 +45,14 @@ struct TOdometryOptions : public io::CIniKeyOptions<TOdometryOptions>
 	 *  about a centimetre (a small turn and a sideways shift look alike),
 	 *  where the true camera moves smoothly. Needs keyframe_tracked_pose. */
 	double motion_prior_sigma = 0.0;
+	/** A tracked frame whose camera centre lies farther from the
+	 *  constant-velocity prediction than this many times the median of the
+	 *  recent frames' distances is not trusted: its pose is bridged by the
+	 *  motion model, as a lost frame's, and placed once the track agrees
+	 *  again (0 = off). A person filling the view leaves a few features that
+	 *  can agree on a wrong pose; a camera does not jump by ten times its
+	 *  usual deviation from one frame to the next. */
+	double motion_gate = 0.0;
 	int window_size = 8;         //!< keyframes in the sliding-window bundle adjustment (0 = no BA)
 	int ba_iterations = 8;       //!< Ceres iterations of one bundle adjustment
 	int ba_max_landmarks = 250;  //!< landmarks in one bundle adjustment, the most-viewed first (0 = all)
