@@ -250,7 +250,8 @@ const octomap::OcTree* CAdaptiveOctoMap::tree(Resolution which) const
 
 detail::ScanTargets CAdaptiveOctoMap::prepareInsertion()
 {
-	m_policy->beforeIntegration(m_insertions, insertionOptions, insertionOptions.expectedFrameCount);
+	m_policy->beforeIntegration(m_insertions, insertionOptions.switchAtFrame, insertionOptions.switchAtFraction,
+		insertionOptions.expectedFrameCount);
 	applyRegionChanges();
 	detail::ScanTargets t;
 	if (m_policy->policy() == SwitchPolicy::Paper && m_policy->highActive())

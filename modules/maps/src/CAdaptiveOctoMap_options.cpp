@@ -45,12 +45,9 @@ RegionLifetime regionLifetimeFromString(const std::string& s)
 }
 
 // ---------------------------------------------------------------- TTreeOptions
-CAdaptiveOctoMap::TTreeOptions::TTreeOptions(std::string prefix, double res)
-	: keyPrefix(std::move(prefix)), resolution(res)
-{
-}
+TTreeOptions::TTreeOptions(std::string prefix, double res) : keyPrefix(std::move(prefix)), resolution(res) {}
 
-io::IniKeys<CAdaptiveOctoMap::TTreeOptions> CAdaptiveOctoMap::TTreeOptions::iniKeys() const
+io::IniKeys<TTreeOptions> TTreeOptions::iniKeys() const
 {
 	using O = TTreeOptions;
 	const std::string p = keyPrefix;
@@ -196,7 +193,7 @@ io::IniKeys<CAdaptiveOctoMap::TRenderingOptions> CAdaptiveOctoMap::TRenderingOpt
 }
 }  // namespace avm
 
-template struct avm::io::CIniKeyOptions<avm::CAdaptiveOctoMap::TTreeOptions>;
+template struct avm::io::CIniKeyOptions<avm::TTreeOptions>;
 template struct avm::io::CIniKeyOptions<avm::CAdaptiveOctoMap::TCreationOptions>;
 template struct avm::io::CIniKeyOptions<avm::CAdaptiveOctoMap::TInsertionOptions>;
 template struct avm::io::CIniKeyOptions<avm::CAdaptiveOctoMap::TLikelihoodOptions>;

@@ -176,18 +176,17 @@ bool ResolutionPolicy::endRegion(std::uint32_t personId)
 }
 
 void ResolutionPolicy::beforeIntegration(
-	std::size_t index, const CAdaptiveOctoMap::TInsertionOptions& opts, std::size_t expectedFrames)
+	std::size_t index, std::int64_t switchAt, double switchAtFraction, std::size_t expectedFrames)
 {
 	if (m_policy != SwitchPolicy::Paper || m_switchIndex) return;
-	if (opts.switchAtFrame >= 0 && index >= static_cast<std::size_t>(opts.switchAtFrame)) markSwitched(index);
-	if (opts.switchAtFraction >= 0)
+	if (switchAt >= 0 && index >= static_cast<std::size_t>(switchAt)) markSwitched(index);
+	if (switchAtFraction >= 0)
 	{
 		if (expectedFrames == 0)
 			throw std::runtime_error(
 				"CAdaptiveOctoMap: insertOpts switch_at_fraction is set but the run's frame count is "
 				"unknown: set insertOpts expected_frame_count or call setExpectedFrameCount()");
-		if (static_cast<double>(index) >= opts.switchAtFraction * static_cast<double>(expectedFrames))
-			markSwitched(index);
+		if (static_cast<double>(index) >= switchAtFraction * static_cast<double>(expectedFrames)) markSwitched(index);
 	}
 }
 

@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "KeySet.h"
-#include "avm/maps/CAdaptiveOctoMap.h"
+#include "avm/maps/MapTypes.h"
 
 namespace avm::detail
 {
@@ -92,9 +92,10 @@ class ResolutionPolicy
 	/** Removes the person's region; false if it has none. */
 	bool endRegion(std::uint32_t personId);
 	/** Called before integrating insertion `index`: the forced switch of the
-	 *  paper's ratio experiment. */
+	 *  paper's ratio experiment, at insertion `switchAt` or at `switchAtFraction`
+	 *  of `expectedFrames` (-1: not forced). */
 	void beforeIntegration(
-		std::size_t index, const CAdaptiveOctoMap::TInsertionOptions& opts, std::size_t expectedFrames);
+		std::size_t index, std::int64_t switchAt, double switchAtFraction, std::size_t expectedFrames);
 
 	/** Paper: switched. Region: a region exists. */
 	bool highActive() const;

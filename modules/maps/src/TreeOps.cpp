@@ -5,7 +5,7 @@
 
 namespace avm::detail
 {
-std::unique_ptr<octomap::OcTree> makeTree(const CAdaptiveOctoMap::TTreeOptions& o)
+std::unique_ptr<octomap::OcTree> makeTree(const TTreeOptions& o)
 {
 	auto t = std::make_unique<octomap::OcTree>(o.resolution);
 	t->setProbHit(o.probHit);

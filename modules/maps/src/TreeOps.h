@@ -8,12 +8,12 @@
 #include <vector>
 
 #include "OcTreeKeys.h"
-#include "avm/maps/CAdaptiveOctoMap.h"
+#include "avm/maps/MapTypes.h"
 
 namespace avm::detail
 {
 /** An empty tree with the options' resolution and sensor model. */
-std::unique_ptr<octomap::OcTree> makeTree(const CAdaptiveOctoMap::TTreeOptions& o);
+std::unique_ptr<octomap::OcTree> makeTree(const TTreeOptions& o);
 
 /** Deletes everything `tree` holds inside `range` (pruned leaves that reach
  *  out of it are split first). */
