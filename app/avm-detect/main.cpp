@@ -49,8 +49,8 @@ int main(int argc, char** argv)
 				std::vector<std::string> unknown;
 				opt = avm::io::loadOptionsFromFile<TDetectorOptions>(argConfig.getValue(), "detection", unknown);
 				for (const auto& k : unknown)
-					std::cerr << "avm-detect: warning: " << argConfig.getValue() << ": unknown key [detection] " << k
-							  << "\n";
+					std::cerr << "avm-detect: warning: " << argConfig.getValue() << ": "
+							  << avm::io::unknownKeyWarning("detection", k) << "\n";
 			}
 			if (argModel.isSet())
 				opt.model = argModel.getValue().empty() ? "" : std::filesystem::absolute(argModel.getValue()).string();

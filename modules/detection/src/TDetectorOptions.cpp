@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "avm/detection/CocoClasses.h"
+#include "avm/io/EnumNames.h"
 #include "avm/io/ErrorMessage.h"
 #include "avm/io/IniKeys.h"
 
@@ -29,28 +30,20 @@ std::string unquote(const std::string& s)
 }
 }  // namespace
 
-std::string toString(OutputLayout layout)
+namespace
 {
-	switch (layout)
-	{
-		case OutputLayout::Auto:
-			return "auto";
-		case OutputLayout::Yolox:
-			return "yolox";
-		case OutputLayout::Yolov5:
-			return "yolov5";
-		case OutputLayout::Yolov8:
-			return "yolov8";
-	}
-	return "auto";
+const io::EnumNames<OutputLayout>& outputLayoutNames()
+{
+	static const io::EnumNames<OutputLayout> names(
+		"output layout", {{OutputLayout::Auto, "auto"}, {OutputLayout::Yolox, "yolox"},
+							 {OutputLayout::Yolov5, "yolov5"}, {OutputLayout::Yolov8, "yolov8"}});
+	return names;
 }
+}  // namespace
 
-OutputLayout parseOutputLayout(const std::string& name)
-{
-	for (auto l : {OutputLayout::Auto, OutputLayout::Yolox, OutputLayout::Yolov5, OutputLayout::Yolov8})
-		if (toString(l) == trim(name)) return l;
-	throw std::invalid_argument("unknown output layout '" + name + "' (auto, yolox, yolov5, yolov8)");
-}
+std::string toString(OutputLayout layout) { return outputLayoutNames().name(layout); }
+
+OutputLayout parseOutputLayout(const std::string& name) { return outputLayoutNames().parse(trim(name)); }
 
 io::IniKeys<TDetectorOptions> TDetectorOptions::iniKeys()
 {

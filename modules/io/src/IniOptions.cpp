@@ -113,4 +113,9 @@ std::vector<std::string> unknownKeys(
 		if (std::find(knownKeys.begin(), knownKeys.end(), lower(k)) == knownKeys.end()) unknown.push_back(k);
 	return unknown;
 }
+
+std::string unknownKeyWarning(const std::string& section, const std::string& key)
+{
+	return "unknown key [" + section + "] " + key + " (ignored)";
+}
 }  // namespace avm::io

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "avm/io/EnumNames.h"
 #include "avm/io/IniKeys.h"
 #include "avm/maps/CAdaptiveOctoMap.h"
 
@@ -26,23 +27,30 @@ constexpr double kMinTreeHalfExtent = 100.0;  // [m]
 constexpr double kTreeHalfCells = 32768.0;
 }  // namespace
 
-std::string toString(SwitchPolicy p) { return p == SwitchPolicy::Paper ? "paper" : "region"; }
-
-SwitchPolicy switchPolicyFromString(const std::string& s)
+namespace
 {
-	if (s == "paper") return SwitchPolicy::Paper;
-	if (s == "region") return SwitchPolicy::Region;
-	throw std::invalid_argument("unknown switch policy '" + s + "' (expected paper or region)");
+const io::EnumNames<SwitchPolicy>& switchPolicyNames()
+{
+	static const io::EnumNames<SwitchPolicy> names(
+		"switch policy", {{SwitchPolicy::Paper, "paper"}, {SwitchPolicy::Region, "region"}});
+	return names;
 }
 
-std::string toString(RegionLifetime l) { return l == RegionLifetime::Persist ? "persist" : "follow"; }
-
-RegionLifetime regionLifetimeFromString(const std::string& s)
+const io::EnumNames<RegionLifetime>& regionLifetimeNames()
 {
-	if (s == "follow") return RegionLifetime::Follow;
-	if (s == "persist") return RegionLifetime::Persist;
-	throw std::invalid_argument("unknown region lifetime '" + s + "' (expected follow or persist)");
+	static const io::EnumNames<RegionLifetime> names(
+		"region lifetime", {{RegionLifetime::Follow, "follow"}, {RegionLifetime::Persist, "persist"}});
+	return names;
 }
+}  // namespace
+
+std::string toString(SwitchPolicy p) { return switchPolicyNames().name(p); }
+
+SwitchPolicy switchPolicyFromString(const std::string& s) { return switchPolicyNames().parse(s); }
+
+std::string toString(RegionLifetime l) { return regionLifetimeNames().name(l); }
+
+RegionLifetime regionLifetimeFromString(const std::string& s) { return regionLifetimeNames().parse(s); }
 
 // ---------------------------------------------------------------- TTreeOptions
 TTreeOptions::TTreeOptions(std::string prefix, double res) : keyPrefix(std::move(prefix)), resolution(res) {}

@@ -17,6 +17,7 @@
 #include "avm/detection/Detector.h"
 #include "avm/evaluation/TrajectoryEvaluation.h"
 #include "avm/io/ErrorMessage.h"
+#include "avm/io/EnumNames.h"
 #include "avm/io/IniKeys.h"
 #include "avm/io/IniOptions.h"
 #include "avm/io/RawlogFrameReader.h"
@@ -29,36 +30,30 @@ namespace avm::pipeline
 {
 namespace fs = std::filesystem;
 
-PoseSource poseSourceFromString(const std::string& name)
+namespace
 {
-	if (name == "vo") return PoseSource::VisualOdometry;
-	if (name == "gt") return PoseSource::GroundTruth;
-	throw std::invalid_argument("pose source must be 'vo' or 'gt', not '" + name + "'");
+const io::EnumNames<PoseSource>& poseSourceNames()
+{
+	static const io::EnumNames<PoseSource> names(
+		"pose source", {{PoseSource::VisualOdometry, "vo"}, {PoseSource::GroundTruth, "gt"}});
+	return names;
 }
 
-std::string toString(PoseSource source) { return source == PoseSource::GroundTruth ? "gt" : "vo"; }
-
-MapRebuild mapRebuildFromString(const std::string& name)
+const io::EnumNames<MapRebuild>& mapRebuildNames()
 {
-	if (name == "never") return MapRebuild::Never;
-	if (name == "after_loops") return MapRebuild::AfterLoops;
-	if (name == "always") return MapRebuild::Always;
-	throw std::invalid_argument("map rebuild must be 'never', 'after_loops' or 'always', not '" + name + "'");
+	static const io::EnumNames<MapRebuild> names("map rebuild",
+		{{MapRebuild::Never, "never"}, {MapRebuild::AfterLoops, "after_loops"}, {MapRebuild::Always, "always"}});
+	return names;
 }
+}  // namespace
 
-std::string toString(MapRebuild when)
-{
-	switch (when)
-	{
-		case MapRebuild::Never:
-			return "never";
-		case MapRebuild::AfterLoops:
-			return "after_loops";
-		case MapRebuild::Always:
-			return "always";
-	}
-	return "after_loops";
-}
+PoseSource poseSourceFromString(const std::string& name) { return poseSourceNames().parse(name); }
+
+std::string toString(PoseSource source) { return poseSourceNames().name(source); }
+
+MapRebuild mapRebuildFromString(const std::string& name) { return mapRebuildNames().parse(name); }
+
+std::string toString(MapRebuild when) { return mapRebuildNames().name(when); }
 
 io::IniKeys<TPipelineOptions> TPipelineOptions::iniKeys()
 {
@@ -126,7 +121,7 @@ void warnUnknownMapKeys(
 	{
 		for (const auto& key : io::unknownKeys(ini, section, opts))
 			if (!creation || std::find(generic.begin(), generic.end(), key) == generic.end())
-				log.logStr(mrpt::system::LVL_WARN, "unknown key [" + section + "] " + key + " (ignored)\n");
+				log.logStr(mrpt::system::LVL_WARN, io::unknownKeyWarning(section, key) + "\n");
 	};
 	const int count = ini.read_int(mapSection, "adaptiveOctoMap_count", 0);
 	for (int i = 0; i < count; ++i)
@@ -326,7 +321,7 @@ MappingPipeline::MappingPipeline(const mrpt::config::CConfigFileBase& ini, const
 	const auto warnUnknown = [&](const std::string& section, const mrpt::config::CLoadableOptions& opts)
 	{
 		for (const auto& key : io::unknownKeys(ini, section, opts))
-			logStr(mrpt::system::LVL_WARN, "unknown key [" + section + "] " + key + " (ignored)\n");
+			logStr(mrpt::system::LVL_WARN, io::unknownKeyWarning(section, key) + "\n");
 	};
 	warnUnknown(kPipelineSection, d.options);
 	warnUnknown(kOdometrySection, d.odometryOptions);

@@ -52,6 +52,10 @@ T readIniValue(
 std::vector<std::string> unknownKeys(const mrpt::config::CConfigFileBase& ini, const std::string& section,
 	const mrpt::config::CLoadableOptions& options);
 
+/** What every avm program says of a key that no options struct reads:
+ *  "unknown key [section] key (ignored)". */
+std::string unknownKeyWarning(const std::string& section, const std::string& key);
+
 /** Options of type T from [section] of an ini file; keys T does not know go
  *  to `unknown`. Throws std::runtime_error when the file or section is missing,
  *  std::invalid_argument "<file>: [section] key = value: why" on a bad value. */
