@@ -109,7 +109,7 @@ TEST(CAdaptiveOctoMapBonn, PaperPolicyKeepsHighLeavesOutOfLowSpace)
 		ASSERT_TRUE(map.insertObservation(*frames()[i].obs, frames()[i].pose));
 	}
 	ASSERT_EQ(map.switchInsertionIndex(), std::optional<std::size_t>(half));
-	ASSERT_TRUE(map.isHighResolutionActive());
+	ASSERT_TRUE(map.hasSwitched());
 	const auto* low = map.tree(Resolution::Low);
 	const auto* high = map.tree(Resolution::High);
 	ASSERT_TRUE(high);
@@ -266,7 +266,7 @@ TEST(CAdaptiveOctoMapBonn, PersonPixelLabelsCreateARegionAroundThosePoints)
 	CAdaptiveOctoMap other;
 	other.insertionOptions.personLabel = "dog";
 	ASSERT_TRUE(other.insertObservation(*labelled, f.pose));
-	EXPECT_FALSE(other.isHighResolutionActive());
+	EXPECT_FALSE(other.hasSwitched());
 }
 
 namespace
@@ -312,7 +312,7 @@ TEST(CAdaptiveOctoMapBonn, AnEndingRegionIsCoarsenedNeverDropped)
 	const auto regions = map.highResolutionRegions();
 	for (const auto& r : regions) EXPECT_TRUE(map.endPersonRegion(r.personId));
 	EXPECT_FALSE(map.endPersonRegion(regions.front().personId)) << "ended already";
-	EXPECT_FALSE(map.isHighResolutionActive());
+	EXPECT_FALSE(map.hasSwitched());
 	EXPECT_EQ(map.highResolutionStats().occupiedLeaves + map.highResolutionStats().freeLeaves, 0u);
 	std::size_t lost = 0, notHigher = 0;
 	for (const auto& [c, p] : fine)
@@ -521,7 +521,7 @@ TEST(CAdaptiveOctoMapBonn, FilesLikelihoodRayCastAndEmptiness)
 
 	map.clear();
 	EXPECT_TRUE(map.isEmpty());
-	EXPECT_FALSE(map.isHighResolutionActive());
+	EXPECT_FALSE(map.hasSwitched());
 }
 
 // The same frames given as a CObservationPointCloud (sensor frame) and as a

@@ -210,7 +210,7 @@ TEST(CAdaptiveOctoMapOptions, RegionPolicyRefusesAGlobalSwitchAndBadBoxes)
 	CAdaptiveOctoMap map;
 	EXPECT_THROW(map.switchToHighResolution(), std::logic_error);
 	EXPECT_THROW(map.addHighResolutionRegion(mrpt::math::TBoundingBox({0, 0, 0}, {0, 1, 1})), std::invalid_argument);
-	EXPECT_FALSE(map.isHighResolutionActive());
+	EXPECT_FALSE(map.hasSwitched());
 }
 
 TEST(CAdaptiveOctoMapOptions, RegionsNeverMergeAndAlignToTheLowGrid)
@@ -229,7 +229,7 @@ TEST(CAdaptiveOctoMapOptions, RegionsNeverMergeAndAlignToTheLowGrid)
 	EXPECT_EQ(map.query({2.0, 2.0, 2.0}).tree, avm::Resolution::Low);
 	EXPECT_EQ(map.query({1.05, 1.05, 1.05}).tree, avm::Resolution::High);
 	EXPECT_EQ(map.query({3.55, 3.55, 3.55}).tree, avm::Resolution::High) << "grown to the low grid";
-	EXPECT_TRUE(map.isHighResolutionActive());
+	EXPECT_TRUE(map.hasSwitched());
 	EXPECT_EQ(map.switchInsertionIndex(), std::optional<std::size_t>(0));
 }
 

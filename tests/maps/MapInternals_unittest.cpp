@@ -230,7 +230,7 @@ TEST(ResolutionPolicy, SpaceChangesNameTheVoxelsThatEnterAndLeave)
 	EXPECT_TRUE(policy.endRegion(1));
 	change = policy.takeSpaceChange();
 	EXPECT_EQ(change.left, minus(kc, {}));
-	EXPECT_FALSE(policy.highActive());
+	EXPECT_FALSE(policy.hasSwitched());
 	EXPECT_FALSE(policy.boxes().covers(*kc.begin(), 1)) << "no space left";
 }
 
@@ -306,12 +306,12 @@ TEST(ResolutionPolicy, FollowRegionsAgeOnlyInViewAndAfterTheirLastSighting)
 TEST(ResolutionPolicy, PaperPolicyTakesPersonsAsTriggersAndSerializes)
 {
 	ResolutionPolicy paper(SwitchPolicy::Paper, 1.5);
-	EXPECT_FALSE(paper.highActive());
+	EXPECT_FALSE(paper.hasSwitched());
 	paper.personSeen(3, TBoundingBox({0, 0, 0}, {1, 1, 1}), 0.0, RegionLifetime::Follow, 7);
-	EXPECT_TRUE(paper.highActive());
+	EXPECT_TRUE(paper.hasSwitched());
 	EXPECT_EQ(paper.switchIndex(), std::optional<std::size_t>(7));
 	EXPECT_TRUE(paper.regions().empty());
-	EXPECT_THROW(ResolutionPolicy(SwitchPolicy::Region, 0.2).trigger(0), std::logic_error);
+	EXPECT_THROW(ResolutionPolicy(SwitchPolicy::Region, 0.2).switchToHighResolution(0), std::logic_error);
 	EXPECT_THROW(paper.addFixedRegion(TBoundingBox({0, 0, 0}, {0, 1, 1}), 0), std::invalid_argument);
 
 	ResolutionPolicy region(SwitchPolicy::Region, 0.2);

@@ -1,5 +1,5 @@
 // The map itself: construction from an .ini map definition, plugin
-// registration, triggers and observation insertion.
+// registration, switching and observation insertion.
 #include "avm/maps/CAdaptiveOctoMap.h"
 
 #include <mrpt/core/initializer.h>
@@ -144,7 +144,7 @@ octomap::OcTree& CAdaptiveOctoMap::ensureHighTree()
 
 void CAdaptiveOctoMap::applyRegionChanges()
 {
-	if (m_policy->highActive()) ensureHighTree();
+	if (m_policy->hasSwitched()) ensureHighTree();
 	const auto change = m_policy->takeSpaceChange();
 	for (const auto key : change.entered) detail::refineIntoHighTree(*m_low, ensureHighTree(), key, m_sketch.get());
 	if (m_high)
@@ -226,11 +226,11 @@ void CAdaptiveOctoMap::ageRegions(const mrpt::obs::CObservation3DRangeScan& obs,
 
 void CAdaptiveOctoMap::switchToHighResolution()
 {
-	m_policy->trigger(m_insertions);
+	m_policy->switchToHighResolution(m_insertions);
 	applyRegionChanges();
 }
 
-bool CAdaptiveOctoMap::isHighResolutionActive() const { return m_policy->highActive(); }
+bool CAdaptiveOctoMap::hasSwitched() const { return m_policy->hasSwitched(); }
 
 const std::vector<THighResolutionRegion>& CAdaptiveOctoMap::highResolutionRegions() const
 {
@@ -254,7 +254,7 @@ detail::ScanTargets CAdaptiveOctoMap::prepareInsertion()
 		insertionOptions.expectedFrameCount);
 	applyRegionChanges();
 	detail::ScanTargets t;
-	if (m_policy->policy() == SwitchPolicy::Paper && m_policy->highActive())
+	if (m_policy->policy() == SwitchPolicy::Paper && m_policy->hasSwitched())
 	{
 		// Algorithm 1 after the switch: all to the high tree, through Algorithm 2.
 		t.outside = &ensureHighTree();
@@ -269,7 +269,7 @@ detail::ScanTargets CAdaptiveOctoMap::prepareInsertion()
 		t.sketch = m_sketch.get();
 		t.sketchResolution = m_creation.high.resolution;
 	}
-	if (m_policy->policy() == SwitchPolicy::Region && m_policy->highActive())
+	if (m_policy->policy() == SwitchPolicy::Region && m_policy->hasSwitched())
 	{
 		t.inside = &ensureHighTree();
 		t.insideMaxRange = m_creation.high.maxRange;

@@ -116,7 +116,7 @@ void RayIntegrator::begin(const mrpt::math::TPoint3D& origin, const ScanTargets&
 		s->clear();
 	if (m_hasRegions)
 	{
-		// Fine keys only matter inside the regions: a dense box of them.
+		// Inside keys only matter inside the regions: a dense box of them.
 		mrpt::math::TBoundingBox all = targets.regions->boxes.front().box;
 		for (const auto& r : targets.regions->boxes) all = all.unionWith(r.box);
 		const auto lo = targets.inside->coordToKey(all.min.x, all.min.y, all.min.z);
@@ -157,7 +157,7 @@ inline void RayIntegrator::addPoint(double x, double y, double z, bool nearRegio
 	}
 	if (m_targets.sketch && packedKeyOf(x, y, z, m_sketchGrid.inverse, key)) m_sketchEnds.insert(key);
 	if (!packedKeyOf(x, y, z, m_outsideGrid.inverse, key)) return;
-	// Neighbouring pixels mostly fall in the same coarse voxel.
+	// Neighbouring pixels mostly fall in the same outside voxel.
 	if (key == m_lastOutsideKey) return;
 	m_lastOutsideKey = key;
 	m_outsideEnds.insert(key);
@@ -259,22 +259,23 @@ void RayIntegrator::finish()
 	}
 	if (m_hasRegions)
 	{
-		// Outside the regions a ray maps coarse voxels, so, as in a coarse
-		// OctoMap, one ray per coarse endpoint voxel carries that part, not
-		// one per fine endpoint.
-		m_insideCoarseEnds.clear();
+		// Outside the regions a ray maps voxels of the outside grid, so, as in
+		// an OctoMap at that resolution, one ray per outside endpoint voxel
+		// carries that part, not one per inside endpoint.
+		m_insideEndsOutsideGrid.clear();
 		for (const auto k : m_insideEnds.keys())
 		{
 			const auto c = centreOf(k, m_insideGrid.resolution);
 			castRay(c, k, Endpoint::Inside, RayPart::InsideRegions);
-			std::uint64_t coarse;
-			if (packedKeyOf(c.x, c.y, c.z, m_outsideGrid.inverse, coarse)) m_insideCoarseEnds.insert(coarse);
+			std::uint64_t outsideKey;
+			if (packedKeyOf(c.x, c.y, c.z, m_outsideGrid.inverse, outsideKey))
+				m_insideEndsOutsideGrid.insert(outsideKey);
 		}
-		for (const auto k : m_insideCoarseEnds.keys())
+		for (const auto k : m_insideEndsOutsideGrid.keys())
 			castRay(centreOf(k, m_outsideGrid.resolution), k, Endpoint::None, RayPart::OutsideRegions);
 		for (const auto k : m_crossingEnds.keys())
 		{
-			// Through the exit voxel: one fine voxel beyond its centre.
+			// Through the exit voxel: one inside voxel beyond its centre.
 			const auto c = centreOf(k, m_insideGrid.resolution);
 			const auto dir = c - m_origin;
 			const double n = dir.norm();
@@ -404,15 +405,15 @@ void RayIntegrator::integrateDepthImage(
 void RayIntegrator::forgetSketchSeenThrough(const mrpt::obs::CObservation3DRangeScan& obs,
 	const mrpt::poses::CPose3D& sensorPose, const io::DepthCamera& camera)
 {
-	// A single fine map frees the voxels its rays cross, so a person who walked
+	// A single high-resolution map frees the voxels its rays cross, so a person who walked
 	// through leaves nothing there once the wall behind is seen again. The low
-	// tree's rays are too coarse to say which fine voxels they crossed; the
+	// tree's rays are too coarse to say which high voxels they crossed; the
 	// depth image says it for the few the sketch holds: a voxel whose pixel
 	// sees a surface more than a voxel beyond it has been seen through. The
 	// endpoints of this image are marked after (finish()), so a surface seen
 	// again stays.
-	const double fine = m_sketchGrid.resolution;
-	const double lowHalfDiagonal = 0.5 * std::sqrt(3.0) * fine * m_targets.sketch->ratio();
+	const double highEdge = m_sketchGrid.resolution;
+	const double lowHalfDiagonal = 0.5 * std::sqrt(3.0) * highEdge * m_targets.sketch->ratio();
 	const double maxRange = m_targets.outsideMaxRange;
 	const auto& img = obs.rangeImage;
 	const auto units = obs.rangeUnits;
@@ -439,7 +440,7 @@ void RayIntegrator::forgetSketchSeenThrough(const mrpt::obs::CObservation3DRange
 	{
 		const unsigned o[3] = {bit / (ratio * ratio), (bit / ratio) % ratio, bit % ratio};
 		double w[3];
-		for (int i = 0; i < 3; ++i) w[i] = (o[i] + 0.5) * fine - 0.5 * fine * ratio;
+		for (int i = 0; i < 3; ++i) w[i] = (o[i] + 0.5) * highEdge - 0.5 * highEdge * ratio;
 		offsets[bit] = {R(0, 0) * w[0] + R(1, 0) * w[1] + R(2, 0) * w[2],
 			R(0, 1) * w[0] + R(1, 1) * w[1] + R(2, 1) * w[2], R(0, 2) * w[0] + R(1, 2) * w[1] + R(2, 2) * w[2]};
 	}
@@ -447,7 +448,7 @@ void RayIntegrator::forgetSketchSeenThrough(const mrpt::obs::CObservation3DRange
 		[&](std::uint64_t lowKey, std::uint64_t bits)
 		{
 			if (bits == 0) return bits;
-			const auto lowCentre = sensorPose.inverseComposePoint(centreOf(lowKey, fine * ratio));
+			const auto lowCentre = sensorPose.inverseComposePoint(centreOf(lowKey, highEdge * ratio));
 			if (lowCentre.x <= -lowHalfDiagonal || lowCentre.norm() > maxRange + lowHalfDiagonal) return bits;
 			if (outsideTheImage(lowCentre)) return bits;
 			for (std::uint64_t rest = bits; rest != 0; rest &= rest - 1)
@@ -463,7 +464,7 @@ void RayIntegrator::forgetSketchSeenThrough(const mrpt::obs::CObservation3DRange
 				const std::uint16_t raw = img(v, u);
 				if (raw == 0) continue;
 				const double measured = raw * units, along = camera.rangeIsDepth ? p.x : distance;
-				if (measured > along + fine) bits &= ~(std::uint64_t(1) << bit);
+				if (measured > along + highEdge) bits &= ~(std::uint64_t(1) << bit);
 			}
 			return bits;
 		});
@@ -474,11 +475,11 @@ void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band
 	using namespace rows;
 	const int cols = rs.cols;
 	const auto& R = rs.R;
-	const float coarseInverse = static_cast<float>(m_outsideGrid.inverse);
-	const float fineInverse = static_cast<float>(m_insideGrid.inverse);
+	const float outsideInverse = static_cast<float>(m_outsideGrid.inverse);
+	const float insideInverse = static_cast<float>(m_insideGrid.inverse);
 	const float sketchInverse = static_cast<float>(m_sketchGrid.inverse);
 	const std::size_t n = static_cast<std::size_t>(cols);
-	// Two rows of coarse, fine and sketch keys: this one and the one above,
+	// Two rows of outside, inside and sketch keys: this one and the one above,
 	// which starts as "no voxel".
 	band.keys.assign(18 * n, -1);
 	band.near.resize(3 * n);
@@ -500,13 +501,13 @@ void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band
 			static_cast<float>(m_origin.z), static_cast<float>(R(0, 0) + R(0, 2) * b),
 			static_cast<float>(R(1, 0) + R(1, 2) * b), static_cast<float>(R(2, 0) + R(2, 2) * b),
 			static_cast<float>(R(0, 1)), static_cast<float>(R(1, 1)), static_cast<float>(R(2, 1)), rs.colFactor};
-		const RowKeys coarse = rowKeys(v, 0), coarseAbove = rowKeys(v + 1, 0);
-		// Fine keys of near pixels; outside this row's near columns they
+		const RowKeys outside = rowKeys(v, 0), outsideAbove = rowKeys(v + 1, 0);
+		// Inside keys of near pixels; outside this row's near columns they
 		// keep older rows' keys, all in the scan's sets already.
-		const RowKeys fine = rowKeys(v, 1), fineAbove = rowKeys(v + 1, 1);
+		const RowKeys inside = rowKeys(v, 1), insideAbove = rowKeys(v + 1, 1);
 		rowDepth(&(*rs.image)(v, 0), rs.rangeToDepth ? rs.rangeToDepth + static_cast<std::size_t>(v) * n : nullptr,
 			rs.unitsF, cols, depth);
-		coarseRowKeys(rays, depth, coarseInverse, cols, coarse);
+		pointRowKeys(rays, depth, outsideInverse, cols, outside);
 
 		// Columns of this row whose rays can reach a region (empty: none).
 		int nearFrom = cols, nearTo = -1;
@@ -529,32 +530,32 @@ void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band
 				const int from = std::max(nearFrom, rect.u0), to = std::min(nearEnd, rect.u1 + 1);
 				if (from < to) classifyAgainstBox(rays, depth, (*rs.regions)[r].box, from, to, insideF, crossTo);
 			}
-			fineRowKeys(rays, depth, insideF, crossTo, fineInverse, nearFrom, nearEnd, fine, coarse.x);
-			flagNewVoxels(fine, fineAbove, nearFrom, nearEnd, flags);
+			insideRowKeys(rays, depth, insideF, crossTo, insideInverse, nearFrom, nearEnd, inside, outside.x);
+			flagNewVoxels(inside, insideAbove, nearFrom, nearEnd, flags);
 			forEachFlagged(flags, nearFrom, nearEnd,
 				[&](int u)
 				{
-					const bool inside = fine.x[u] >= kInsideTag;
-					const int x = fine.x[u] < 0 ? -1 : fine.x[u] & 0xFFFF;
-					if (const auto key = packedOrNone(x, fine.y[u], fine.z[u]))
-						(inside ? band.inside : band.crossing)->insert(key);
+					const bool inRegion = inside.x[u] >= kInsideTag;
+					const int x = inside.x[u] < 0 ? -1 : inside.x[u] & 0xFFFF;
+					if (const auto key = packedOrNone(x, inside.y[u], inside.z[u]))
+						(inRegion ? band.inside : band.crossing)->insert(key);
 				});
 			std::fill(flags + nearFrom, flags + nearEnd, 0);
 		}
 
-		flagNewVoxels(coarse, coarseAbove, 0, cols, flags);
+		flagNewVoxels(outside, outsideAbove, 0, cols, flags);
 		forEachFlagged(flags, 0, cols,
 			[&](int u)
 			{
-				if (const auto key = packedOrNone(coarse.x[u], coarse.y[u], coarse.z[u])) band.outside->insert(key);
+				if (const auto key = packedOrNone(outside.x[u], outside.y[u], outside.z[u])) band.outside->insert(key);
 			});
 		if (m_targets.sketch)
 		{
-			// The high voxels of the points in low-tree space (no coarse key:
+			// The high voxels of the points in low-tree space (no outside key:
 			// no depth, or inside a region).
 			const RowKeys sketch = rowKeys(v, 2), sketchAbove = rowKeys(v + 1, 2);
-			coarseRowKeys(rays, depth, sketchInverse, cols, sketch);
-			maskWhereNone(coarse.x, cols, sketch.x);
+			pointRowKeys(rays, depth, sketchInverse, cols, sketch);
+			maskWhereNone(outside.x, cols, sketch.x);
 			flagNewVoxels(sketch, sketchAbove, 0, cols, flags);
 			forEachFlagged(flags, 0, cols,
 				[&](int u)

@@ -128,13 +128,13 @@ class RayIntegrator
 	Grid m_outsideGrid, m_insideGrid, m_sketchGrid;
 	bool m_hasRegions = false;
 	/** Endpoint voxels: outside regions, inside regions, and, for rays that
-	 *  cross a region without ending in one, the fine voxel where they leave
-	 *  it (point clouds: the fine voxel of the endpoint). */
+	 *  cross a region without ending in one, the inside voxel where they leave
+	 *  it (point clouds: the inside voxel of the endpoint). */
 	KeySet m_outsideEnds, m_insideEnds, m_crossingEnds;
 	/** High voxels of the endpoints in low-tree space, for the sketch. */
 	KeySet m_sketchEnds;
-	/** Coarse voxels of m_insideEnds. */
-	KeySet m_insideCoarseEnds;
+	/** The outside grid's voxels of m_insideEnds. */
+	KeySet m_insideEndsOutsideGrid;
 	KeySet m_outsideFree, m_outsideOccupied;
 	BoxKeySet m_insideFree, m_insideOccupied;
 	std::uint64_t m_lastOutsideKey = 0, m_lastInsideKey = 0, m_lastCrossingKey = 0;

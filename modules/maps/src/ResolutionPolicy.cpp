@@ -82,7 +82,7 @@ void ResolutionPolicy::markSwitched(std::size_t insertionIndex)
 	if (!m_switchIndex) m_switchIndex = insertionIndex;
 }
 
-void ResolutionPolicy::trigger(std::size_t insertionIndex)
+void ResolutionPolicy::switchToHighResolution(std::size_t insertionIndex)
 {
 	if (m_policy == SwitchPolicy::Region)
 		throw std::logic_error(
@@ -190,7 +190,7 @@ void ResolutionPolicy::beforeIntegration(
 	}
 }
 
-bool ResolutionPolicy::highActive() const
+bool ResolutionPolicy::hasSwitched() const
 {
 	return m_policy == SwitchPolicy::Paper ? m_switchIndex.has_value() : !m_regions.empty();
 }

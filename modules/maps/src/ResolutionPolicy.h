@@ -71,16 +71,16 @@ class ResolutionPolicy
 
 	SwitchPolicy policy() const { return m_policy; }
 
-	/** Paper policy: switch to the high tree (later triggers change nothing).
+	/** Paper policy: switch to the high tree (later switches change nothing).
 	 *  Region policy: std::logic_error. */
-	void trigger(std::size_t insertionIndex);
+	void switchToHighResolution(std::size_t insertionIndex);
 	/** Region policy: a region that no person owns and that never ends (the
-	 *  API's addHighResolutionRegion). Paper policy: a trigger. */
+	 *  API's addHighResolutionRegion). Paper policy: a switch. */
 	void addFixedRegion(const mrpt::math::TBoundingBox& box, std::size_t insertionIndex);
 	/** Region policy: the person was seen with this box (world frame, margin
 	 *  included). Follow: the person's region moves to the box. Persist: the
 	 *  box joins the person's region. Either way its in-view clock restarts.
-	 *  Paper policy: a trigger. */
+	 *  Paper policy: a switch. */
 	void personSeen(std::uint32_t personId, const mrpt::math::TBoundingBox& box, double time, RegionLifetime lifetime,
 		std::size_t insertionIndex);
 	/** Follow lifetime: the camera looked from `from` to `to` [s] at each
@@ -98,7 +98,7 @@ class ResolutionPolicy
 		std::size_t index, std::int64_t switchAt, double switchAtFraction, std::size_t expectedFrames);
 
 	/** Paper: switched. Region: a region exists. */
-	bool highActive() const;
+	bool hasSwitched() const;
 	std::optional<std::size_t> switchIndex() const { return m_switchIndex; }
 	const std::vector<THighResolutionRegion>& regions() const { return m_regions; }
 	/** Every box of every region and the low voxels they cover, for the

@@ -24,7 +24,7 @@ AVM_ROW_PASS void rowDepth(const std::uint16_t* row, const float* rangeScale, fl
 
 /** Keys (octomap's floor(coord / res) + 32768, on floats as octomap) of
  *  the points of a row; -1 where there is no depth or below the tree. */
-AVM_ROW_PASS void coarseRowKeys(const RowRays& r, const float* depth, float inverse, int cols, RowKeys out)
+AVM_ROW_PASS void pointRowKeys(const RowRays& r, const float* depth, float inverse, int cols, RowKeys out)
 {
 	const float offset = kKeyOffset;
 	int* const __restrict kx = out.x;
@@ -70,13 +70,13 @@ AVM_ROW_PASS void classifyAgainstBox(const RowRays& r, const float* depth, const
 	}
 }
 
-/** Fine keys of the classified pixels: of the point where it lies in a
+/** Inside keys of the classified pixels: of the point where it lies in a
  *  region, else of the voxel where its ray leaves the farthest region it
  *  crosses; -1 in x for neither. The category rides on the x key (above
  *  the tree's keys) so that a change of it is a change of voxel too. A
- *  point inside a region is no coarse endpoint: its coarse x becomes -1. */
-AVM_ROW_PASS void fineRowKeys(const RowRays& r, const float* depth, const float* inside, const float* crossTo,
-	float inverse, int from, int to, RowKeys out, int* coarseX)
+ *  point inside a region is no outside endpoint: its outside x becomes -1. */
+AVM_ROW_PASS void insideRowKeys(const RowRays& r, const float* depth, const float* inside, const float* crossTo,
+	float inverse, int from, int to, RowKeys out, int* outsideX)
 {
 	const float offset = kKeyOffset;
 	int* const __restrict kx = out.x;
@@ -95,14 +95,14 @@ AVM_ROW_PASS void fineRowKeys(const RowRays& r, const float* depth, const float*
 		ky[u] = y < 0 ? -1 : static_cast<int>(y);
 		kz[u] = z < 0 ? -1 : static_cast<int>(z);
 	}
-	for (int u = from; u < to; u++) coarseX[u] = inside[u] > 0 ? -1 : coarseX[u];
+	for (int u = from; u < to; u++) outsideX[u] = inside[u] > 0 ? -1 : outsideX[u];
 }
 
 /** flags[u] = 1 where the voxel at u may be new to the scan: it differs
  *  from the voxels at u - 1, u - 2 and at u in the row above. Every key
  *  these arrays held before is already in the scan's set (or is -1), so
- *  the others need no lookup: on the Bonn frames one pixel in 80 (coarse)
- *  or 30 (fine) is looked up, a quarter of the pixels where the voxel
+ *  the others need no lookup: on the Bonn frames one pixel in 80 (outside)
+ *  or 30 (inside) is looked up, a quarter of the pixels where the voxel
  *  changes along the row. */
 AVM_ROW_PASS void flagNewVoxels(const RowKeys& row, const RowKeys& above, int from, int to, std::uint8_t* flags)
 {

@@ -35,7 +35,7 @@ void rowDepth(const std::uint16_t* row, const float* rangeScale, float units, in
 
 /** Keys (octomap's floor(coord / res) + 32768, on floats as octomap) of
  *  the points of a row; -1 where there is no depth or below the tree. */
-void coarseRowKeys(const RowRays& r, const float* depth, float inverse, int cols, RowKeys out);
+void pointRowKeys(const RowRays& r, const float* depth, float inverse, int cols, RowKeys out);
 
 /** Slab method against one box, in depth units: inside[u] becomes 1 where
  *  the point lies in the box; crossTo[u] the depth where the ray leaves the
@@ -45,13 +45,13 @@ void classifyAgainstBox(const RowRays& r, const float* depth, const mrpt::math::
 
 constexpr int kInsideTag = 1 << 16;
 
-/** Fine keys of the classified pixels: of the point where it lies in a
+/** Inside keys of the classified pixels: of the point where it lies in a
  *  region, else of the voxel where its ray leaves the farthest region it
  *  crosses; -1 in x for neither. The category rides on the x key (above
  *  the tree's keys) so that a change of it is a change of voxel too. A
- *  point inside a region is no coarse endpoint: its coarse x becomes -1. */
-void fineRowKeys(const RowRays& r, const float* depth, const float* inside, const float* crossTo, float inverse,
-	int from, int to, RowKeys out, int* coarseX);
+ *  point inside a region is no outside endpoint: its outside x becomes -1. */
+void insideRowKeys(const RowRays& r, const float* depth, const float* inside, const float* crossTo, float inverse,
+	int from, int to, RowKeys out, int* outsideX);
 
 /** flags[u] = 1 where the voxel at u may be new to the scan: it differs
  *  from the voxels at u - 1, u - 2 and at u in the row above. Every key

@@ -251,6 +251,6 @@ void FrameProcessor::finishInsertion()
 	const auto work = m_pendingInsertion.get();
 	m_stages.map.add(work.wallMs);
 	m_stages.mapCpu.add(work.cpuMs);
-	if (!m_counts.switchFrame && m_adaptive.isHighResolutionActive()) m_counts.switchFrame = m_insertingFrame;
+	if (!m_counts.switchFrame && m_adaptive.hasSwitched()) m_counts.switchFrame = m_insertingFrame;
 }
 }  // namespace avm::pipeline::detail

@@ -81,7 +81,7 @@ RunSummary::MapRebuildCost FrameProcessor::rebuildMap(const std::function<std::o
 		observeDetectionsDue(frame->index);
 		m_maps.insertObservation(*frame->observation, pose);
 		if (m_reference) m_reference->insert(*frame->observation, pose);
-		if (!m_counts.switchFrame && m_adaptive.isHighResolutionActive()) m_counts.switchFrame = frame->index;
+		if (!m_counts.switchFrame && m_adaptive.hasSwitched()) m_counts.switchFrame = frame->index;
 	}
 	observeDetectionsDue(std::numeric_limits<std::size_t>::max());
 	return {mapped, timer.Tac(), processCpuSeconds() - cpuAtStart};

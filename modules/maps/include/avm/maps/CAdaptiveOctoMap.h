@@ -1,5 +1,5 @@
-// avm::CAdaptiveOctoMap — an MRPT metric map made of two OctoMaps: a coarse
-// tree for the scene and a fine one for the space around detected people
+// avm::CAdaptiveOctoMap — an MRPT metric map made of two OctoMaps: a low-resolution
+// tree for the scene and a high-resolution one for the space around detected people
 // (Choi & Shin 2025, Algorithm 1 resolution switching and Algorithm 2 overlap
 // filtering), usable from any MRPT app as the plugin map "adaptiveOctoMap".
 //
@@ -100,7 +100,7 @@ class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
 		io::IniKeys<TCreationOptions> iniKeys() const;
 	};
 
-	/** Section `<prefix>_insertOpts`: switching policy and its triggers. */
+	/** Section `<prefix>_insertOpts`: switching policy and the forced switch. */
 	struct TInsertionOptions : public io::CIniKeyOptions<TInsertionOptions>
 	{
 		SwitchPolicy switchPolicy = SwitchPolicy::Region;
@@ -180,12 +180,12 @@ class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
 	TLikelihoodOptions likelihoodOptions;
 	TRenderingOptions renderingOptions;
 
-	/** @name Triggers (Algorithm 1)
+	/** @name Switching (Algorithm 1)
 	 * @{ */
 	/** Region policy: from now on, the box (world frame, used as given, then
 	 *  grown to the low tree's voxel grid) is mapped in the high tree, for the
 	 *  map's life; what the low tree knew there moves into the high tree.
-	 *  Paper policy: the call is a trigger like switchToHighResolution().
+	 *  Paper policy: the call switches like switchToHighResolution().
 	 *  Throws std::invalid_argument on an empty or non-finite box. */
 	void addHighResolutionRegion(const mrpt::math::TBoundingBox& worldBox);
 	/** The persons whose pixels are `persons` in `obs` (taken at `robotPose`,
@@ -193,7 +193,7 @@ class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
 	 *  `frameIndex`: each becomes a sighting, joins a person track, and its
 	 *  box grown by region_margin becomes (or moves) that person's region.
 	 *  Inserting an observation with person pixel labels calls this itself.
-	 *  Paper policy: a sighting is a trigger. */
+	 *  Paper policy: a sighting switches. */
 	std::vector<TPersonObservation> observePersons(const mrpt::obs::CObservation3DRangeScan& obs,
 		const mrpt::poses::CPose3D& robotPose, const std::vector<persons::PixelSet>& persons, std::size_t frameIndex);
 	/** Ends the person's region now, as its lifetime would (its detail folded
@@ -205,8 +205,9 @@ class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
 	/** Paper policy: every later insertion goes to the high tree (filtered by
 	 *  Algorithm 2). Region policy: std::logic_error (a region is needed). */
 	void switchToHighResolution();
-	/** Paper: switched. Region: at least one region is active. */
-	bool isHighResolutionActive() const;
+	/** Whether the high tree takes data: paper policy, since the switch;
+	 *  region policy, while a region exists. */
+	bool hasSwitched() const;
 	/** The active regions (region policy), in order of creation. */
 	const std::vector<THighResolutionRegion>& highResolutionRegions() const;
 	/** Index (0-based, among successful insertions) of the first insertion
