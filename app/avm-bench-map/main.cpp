@@ -1,11 +1,7 @@
 // avm-bench-map: insertion time and map size of avm::CAdaptiveOctoMap next to
 // octomap's insertPointCloud, on the same frames and ground-truth poses.
 #include <mrpt/3rdparty/tclap/CmdLine.h>
-#include <mrpt/system/progress.h>
 
-#include <unistd.h>
-
-#include <cstdio>
 #include <iostream>
 
 #include "avm/io/ProgramMain.h"
@@ -51,14 +47,9 @@ int main(int argc, char** argv)
 				opt.region = mrpt::math::TBoundingBox({r[0], r[1], r[2]}, {r[3], r[4], r[5]});
 			}
 			avm::io::useImagesFolderOf(opt.rawlog);
-			const bool terminal = ::isatty(STDERR_FILENO);
-			const auto result = avm::maps::runMapBenchmark(opt,
-				[terminal](std::size_t done, std::size_t total)
-				{
-					if (terminal || done == total)
-						std::cerr << "\r" << mrpt::system::progress(static_cast<double>(done) / total, 30) << " "
-								  << done << "/" << total << (done == total ? "\n" : "") << std::flush;
-				});
+			avm::io::ProgressBar bar(false);
+			const auto result = avm::maps::runMapBenchmark(opt, [&bar](std::size_t done, std::size_t total)
+				{ bar.show(double(done) / double(total), std::to_string(done) + "/" + std::to_string(total)); });
 			std::cout << avm::maps::toMarkdown(result);
 			return 0;
 		});

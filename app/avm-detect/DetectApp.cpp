@@ -1,11 +1,7 @@
 #include "DetectApp.h"
 
-#include <mrpt/system/progress.h>
-
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-
-#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -53,19 +49,6 @@ void writeImage(const fs::path& file, const cv::Mat& image)
 			}
 			if (!ok) throw std::runtime_error(file.string() + ": cannot write image (unknown extension or folder?)");
 		});
-}
-
-std::function<void(double)> progressBar(bool enabled)
-{
-	if (!enabled) return {};
-	const bool terminal = ::isatty(STDERR_FILENO);
-	return [terminal](double fraction)
-	{
-		const bool done = fraction >= 1;
-		if (!terminal && !done) return;
-		std::fprintf(stderr, "\r%s", mrpt::system::progress(std::min(fraction, 1.0), 40).c_str());
-		if (done) std::fputc('\n', stderr);
-	};
 }
 
 std::string summaryText(const detection::LabelRawlogSummary& s)

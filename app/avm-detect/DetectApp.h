@@ -22,10 +22,6 @@ cv::Mat drawDetections(const cv::Mat& bgr, const std::vector<detection::Detectio
 /** Writes an image atomically; the format follows the extension. */
 void writeImage(const std::filesystem::path& file, const cv::Mat& image);
 
-/** A progress callback drawing a bar on stderr: redrawn on a terminal, only
- *  the final bar otherwise; nothing when disabled. */
-std::function<void(double)> progressBar(bool enabled);
-
 /** The summary avm-detect prints after a rawlog pass. */
 std::string summaryText(const detection::LabelRawlogSummary& summary);
 

@@ -83,8 +83,10 @@ int main(int argc, char** argv)
 				return 0;
 			}
 			if (!argOut.isSet()) throw std::runtime_error("--rawlog needs --out OUT.rawlog (or --bench)");
-			std::cout << summaryText(labelRawlog(*detector, opt, argRawlog.getValue(), argOut.getValue(),
-				argEvery.getValue(), progressBar(!argQuiet.getValue())));
+			avm::io::ProgressBar bar(argQuiet.getValue());
+			const auto summary = labelRawlog(*detector, opt, argRawlog.getValue(), argOut.getValue(),
+				argEvery.getValue(), [&bar](double fraction) { bar.show(fraction); });
+			std::cout << summaryText(summary);
 			return 0;
 		});
 }

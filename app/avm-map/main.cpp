@@ -3,18 +3,16 @@
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/io/vector_loadsave.h>
-#include <mrpt/system/progress.h>
 #include <opencv2/core/utility.hpp>
-#include <unistd.h>
 
 #include <atomic>
 #include <csignal>
 #include <cstdio>
 #include <fstream>
-#include <sstream>
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <vector>
 
 #include "avm/io/ProgramMain.h"
@@ -57,130 +55,169 @@ std::string sourceOf(const std::string& message, const std::string& iniFile, con
 		if (message.rfind("[" + o.section + "] " + o.key + " =", 0) == 0) return "--set";
 	return iniFile;
 }
+
+/** avm-map's arguments, declared on the program's command line. */
+struct Arguments
+{
+	explicit Arguments(avm::io::CommandLine& cmd)
+		: config("c", "config", "ini file (e.g. ini/default.ini); required unless --resume", false, "", "INI", cmd),
+		  rawlog("r", "rawlog", "input rawlog of CObservation3DRangeScan; required unless --resume", false, "",
+			  "RAWLOG", cmd),
+		  out("o", "out", "output folder (default: output)", false, "output", "DIR", cmd),
+		  resume("", "resume",
+			  "continue the run whose output folder is DIR from its last "
+			  "checkpoint (its configuration and rawlog "
+			  "come from the checkpoint); the outputs go to DIR",
+			  false, "", "DIR", cmd),
+		  poses("p", "poses", "pose source, overrides [pipeline] pose_source", false, "", "vo|gt", cmd),
+		  set("s", "set",
+			  "override one ini value, e.g. --set pipeline:detect_every_n=1 "
+			  "(repeatable)",
+			  false, "SECTION:KEY=VALUE", cmd),
+		  quiet("q", "quiet", "no progress bar", cmd),
+		  gui("", "gui",
+			  "live 3D view of the run (sets [pipeline] gui = true); closing it "
+			  "ends the run as Ctrl-C does",
+			  cmd),
+		  guiShot("", "gui-screenshot",
+			  "with --gui: after the last frame, save the X server's picture "
+			  "of the view as this PNG",
+			  false, "", "PNG", cmd)
+	{
+	}
+
+	/** --resume excludes the arguments the checkpoint holds; without it,
+   *  --config and --rawlog are required. */
+	void check() const
+	{
+		if (resume.isSet())
+		{
+			for (const TCLAP::Arg* a : std::initializer_list<const TCLAP::Arg*>{&config, &rawlog, &out, &poses, &set})
+				if (a->isSet())
+					throw std::invalid_argument("--resume: --" + a->getName() +
+												" is not allowed with it (the checkpoint holds the run's "
+												"configuration, rawlog and folder)");
+		}
+		else if (!config.isSet() || !rawlog.isSet())
+		{
+			std::string missing;
+			for (const TCLAP::Arg* a : std::initializer_list<const TCLAP::Arg*>{&rawlog, &config})
+				if (!a->isSet())  // shortID() brackets an optional argument: "[-r
+								  // <RAWLOG>]"
+					missing += (missing.empty() ? " " : ", ") + a->shortID().substr(1, a->shortID().size() - 2);
+			throw std::invalid_argument(
+				"missing required argument" + missing + " (or --resume DIR; see avm-map --help)");
+		}
+	}
+
+	TCLAP::ValueArg<std::string> config, rawlog, out, resume, poses;
+	TCLAP::MultiArg<std::string> set;
+	TCLAP::SwitchArg quiet, gui;
+	TCLAP::ValueArg<std::string> guiShot;
+};
+
+/** The pipeline of the ini with the overrides applied; an option error names
+ *  where its value came from (the ini file or --set). */
+std::unique_ptr<avm::pipeline::MappingPipeline> loadPipeline(
+	mrpt::config::CConfigFileMemory& ini, const std::string& iniSource, const std::vector<Override>& overrides)
+{
+	for (const auto& o : overrides) ini.write(o.section, o.key, o.value);
+	// The pipeline reads every option (the map's inside MRPT's
+	// CMultiMetricMap, which wraps errors in its call-stack report).
+	try
+	{
+		return std::make_unique<avm::pipeline::MappingPipeline>(ini, AVM_PROJECT_ROOT);
+	}
+	catch (const std::exception& e)
+	{
+		avm::io::rethrowNamingIniSource(sourceOf(avm::io::errorMessage(e), iniSource, overrides), e);
+	}
+	return nullptr;  // not reached: rethrowNamingIniSource throws
+}
+
+/** What the run did, on stdout. */
+void printSummary(const avm::pipeline::RunSummary& summary, const std::string& outDir)
+{
+	if (summary.resumedAfterFrame) std::cout << "resumed:     after frame " << *summary.resumedAfterFrame << "\n";
+	std::cout << "frames:      " << summary.frames << (summary.interrupted ? " (interrupted, saved)" : "") << "\n"
+			  << "speed:       " << summary.fps << " fps, real-time factor " << summary.realTimeFactor << "\n"
+			  << "switch:      "
+			  << (summary.switchFrame ? "frame " + std::to_string(*summary.switchFrame) : std::string("never")) << ", "
+			  << summary.regions << " person regions\n";
+	std::printf(
+		"stages [ms]: odometry mean %.1f median %.1f p95 %.1f | "
+		"detection mean %.1f median %.1f p95 %.1f "
+		"(%zu runs) | map mean %.1f median %.1f p95 %.1f\n",
+		summary.odometry.meanMs, summary.odometry.medianMs, summary.odometry.p95Ms, summary.detection.meanMs,
+		summary.detection.medianMs, summary.detection.p95Ms, summary.detection.count, summary.map.meanMs,
+		summary.map.medianMs, summary.map.p95Ms);
+	std::printf("memory:      peak %.0f MiB\n", summary.peakMemoryMb);
+	std::printf("cpu:         %.1f ms a frame (all threads)", summary.cpuMsPerFrame);
+	if (summary.stolenCpuShare)
+		std::printf("; %.0f%% of the machine's CPU time went to other virtual machines", 100 * *summary.stolenCpuShare);
+	std::printf("\n");
+	std::fflush(stdout);
+	if (summary.ateRmse)
+		std::cout << "odometry:    ATE RMSE " << *summary.ateRmse << " m against the rawlog's ground truth\n";
+	std::cout << "outputs in:  " << outDir
+			  << " (map_low.bt, map_high.bt, map.3Dscene, trajectory.txt, "
+				 "detections.txt, stats.json, "
+				 "map_top.png, map_perspective.png, avm-map.log, checkpoint.bin)\n";
+}
 }  // namespace
 
 int main(int argc, char** argv)
 {
 	bool viewOpened = false;
 	const int status = avm::io::runProgram("avm-map",
-		"Maps an RGB-D rawlog: odometry -> person detection -> adaptive octree map.",
+		"Maps an RGB-D rawlog: odometry -> person detection -> adaptive octree "
+		"map.",
 		[&](avm::io::CommandLine& cmd)
 		{
-			TCLAP::ValueArg<std::string> argConfig(
-				"c", "config", "ini file (e.g. ini/default.ini); required unless --resume", false, "", "INI", cmd);
-			TCLAP::ValueArg<std::string> argRawlog("r", "rawlog",
-				"input rawlog of CObservation3DRangeScan; required unless --resume", false, "", "RAWLOG", cmd);
-			TCLAP::ValueArg<std::string> argOut(
-				"o", "out", "output folder (default: output)", false, "output", "DIR", cmd);
-			TCLAP::ValueArg<std::string> argResume("", "resume",
-				"continue the run whose output folder is DIR from its last checkpoint (its configuration and rawlog "
-				"come from the checkpoint); the outputs go to DIR",
-				false, "", "DIR", cmd);
-			TCLAP::ValueArg<std::string> argPoses(
-				"p", "poses", "pose source, overrides [pipeline] pose_source", false, "", "vo|gt", cmd);
-			TCLAP::MultiArg<std::string> argSet("s", "set",
-				"override one ini value, e.g. --set pipeline:detect_every_n=1 (repeatable)", false, "SECTION:KEY=VALUE",
-				cmd);
-			TCLAP::SwitchArg argQuiet("q", "quiet", "no progress bar", cmd);
-			TCLAP::SwitchArg argGui("", "gui",
-				"live 3D view of the run (sets [pipeline] gui = true); closing it ends the run as Ctrl-C does", cmd);
-			TCLAP::ValueArg<std::string> argGuiShot("", "gui-screenshot",
-				"with --gui: after the last frame, save the X server's picture of the view as this PNG", false, "",
-				"PNG", cmd);
+			Arguments args(cmd);
 			cmd.parse(argc, argv);
+			args.check();
 
-			const bool resume = argResume.isSet();
-			if (resume)
-			{
-				for (const TCLAP::Arg* a :
-					std::initializer_list<const TCLAP::Arg*>{&argConfig, &argRawlog, &argOut, &argPoses, &argSet})
-					if (a->isSet())
-						throw std::invalid_argument("--resume: --" + a->getName() +
-													" is not allowed with it (the checkpoint holds the run's "
-													"configuration, rawlog and folder)");
-			}
-			else if (!argConfig.isSet() || !argRawlog.isSet())
-			{
-				std::string missing;
-				for (const TCLAP::Arg* a : std::initializer_list<const TCLAP::Arg*>{&argRawlog, &argConfig})
-					if (!a->isSet())  // shortID() brackets an optional argument: "[-r <RAWLOG>]"
-						missing += (missing.empty() ? " " : ", ") + a->shortID().substr(1, a->shortID().size() - 2);
-				throw std::invalid_argument(
-					"missing required argument" + missing + " (or --resume DIR; see avm-map --help)");
-			}
+			const bool resume = args.resume.isSet();
 			std::optional<avm::pipeline::CheckpointedRun> checkpointed;
-			if (resume) checkpointed = avm::pipeline::readCheckpointedRun(argResume.getValue());
+			if (resume) checkpointed = avm::pipeline::readCheckpointedRun(args.resume.getValue());
 			const std::string iniSource =
-				resume ? avm::pipeline::checkpointFile(argResume.getValue()).string() : argConfig.getValue();
-			const std::string outDir = resume ? argResume.getValue() : argOut.getValue();
-			avm::io::useImagesFolderOf(resume ? checkpointed->rawlog : std::filesystem::path(argRawlog.getValue()));
+				resume ? avm::pipeline::checkpointFile(args.resume.getValue()).string() : args.config.getValue();
+			const std::string outDir = resume ? args.resume.getValue() : args.out.getValue();
+			avm::io::useImagesFolderOf(resume ? checkpointed->rawlog : std::filesystem::path(args.rawlog.getValue()));
 
-			mrpt::config::CConfigFileMemory ini(resume ? checkpointed->ini : readIni(argConfig.getValue()));
+			mrpt::config::CConfigFileMemory ini(resume ? checkpointed->ini : readIni(args.config.getValue()));
 			std::vector<Override> overrides;
-			for (const auto& assignment : argSet.getValue()) overrides.push_back(parseOverride(assignment));
-			if (argGui.getValue()) overrides.push_back(parseOverride("pipeline:gui=true"));
-			for (const auto& o : overrides) ini.write(o.section, o.key, o.value);
-			// The pipeline reads every option (the map's inside MRPT's
-			// CMultiMetricMap, which wraps errors in its call-stack report).
-			std::unique_ptr<avm::pipeline::MappingPipeline> loaded;
-			try
-			{
-				loaded = std::make_unique<avm::pipeline::MappingPipeline>(ini, AVM_PROJECT_ROOT);
-			}
-			catch (const std::exception& e)
-			{
-				avm::io::rethrowNamingIniSource(sourceOf(avm::io::errorMessage(e), iniSource, overrides), e);
-			}
+			for (const auto& assignment : args.set.getValue()) overrides.push_back(parseOverride(assignment));
+			if (args.gui.getValue()) overrides.push_back(parseOverride("pipeline:gui=true"));
+			const auto loaded = loadPipeline(ini, iniSource, overrides);
 			auto& pipeline = *loaded;
 			viewOpened = pipeline.opensView();
 			// Process-wide: the ini's OpenCV threads apply to the whole run.
 			if (pipeline.openCvThreads() > 0) cv::setNumThreads(pipeline.openCvThreads());
 			pipeline.setMinLoggingLevel(mrpt::system::LVL_INFO);
-			if (argPoses.isSet()) pipeline.setPoseSource(avm::pipeline::poseSourceFromString(argPoses.getValue()));
-			if (argGuiShot.isSet()) pipeline.setViewScreenshot(argGuiShot.getValue());
+			if (args.poses.isSet()) pipeline.setPoseSource(avm::pipeline::poseSourceFromString(args.poses.getValue()));
+			if (args.guiShot.isSet()) pipeline.setViewScreenshot(args.guiShot.getValue());
 
 			std::signal(SIGINT, onSignal);
 			std::signal(SIGTERM, onSignal);
-			const bool bar = !argQuiet.getValue() && ::isatty(STDERR_FILENO);
-			const auto start = std::chrono::steady_clock::now();
-			const auto showProgress = [&](double fraction, std::size_t frames)
+			const auto summary = [&]
 			{
-				if (!bar) return;
-				const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-				const double left = fraction > 0 ? s * (1 - fraction) / fraction : 0;
-				std::fprintf(stderr, "\r%s %zu frames, %.1f fps, %.0f s left ",
-					mrpt::system::progress(fraction, 30).c_str(), frames, frames / std::max(s, 1e-9), left);
-			};
-			const auto summary = resume ? pipeline.resume(outDir, &stopRequested, showProgress)
-										: pipeline.run(argRawlog.getValue(), outDir, &stopRequested, showProgress);
-			if (bar) std::fputc('\n', stderr);
-
-			if (summary.resumedAfterFrame)
-				std::cout << "resumed:     after frame " << *summary.resumedAfterFrame << "\n";
-			std::cout << "frames:      " << summary.frames << (summary.interrupted ? " (interrupted, saved)" : "")
-					  << "\n"
-					  << "speed:       " << summary.fps << " fps, real-time factor " << summary.realTimeFactor << "\n"
-					  << "switch:      "
-					  << (summary.switchFrame ? "frame " + std::to_string(*summary.switchFrame) : std::string("never"))
-					  << ", " << summary.regions << " person regions\n";
-			std::printf(
-				"stages [ms]: odometry mean %.1f median %.1f p95 %.1f | detection mean %.1f median %.1f p95 %.1f "
-				"(%zu runs) | map mean %.1f median %.1f p95 %.1f\n",
-				summary.odometry.meanMs, summary.odometry.medianMs, summary.odometry.p95Ms, summary.detection.meanMs,
-				summary.detection.medianMs, summary.detection.p95Ms, summary.detection.count, summary.map.meanMs,
-				summary.map.medianMs, summary.map.p95Ms);
-			std::printf("memory:      peak %.0f MiB\n", summary.peakMemoryMb);
-			std::printf("cpu:         %.1f ms a frame (all threads)", summary.cpuMsPerFrame);
-			if (summary.stolenCpuShare)
-				std::printf(
-					"; %.0f%% of the machine's CPU time went to other virtual machines", 100 * *summary.stolenCpuShare);
-			std::printf("\n");
-			std::fflush(stdout);
-			if (summary.ateRmse)
-				std::cout << "odometry:    ATE RMSE " << *summary.ateRmse << " m against the rawlog's ground truth\n";
-			std::cout << "outputs in:  " << outDir
-					  << " (map_low.bt, map_high.bt, map.3Dscene, trajectory.txt, detections.txt, stats.json, "
-						 "map_top.png, map_perspective.png, avm-map.log, checkpoint.bin)\n";
+				avm::io::ProgressBar bar(args.quiet.getValue());
+				const auto start = std::chrono::steady_clock::now();
+				const auto showProgress = [&](double fraction, std::size_t frames)
+				{
+					const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+					const double left = fraction > 0 ? s * (1 - fraction) / fraction : 0;
+					char text[96];
+					std::snprintf(text, sizeof(text), "%zu frames, %.1f fps, %.0f s left ", frames,
+						frames / std::max(s, 1e-9), left);
+					bar.show(fraction, text);
+				};
+				return resume ? pipeline.resume(outDir, &stopRequested, showProgress)
+							  : pipeline.run(args.rawlog.getValue(), outDir, &stopRequested, showProgress);
+			}();
+			printSummary(summary, outDir);
 			return summary.interrupted ? 130 : 0;
 		});
 	if (viewOpened) avm::viewer::exitAfterView(status);

@@ -1,11 +1,7 @@
 // avm-tum2rawlog: a TUM RGB-D layout folder -> MRPT rawlog of
 // CObservation3DRangeScan (+ CObservationRobotPose ground truth).
 #include <mrpt/3rdparty/tclap/CmdLine.h>
-#include <mrpt/system/progress.h>
 
-#include <unistd.h>
-
-#include <cstdio>
 #include <iostream>
 
 #include "avm/io/ProgramMain.h"
@@ -64,17 +60,10 @@ int main(int argc, char** argv)
 			opt.embedImages = argEmbed.getValue();
 			opt.compressionLevel = argCompression.getValue();
 
-			// Redraw the bar in a terminal; in a log, only the final line.
-			const bool bar = !argQuiet.getValue();
-			const bool terminal = ::isatty(STDERR_FILENO);
+			avm::io::ProgressBar bar(argQuiet.getValue());
 			const auto summary = avm::io::convertTumToRawlog(argDir.getValue(), argOut.getValue(), opt,
-				[bar, terminal](std::size_t done, std::size_t total)
-				{
-					if (!bar || (!terminal && done != total)) return;
-					std::fprintf(
-						stderr, "\r%s %zu/%zu", mrpt::system::progress(double(done) / total, 40).c_str(), done, total);
-					if (done == total) std::fputc('\n', stderr);
-				});
+				[&bar](std::size_t done, std::size_t total)
+				{ bar.show(double(done) / double(total), std::to_string(done) + "/" + std::to_string(total)); });
 
 			std::cout << "frames:       " << summary.frames << "\n"
 					  << "rawlog:       " << summary.rawlog.string() << "\n";

@@ -1,8 +1,12 @@
 #include "avm/io/ProgramMain.h"
 
 #include <mrpt/img/CImage.h>
+#include <mrpt/system/progress.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <iostream>
 #include <stdexcept>
 
@@ -162,4 +166,21 @@ int runProgram(const std::string& name, const std::string& description, const st
 	return 1;
 }
 
+ProgressBar::ProgressBar(bool quiet) : m_quiet(quiet), m_terminal(::isatty(STDERR_FILENO) != 0) {}
+
+ProgressBar::~ProgressBar()
+{
+	if (m_lineOpen) std::fputc('\n', stderr);
+}
+
+void ProgressBar::show(double fraction, const std::string& text)
+{
+	const bool done = fraction >= 1;
+	if (m_quiet || (!m_terminal && !done)) return;
+	std::fprintf(stderr, "\r%s%s%s", mrpt::system::progress(std::min(fraction, 1.0), 30).c_str(),
+		text.empty() ? "" : " ", text.c_str());
+	m_lineOpen = !done;
+	if (done) std::fputc('\n', stderr);
+	std::fflush(stderr);
+}
 }  // namespace avm::io

@@ -128,6 +128,62 @@ std::vector<RgbdPair> trimmedToGroundTruth(std::vector<RgbdPair> pairs, const Tr
 	return kept;
 }
 
+/** The body pose of frame `i` (`pair`), interpolated in the ground truth; an
+ *  error that says how far outside it the frame is, or that it falls in a gap. */
+mrpt::poses::CPose3D bodyPoseAt(
+	const Trajectory& groundTruth, std::size_t i, const RgbdPair& pair, const fs::path& dir, const fs::path& gtFile)
+{
+	const double t = pair.depth.timestamp;
+	if (const auto body = interpolatePose(groundTruth, t)) return *body;
+	const double first = groundTruth.front().timestamp, last = groundTruth.back().timestamp;
+	const bool outside = t < first || t > last;
+	throw std::runtime_error(
+		gtFile.string() + ": ground truth (" + timeText(first) + " .. " + timeText(last) + ") does not cover frame " +
+		std::to_string(i) + " (" + (dir / pair.depth.file).string() + ", t=" + timeText(t) + "): " +
+		(outside ? std::string("the frame is ") + timeText(t < first ? first - t : t - last, true) + " s " +
+					   (t < first ? "before its first" : "after its last") +
+					   " pose; --trim-to-ground-truth leaves out the frames outside the ground "
+					   "truth"
+				 : std::string("a gap in the ground truth around it")));
+}
+
+/** The rawlog's stream at `file`: gzip at `compressionLevel` 1..9, plain at 0. */
+std::unique_ptr<mrpt::io::CStream> openRawlogFile(const fs::path& file, int compressionLevel, const fs::path& named)
+{
+	std::unique_ptr<mrpt::io::CStream> stream;
+	if (compressionLevel > 0)
+	{
+		auto gz = std::make_unique<mrpt::io::CFileGZOutputStream>();
+		if (gz->open(file.string(), compressionLevel)) stream = std::move(gz);
+	}
+	else if (auto plain = std::make_unique<mrpt::io::CFileOutputStream>(); plain->open(file.string()))
+		stream = std::move(plain);
+	if (!stream) throw std::runtime_error(named.string() + ": cannot write");
+	return stream;
+}
+
+/** The dataset's ground truth when it is used (nothing otherwise), and with
+ *  trimToGroundTruth `pairs` cut to its span. */
+std::optional<Trajectory> readGroundTruth(const fs::path& gtFile, const TumConversionOptions& opt,
+	std::vector<RgbdPair>& pairs, std::vector<std::string>& skipped)
+{
+	std::optional<Trajectory> groundTruth;
+	if (opt.useGroundTruth && fs::exists(gtFile))
+	{
+		groundTruth = readTumTrajectory(gtFile);
+		if (groundTruth->empty()) throw std::runtime_error(gtFile.string() + ": no poses");
+	}
+	if (opt.trimToGroundTruth)
+	{
+		if (!groundTruth)
+			throw std::invalid_argument(opt.useGroundTruth
+											? gtFile.string() + ": not found; trimming to the ground truth needs it"
+											: std::string("trimming to the ground truth needs it, not --no-gt"));
+		pairs = trimmedToGroundTruth(std::move(pairs), *groundTruth, gtFile, skipped);
+	}
+	return groundTruth;
+}
+
 /** Moves `from` onto `to`, replacing a previous folder or file. */
 void replace(const fs::path& from, const fs::path& to)
 {
@@ -146,21 +202,8 @@ TumConversionSummary convertTumToRawlog(const fs::path& dir, const fs::path& out
 	auto pairs = readPairs(dir, opt.maxTimeDifference, summary.skipped);
 	if (pairs.empty()) throw std::runtime_error(dir.string() + ": no RGB-D pairs to convert");
 
-	std::optional<Trajectory> groundTruth;
 	const fs::path gtFile = dir / "groundtruth.txt";
-	if (opt.useGroundTruth && fs::exists(gtFile))
-	{
-		groundTruth = readTumTrajectory(gtFile);
-		if (groundTruth->empty()) throw std::runtime_error(gtFile.string() + ": no poses");
-	}
-	if (opt.trimToGroundTruth)
-	{
-		if (!groundTruth)
-			throw std::invalid_argument(opt.useGroundTruth
-											? gtFile.string() + ": not found; trimming to the ground truth needs it"
-											: std::string("trimming to the ground truth needs it, not --no-gt"));
-		pairs = trimmedToGroundTruth(std::move(pairs), *groundTruth, gtFile, summary.skipped);
-	}
+	const auto groundTruth = readGroundTruth(gtFile, opt, pairs, summary.skipped);
 
 	const fs::path outDir = outRawlog.parent_path().empty() ? fs::path(".") : outRawlog.parent_path();
 	if (!fs::is_directory(outDir)) throw std::runtime_error(outDir.string() + ": output folder not found");
@@ -182,15 +225,7 @@ TumConversionSummary convertTumToRawlog(const fs::path& dir, const fs::path& out
 		writeFileAtomically(outRawlog,
 			[&](const fs::path& tmp)
 			{
-				std::unique_ptr<mrpt::io::CStream> file;
-				if (opt.compressionLevel > 0)
-				{
-					auto gz = std::make_unique<mrpt::io::CFileGZOutputStream>();
-					if (gz->open(tmp.string(), opt.compressionLevel)) file = std::move(gz);
-				}
-				else if (auto plain = std::make_unique<mrpt::io::CFileOutputStream>(); plain->open(tmp.string()))
-					file = std::move(plain);
-				if (!file) throw std::runtime_error(outRawlog.string() + ": cannot write");
+				const auto file = openRawlogFile(tmp, opt.compressionLevel, outRawlog);
 				auto out = mrpt::serialization::archiveFrom(*file);
 				for (std::size_t i = 0; i < pairs.size(); ++i)
 				{
@@ -198,25 +233,8 @@ TumConversionSummary convertTumToRawlog(const fs::path& dir, const fs::path& out
 					std::optional<mrpt::poses::CPose3D> camera;
 					if (groundTruth)
 					{
-						const double t = pairs[i].depth.timestamp;
-						const auto body = interpolatePose(*groundTruth, t);
-						if (!body)
-						{
-							const double first = groundTruth->front().timestamp, last = groundTruth->back().timestamp;
-							const bool outside = t < first || t > last;
-							throw std::runtime_error(
-								gtFile.string() + ": ground truth (" + timeText(first) + " .. " + timeText(last) +
-								") does not cover frame " + std::to_string(i) + " (" +
-								(dir / pairs[i].depth.file).string() + ", t=" + timeText(t) + "): " +
-								(outside ? std::string("the frame is ") +
-											   timeText(t < first ? first - t : t - last, true) + " s " +
-											   (t < first ? "before its first" : "after its last") +
-											   " pose; --trim-to-ground-truth leaves out the frames outside the ground "
-											   "truth"
-										 : std::string("a gap in the ground truth around it")));
-						}
-						camera = *body + opt.groundTruthBodyToCamera;
-						cameraTrajectory.push_back({t, *camera});
+						camera = bodyPoseAt(*groundTruth, i, pairs[i], dir, gtFile) + opt.groundTruthBodyToCamera;
+						cameraTrajectory.push_back({pairs[i].depth.timestamp, *camera});
 					}
 					writeFrame(out, *obs, camera);
 					if (progress) progress(i + 1, pairs.size());

@@ -300,73 +300,31 @@ void RayIntegrator::finish()
 	if (m_hasRegions) applyUpdates(*m_targets.inside, m_insideGrid, m_insideFree, m_insideOccupied, true);
 }
 
-void RayIntegrator::integrateDepthImage(
-	const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& sensorPose, const ScanTargets& targets)
+/** The pixels whose ray can reach `box`: its projection, grown by a pixel
+ *  (all pixels when a corner is behind the camera). */
+RayIntegrator::PixelRect RayIntegrator::pixelRectOf(const mrpt::math::TBoundingBox& box,
+	const mrpt::poses::CPose3D& sensorPose, const io::DepthCamera& camera, int rows, int cols)
 {
-	begin(sensorPose.translation(), targets);
-	const auto& img = obs.rangeImage;
-	const int rows = static_cast<int>(img.rows()), cols = static_cast<int>(img.cols());
-	const auto camera = io::DepthCamera::of(obs);
-	const double fx = camera.fx, fy = camera.fy, cx = camera.cx, cy = camera.cy, units = obs.rangeUnits;
-	const auto R = sensorPose.getRotationMatrix();
-
-	// Pixels whose ray can reach a region: the box's projection (all pixels
-	// when a corner is behind the camera).
-	m_regionRects.clear();
-	if (m_hasRegions)
+	PixelRect rect{cols, -1, rows, -1};
+	for (int corner = 0; corner < 8; corner++)
 	{
-		for (const auto& r : targets.regions->boxes)
-		{
-			PixelRect rect{cols, -1, rows, -1};
-			bool whole = false;
-			for (int corner = 0; corner < 8 && !whole; corner++)
-			{
-				const mrpt::math::TPoint3D w(corner & 1 ? r.box.max.x : r.box.min.x,
-					corner & 2 ? r.box.max.y : r.box.min.y, corner & 4 ? r.box.max.z : r.box.min.z);
-				const auto s = sensorPose.inverseComposePoint(w);
-				if (s.x <= 1e-3)
-				{
-					whole = true;
-					break;
-				}
-				const auto [u, v] = camera.pixelOf(s);
-				rect.u0 = std::min(rect.u0, static_cast<int>(std::floor(u)) - 1);
-				rect.u1 = std::max(rect.u1, static_cast<int>(std::ceil(u)) + 1);
-				rect.v0 = std::min(rect.v0, static_cast<int>(std::floor(v)) - 1);
-				rect.v1 = std::max(rect.v1, static_cast<int>(std::ceil(v)) + 1);
-			}
-			if (whole) rect = PixelRect{0, cols - 1, 0, rows - 1};
-			m_regionRects.push_back(rect);
-		}
+		const mrpt::math::TPoint3D w(
+			corner & 1 ? box.max.x : box.min.x, corner & 2 ? box.max.y : box.min.y, corner & 4 ? box.max.z : box.min.z);
+		const auto s = sensorPose.inverseComposePoint(w);
+		if (s.x <= 1e-3) return PixelRect{0, cols - 1, 0, rows - 1};
+		const auto [u, v] = camera.pixelOf(s);
+		rect.u0 = std::min(rect.u0, static_cast<int>(std::floor(u)) - 1);
+		rect.u1 = std::max(rect.u1, static_cast<int>(std::ceil(u)) + 1);
+		rect.v0 = std::min(rect.v0, static_cast<int>(std::floor(v)) - 1);
+		rect.v1 = std::max(rect.v1, static_cast<int>(std::ceil(v)) + 1);
 	}
+	return rect;
+}
 
-	// DepthCamera::unproject, factored for the row passes: pixel (u, v) with
-	// depth d is d * (1, (cx - u)/fx, (cy - v)/fy) in the sensor frame, so
-	// world = t + d * (R0 + a_u R1 + b_v R2).
-	m_columnFactor.resize(cols);
-	for (int u = 0; u < cols; u++) m_columnFactor[u] = static_cast<float>((cx - u) / fx);
-	// Range (not depth) images: the per-pixel factor from range to depth.
-	m_rangeToDepth.clear();
-	if (!obs.range_is_depth)
-		for (int v = 0; v < rows; v++)
-			for (int u = 0; u < cols; u++)
-			{
-				const double a = (cx - u) / fx, b = (cy - v) / fy;
-				m_rangeToDepth.push_back(static_cast<float>(1.0 / std::sqrt(1 + a * a + b * b)));
-			}
-	RowSetup rs;
-	rs.image = &img;
-	rs.cols = cols;
-	rs.cy = cy;
-	rs.fy = fy;
-	rs.R = R;
-	rs.unitsF = static_cast<float>(units);
-	rs.colFactor = m_columnFactor.data();
-	rs.rangeToDepth = m_rangeToDepth.empty() ? nullptr : m_rangeToDepth.data();
-	rs.regions = m_hasRegions ? &targets.regions->boxes : nullptr;
-
-	// Row bands: the first feeds the scan's endpoint sets directly, the
-	// others their own, merged after the join.
+/** Scans rows [0, rows) in bands, one per thread: the first band feeds the
+ *  scan's endpoint sets directly, the others their own, merged after the join. */
+void RayIntegrator::scanBands(const RowSetup& rs, int rows)
+{
 	m_bands.resize(m_threads);
 	for (std::size_t i = 0; i < m_bands.size(); i++)
 	{
@@ -398,6 +356,49 @@ void RayIntegrator::integrateDepthImage(
 			for (const auto k : m_bands[i].ownSketch.keys()) m_sketchEnds.insert(k);
 		}
 	}
+}
+
+void RayIntegrator::integrateDepthImage(
+	const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& sensorPose, const ScanTargets& targets)
+{
+	begin(sensorPose.translation(), targets);
+	const auto& img = obs.rangeImage;
+	const int rows = static_cast<int>(img.rows()), cols = static_cast<int>(img.cols());
+	const auto camera = io::DepthCamera::of(obs);
+	const double fx = camera.fx, fy = camera.fy, cx = camera.cx, cy = camera.cy, units = obs.rangeUnits;
+	const auto R = sensorPose.getRotationMatrix();
+
+	m_regionRects.clear();
+	if (m_hasRegions)
+		for (const auto& r : targets.regions->boxes)
+			m_regionRects.push_back(pixelRectOf(r.box, sensorPose, camera, rows, cols));
+
+	// DepthCamera::unproject, factored for the row passes: pixel (u, v) with
+	// depth d is d * (1, (cx - u)/fx, (cy - v)/fy) in the sensor frame, so
+	// world = t + d * (R0 + a_u R1 + b_v R2).
+	m_columnFactor.resize(cols);
+	for (int u = 0; u < cols; u++) m_columnFactor[u] = static_cast<float>((cx - u) / fx);
+	// Range (not depth) images: the per-pixel factor from range to depth.
+	m_rangeToDepth.clear();
+	if (!obs.range_is_depth)
+		for (int v = 0; v < rows; v++)
+			for (int u = 0; u < cols; u++)
+			{
+				const double a = (cx - u) / fx, b = (cy - v) / fy;
+				m_rangeToDepth.push_back(static_cast<float>(1.0 / std::sqrt(1 + a * a + b * b)));
+			}
+	RowSetup rs;
+	rs.image = &img;
+	rs.cols = cols;
+	rs.cy = cy;
+	rs.fy = fy;
+	rs.R = R;
+	rs.unitsF = static_cast<float>(units);
+	rs.colFactor = m_columnFactor.data();
+	rs.rangeToDepth = m_rangeToDepth.empty() ? nullptr : m_rangeToDepth.data();
+	rs.regions = m_hasRegions ? &targets.regions->boxes : nullptr;
+
+	scanBands(rs, rows);
 	if (m_targets.sketch) forgetSketchSeenThrough(obs, sensorPose, camera);
 	finish();
 }

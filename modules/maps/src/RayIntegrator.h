@@ -97,6 +97,15 @@ class RayIntegrator
 		std::vector<std::uint8_t> flags;
 	};
 	void scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band) const;
+	/** scanRows over all rows, in one band per thread. */
+	void scanBands(const RowSetup& rs, int rows);
+	/** Pixels [u0, u1] x [v0, v1]. */
+	struct PixelRect
+	{
+		int u0, u1, v0, v1;
+	};
+	static PixelRect pixelRectOf(const mrpt::math::TBoundingBox& box, const mrpt::poses::CPose3D& sensorPose,
+		const io::DepthCamera& camera, int rows, int cols);
 
 	void begin(const mrpt::math::TPoint3D& origin, const ScanTargets& targets);
 	/** `nearRegion`: the ray may end in or cross a region (false lets the
@@ -144,10 +153,6 @@ class RayIntegrator
 	std::vector<float> m_rangeToDepth;
 	unsigned m_threads = 1;
 	std::vector<PixelBand> m_bands;
-	struct PixelRect
-	{
-		int u0, u1, v0, v1;
-	};
 	std::vector<PixelRect> m_regionRects;
 };
 }  // namespace avm::detail

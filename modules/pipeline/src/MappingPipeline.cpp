@@ -244,6 +244,25 @@ std::optional<RunSummary::MapRebuildCost> rebuildMap(const TPipelineOptions& opt
 		cost.cpuSeconds);
 	return cost;
 }
+/** Maps the frames until the rawlog ends, `maxFrames` are mapped (0: no
+ *  limit) or `stop` is set; false when the view's window was closed instead.
+ *  `betweenFrames` runs after each frame (the checkpoints). */
+bool mapFrames(std::size_t maxFrames, detail::FrameSequence& frames, detail::FrameProcessor& processor,
+	viewer::MapView* view, const std::atomic<bool>* stop, const std::function<void(double, std::size_t)>& progress,
+	const std::function<void()>& betweenFrames)
+{
+	while (!(stop && stop->load()))
+	{
+		if (view && !view->waitWhilePaused()) return false;
+		if (maxFrames && processor.counts().frames >= maxFrames) break;
+		const auto frame = frames.next();
+		if (!frame) break;
+		if (processor.resumeThrough(*frame)) continue;
+		if (processor.process(*frame) && progress) progress(frames.progress(), processor.counts().frames);
+		betweenFrames();
+	}
+	return true;
+}
 }  // namespace
 
 struct MappingPipeline::Impl
@@ -423,32 +442,19 @@ RunSummary MappingPipeline::runFrames(const fs::path& rawlog, const fs::path& ou
 			view.emplace(v);
 			processor.showOn(&*view);
 		}
-		bool viewClosed = false;
-		while (!(stop && stop->load()))
-		{
-			if (view && !view->waitWhilePaused())
+		const bool viewClosed = !mapFrames(opt.maxFrames, frames, processor, view ? &*view : nullptr, stop, progress,
+			[&]
 			{
-				viewClosed = true;
-				break;
-			}
-			if (opt.maxFrames && processor.counts().frames >= opt.maxFrames) break;
-			const auto frame = frames.next();
-			if (!frame) break;
-			if (processor.resumeThrough(*frame)) continue;
-			if (processor.process(*frame) && progress) progress(frames.progress(), processor.counts().frames);
-			if (checkpoints.due() && processor.readyForCheckpoint()) checkpoint(clock);
-		}
+				if (checkpoints.due() && processor.readyForCheckpoint()) checkpoint(clock);
+			});
 		// Before finish(): a resumed run applies the detections still due itself.
 		if (checkpoints.enabled() && processor.readyForCheckpoint() && !checkpoints.holds(processor.lastFrame()))
 			checkpoint(clock);
 		processor.finish();
 		frames.close();
 		if (processor.counts().frames == 0)
-		{
-			std::string why = rawlog.string() + ": no frame could be mapped";
-			if (!frames.skipped().empty()) why += " (" + frames.skipped().front() + ")";
-			throw std::runtime_error(why);
-		}
+			throw std::runtime_error(rawlog.string() + ": no frame could be mapped" +
+									 (frames.skipped().empty() ? "" : " (" + frames.skipped().front() + ")"));
 		const bool interrupted = (stop && stop->load()) || viewClosed;
 		const auto rebuild = rebuildMap(opt, rawlog, processor, interrupted, *this);
 		const RunCost cost = clock.read();

@@ -13,11 +13,11 @@
 #include <mrpt/opengl/stock_objects.h>
 
 #include <algorithm>
+#include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
-#include <cctype>
-#include <cmath>
 
 #include "ScreenGrab.h"
 #include "avm/io/RgbdFrame.h"
@@ -51,7 +51,9 @@ enum VoxelSet : unsigned
 	VoxelSetCount
 };
 
-const char* kKeysHelp = "space pause/resume  n step  f free space  l low tree  h high tree  m features  r reset view";
+const char* kKeysHelp =
+	"space pause/resume  n step  f free space  l low tree  "
+	"h high tree  m features  r reset view";
 
 mrpt::math::TBoundingBox occupiedBox(const MapSnapshot& s)
 {
@@ -90,6 +92,147 @@ mrpt::img::CImage annotatedImage(const MapSnapshot& s, bool features)
 		for (const auto& f : s.maskedFeatures) img.drawMark(int(f.x), int(f.y), kMaskedFeatureColour, 'x', 4);
 	}
 	return img;
+}
+
+/** The snapshot's voxels, one set per tree and occupancy, shown as toggled. */
+mrpt::opengl::COctoMapVoxels::Ptr voxelsOf(
+	const MapSnapshot& s, const ViewToggles& t, const mrpt::math::TBoundingBox& box)
+{
+	using mrpt::opengl::COctoMapVoxels;
+	auto voxels = COctoMapVoxels::Create();
+	voxels->resizeVoxelSets(VoxelSetCount);
+	const auto add = [&](VoxelSet set, const std::vector<SnapshotVoxel>& from, const mrpt::img::TColor& c)
+	{
+		for (const auto& v : from) voxels->push_back_Voxel(set, COctoMapVoxels::TVoxel(v.centre, v.size, c));
+	};
+	add(LowOccupied, s.lowOccupied, kLowColour);
+	add(HighOccupied, s.highOccupied, kHighColour);
+	add(LowFree, s.lowFree, kLowFreeColour);
+	add(HighFree, s.highFree, kHighFreeColour);
+	voxels->showVoxels(LowOccupied, t.lowTree);
+	voxels->showVoxels(LowFree, t.lowTree && t.freeSpace);
+	voxels->showVoxels(HighOccupied, t.highTree);
+	voxels->showVoxels(HighFree, t.highTree && t.freeSpace);
+	voxels->showGridLines(false);
+	voxels->enableCubeTransparency(t.freeSpace);
+	voxels->setBoundingBox(box.min, box.max);
+	return voxels;
+}
+
+/** The regions' boxes and the persons (a dot and the id) into `objects`. */
+void insertRegionsAndPersons(mrpt::opengl::CSetOfObjects& objects, const MapSnapshot& s)
+{
+	using namespace mrpt::opengl;
+	for (const auto& r : s.regions)
+	{
+		for (const auto& b : r.boxes)
+		{
+			auto cube = CBox::Create(b.min, b.max, true /*wireframe*/, 2.0f);
+			cube->setColor_u8(kRegionColour);
+			cube->setBoxBorderColor(kRegionColour);  // what MRPT 2.5.8 draws a wireframe box with
+			objects.insert(cube);
+		}
+	}
+	for (const auto& p : s.persons)
+	{
+		auto dot = CSphere::Create(0.12f, 12);
+		dot->setLocation(p.position);
+		dot->setColor_u8(kPersonColour);
+		objects.insert(dot);
+		auto label = CText::Create("person " + std::to_string(p.id));
+		label->setFont("sans", 18);
+		label->setLocation(p.position.x, p.position.y, p.position.z + 0.15);
+		label->setColor_u8(kPersonColour);
+		objects.insert(label);
+	}
+}
+
+/** The camera's path and, when known, its frustum and axes into `objects`. */
+void insertCameraPath(mrpt::opengl::CSetOfObjects& objects, const MapSnapshot& s)
+{
+	using namespace mrpt::opengl;
+	if (s.trajectory.size() > 1)
+	{
+		auto lines = CSetOfLines::Create();
+		for (std::size_t i = 1; i < s.trajectory.size(); ++i)
+		{
+			const auto a = s.trajectory[i - 1].translation(), b = s.trajectory[i].translation();
+			lines->appendLine(a.x, a.y, a.z, b.x, b.y, b.z);
+		}
+		lines->setLineWidth(3);
+		lines->setColor_u8(kTrajectoryColour);
+		objects.insert(lines);
+	}
+	if (s.camera)
+	{
+		// CFrustum looks along +X; the camera pose is the optical frame (z
+		// forward).
+		auto frustum = s.intrinsics ? CFrustum::Create(*s.intrinsics, 1e-3)
+									: CFrustum::Create(0.05f, 0.5f, 60.0f, 45.0f, 2.0f, true, false);
+		frustum->setPose(*s.camera + io::opticalToSensorPose());
+		frustum->setColor_u8(kCameraColour);
+		objects.insert(frustum);
+		auto axes = stock_objects::CornerXYZSimple(0.2f, 2.0f);
+		axes->setPose(*s.camera);
+		objects.insert(axes);
+	}
+}
+
+/** Everything the 3D view shows of a snapshot: a floor grid under the map,
+ *  the voxels, regions, persons and the camera. */
+mrpt::opengl::CSetOfObjects::Ptr sceneOf(
+	const MapSnapshot& s, const ViewToggles& t, const mrpt::math::TBoundingBox& box)
+{
+	using namespace mrpt::opengl;
+	auto objects = CSetOfObjects::Create();
+	{
+		const double margin = 1.0;
+		auto grid = CGridPlaneXY::Create(float(box.min.x - margin), float(box.max.x + margin),
+			float(box.min.y - margin), float(box.max.y + margin), float(box.min.z), 1.0f);
+		grid->setColor_u8(kGridColour);
+		objects->insert(grid);
+	}
+	objects->insert(voxelsOf(s, t, box));
+	insertRegionsAndPersons(*objects, s);
+	insertCameraPath(*objects, s);
+	return objects;
+}
+
+/** The status lines, the keys and what is shown, over the 3D view. */
+void writeStatusText(mrpt::opengl::COpenGLViewport& vp, const MapSnapshot& s, const ViewToggles& t, bool isPaused)
+{
+	mrpt::opengl::TFontParams font;
+	font.color = mrpt::img::TColorf(0.1f, 0.1f, 0.1f);
+	font.vfont_scale = 14;
+	font.draw_shadow = true;
+	font.shadow_color = mrpt::img::TColorf(1.0f, 1.0f, 1.0f);
+	const auto lines = statusLines(s);
+	vp.addTextMessage(8, 30, lines[0] + (isPaused ? "  [paused]" : ""), 0, font);
+	vp.addTextMessage(8, 8, lines[1], 1, font);
+	font.vfont_scale = 12;
+	font.color = mrpt::img::TColorf(0.35f, 0.35f, 0.35f);
+	vp.addTextMessage(8, -22, kKeysHelp, 3, font);
+	std::string shown = std::string("low ") + (t.lowTree ? "on" : "off") + "  high " + (t.highTree ? "on" : "off") +
+						"  free " + (t.freeSpace ? (s.hasFreeSpace ? "on" : "from the next snapshot") : "off");
+	vp.addTextMessage(8, -46, shown, 2, font);
+}
+
+/** Points the view at the middle of `box`, from the side the camera path
+ *  starts on, far enough to see all of it. */
+void frameBox(mrpt::gui::CDisplayWindow3D& win, const MapSnapshot& s, const mrpt::math::TBoundingBox& box)
+{
+	const auto c = (box.min + box.max) * 0.5;
+	const double radius = std::max(1.0, (box.max - box.min).norm() / 2);
+	double azimuth = -90;
+	if (!s.trajectory.empty())
+	{
+		const auto d = s.trajectory.front().translation() - c;
+		if (std::hypot(d.x, d.y) > 1e-6) azimuth = mrpt::RAD2DEG(std::atan2(d.y, d.x));
+	}
+	win.setCameraPointingToPoint(float(c.x), float(c.y), float(c.z));
+	win.setCameraZoom(float(2.2 * radius));
+	win.setCameraAzimuthDeg(float(azimuth));
+	win.setCameraElevationDeg(35.0f);
 }
 }  // namespace
 
@@ -296,104 +439,16 @@ void MapView::draw(const MapSnapshot& s, bool resetCamera)
 	const ViewToggles t = toggles();
 	bool isPaused = paused();
 	auto& win = *m_windows->view3D;
-	using namespace mrpt::opengl;
-
-	auto voxels = COctoMapVoxels::Create();
-	voxels->resizeVoxelSets(VoxelSetCount);
-	const auto add = [&](VoxelSet set, const std::vector<SnapshotVoxel>& from, const mrpt::img::TColor& c)
-	{
-		for (const auto& v : from) voxels->push_back_Voxel(set, COctoMapVoxels::TVoxel(v.centre, v.size, c));
-	};
-	add(LowOccupied, s.lowOccupied, kLowColour);
-	add(HighOccupied, s.highOccupied, kHighColour);
-	add(LowFree, s.lowFree, kLowFreeColour);
-	add(HighFree, s.highFree, kHighFreeColour);
-	voxels->showVoxels(LowOccupied, t.lowTree);
-	voxels->showVoxels(LowFree, t.lowTree && t.freeSpace);
-	voxels->showVoxels(HighOccupied, t.highTree);
-	voxels->showVoxels(HighFree, t.highTree && t.freeSpace);
-	voxels->showGridLines(false);
-	voxels->enableCubeTransparency(t.freeSpace);
 	const auto box = occupiedBox(s);
-	voxels->setBoundingBox(box.min, box.max);
-
-	auto objects = CSetOfObjects::Create();
+	const auto objects = sceneOf(s, t, box);
 	{
-		const double margin = 1.0;
-		auto grid = CGridPlaneXY::Create(float(box.min.x - margin), float(box.max.x + margin),
-			float(box.min.y - margin), float(box.max.y + margin), float(box.min.z), 1.0f);
-		grid->setColor_u8(kGridColour);
-		objects->insert(grid);
-	}
-	objects->insert(voxels);
-	for (const auto& r : s.regions)
-	{
-		for (const auto& b : r.boxes)
-		{
-			auto cube = CBox::Create(b.min, b.max, true /*wireframe*/, 2.0f);
-			cube->setColor_u8(kRegionColour);
-			cube->setBoxBorderColor(kRegionColour);  // what MRPT 2.5.8 draws a wireframe box with
-			objects->insert(cube);
-		}
-	}
-	for (const auto& p : s.persons)
-	{
-		auto dot = CSphere::Create(0.12f, 12);
-		dot->setLocation(p.position);
-		dot->setColor_u8(kPersonColour);
-		objects->insert(dot);
-		auto label = CText::Create("person " + std::to_string(p.id));
-		label->setFont("sans", 18);
-		label->setLocation(p.position.x, p.position.y, p.position.z + 0.15);
-		label->setColor_u8(kPersonColour);
-		objects->insert(label);
-	}
-	if (s.trajectory.size() > 1)
-	{
-		auto lines = CSetOfLines::Create();
-		for (std::size_t i = 1; i < s.trajectory.size(); ++i)
-		{
-			const auto a = s.trajectory[i - 1].translation(), b = s.trajectory[i].translation();
-			lines->appendLine(a.x, a.y, a.z, b.x, b.y, b.z);
-		}
-		lines->setLineWidth(3);
-		lines->setColor_u8(kTrajectoryColour);
-		objects->insert(lines);
-	}
-	if (s.camera)
-	{
-		// CFrustum looks along +X; the camera pose is the optical frame (z forward).
-		auto frustum = s.intrinsics ? CFrustum::Create(*s.intrinsics, 1e-3)
-									: CFrustum::Create(0.05f, 0.5f, 60.0f, 45.0f, 2.0f, true, false);
-		frustum->setPose(*s.camera + io::opticalToSensorPose());
-		frustum->setColor_u8(kCameraColour);
-		objects->insert(frustum);
-		auto axes = stock_objects::CornerXYZSimple(0.2f, 2.0f);
-		axes->setPose(*s.camera);
-		objects->insert(axes);
-	}
-
-	{
-		COpenGLScene::Ptr scene;
+		mrpt::opengl::COpenGLScene::Ptr scene;
 		mrpt::gui::CDisplayWindow3DLocker lock(win, scene);
 		scene->clear();
 		scene->insert(objects);
 		auto vp = scene->getViewport();
 		vp->setCustomBackgroundColor(kBackground);
-		TFontParams font;
-		font.color = mrpt::img::TColorf(0.1f, 0.1f, 0.1f);
-		font.vfont_scale = 14;
-		font.draw_shadow = true;
-		font.shadow_color = mrpt::img::TColorf(1.0f, 1.0f, 1.0f);
-		const auto lines = statusLines(s);
-		vp->addTextMessage(8, 30, lines[0] + (isPaused ? "  [paused]" : ""), 0, font);
-		vp->addTextMessage(8, 8, lines[1], 1, font);
-		font.vfont_scale = 12;
-		font.color = mrpt::img::TColorf(0.35f, 0.35f, 0.35f);
-		vp->addTextMessage(8, -22, kKeysHelp, 3, font);
-		std::string shown = std::string("low ") + (t.lowTree ? "on" : "off") + "  high " + (t.highTree ? "on" : "off") +
-							"  free " + (t.freeSpace ? (s.hasFreeSpace ? "on" : "from the next snapshot") : "off");
-		vp->addTextMessage(8, -46, shown, 2, font);
+		writeStatusText(*vp, s, t, isPaused);
 	}
 	// The view frames the map as it grows (a live run starts with a few
 	// voxels), until the user resets it; 'r' frames it again.
@@ -401,18 +456,7 @@ void MapView::draw(const MapSnapshot& s, bool resetCamera)
 	if (resetCamera || extent > 1.25 * m_framedExtent)
 	{
 		m_framedExtent = extent;
-		const auto c = (box.min + box.max) * 0.5;
-		const double radius = std::max(1.0, (box.max - box.min).norm() / 2);
-		double azimuth = -90;
-		if (!s.trajectory.empty())
-		{
-			const auto d = s.trajectory.front().translation() - c;
-			if (std::hypot(d.x, d.y) > 1e-6) azimuth = mrpt::RAD2DEG(std::atan2(d.y, d.x));
-		}
-		win.setCameraPointingToPoint(float(c.x), float(c.y), float(c.z));
-		win.setCameraZoom(float(2.2 * radius));
-		win.setCameraAzimuthDeg(float(azimuth));
-		win.setCameraElevationDeg(35.0f);
+		frameBox(win, s, box);
 	}
 	win.forceRepaint();
 

@@ -86,7 +86,10 @@ mrpt::math::TBoundingBox defaultRegion(const Frame& f)
 {
 	const auto& img = f.obs->rangeImage;
 	const double d = img(img.rows() / 2, img.cols() / 2) * f.obs->rangeUnits;
-	if (!(d > 0)) throw std::runtime_error("avm-bench-map: no depth at the first frame's centre pixel; give --region");
+	if (!(d > 0))
+		throw std::runtime_error(
+			"avm-bench-map: no depth at the first frame's "
+			"centre pixel; give --region");
 	const auto p = (f.pose + f.obs->sensorPose).composePoint(mrpt::math::TPoint3D(d, 0, 0));
 	return {p - mrpt::math::TPoint3D(0.6, 0.6, 1.0), p + mrpt::math::TPoint3D(0.6, 0.6, 1.0)};
 }
@@ -107,32 +110,34 @@ MapBenchmarkRow summarize(Contender& c)
 	c.sizes(row);
 	return row;
 }
-}  // namespace
-
-MapBenchmarkResult runMapBenchmark(
-	const MapBenchmarkOptions& opts, const std::function<void(std::size_t, std::size_t)>& progress)
+/** The frames with ground truth, depth and labels only (the colour image
+ * dropped). */
+std::vector<Frame> readFrames(const MapBenchmarkOptions& opts)
 {
 	std::vector<Frame> frames;
+	avm::io::RawlogFrameReader reader(opts.rawlog);
+	while (auto f = reader.next())
 	{
-		avm::io::RawlogFrameReader reader(opts.rawlog);
-		while (auto f = reader.next())
-		{
-			if (opts.maxFrames && frames.size() >= opts.maxFrames) break;
-			if (!f->groundTruth) continue;
-			// Only depth (and labels) are used: drop the colour image.
-			f->observation->hasIntensityImage = false;
-			f->observation->intensityImage = mrpt::img::CImage();
-			frames.push_back({f->observation, *f->groundTruth});
-		}
+		if (opts.maxFrames && frames.size() >= opts.maxFrames) break;
+		if (!f->groundTruth) continue;
+		f->observation->hasIntensityImage = false;
+		f->observation->intensityImage = mrpt::img::CImage();
+		frames.push_back({f->observation, *f->groundTruth});
 	}
 	if (frames.empty())
 		throw std::runtime_error("avm-bench-map: no frames with ground truth in " + opts.rawlog.string());
+	return frames;
+}
 
-	MapBenchmarkResult result;
-	result.frames = frames.size();
+/** The adaptive maps (region policy, its threaded twin, paper policy) and
+ *  octomap's, in the order of the table. Without person labels in the
+ *  frames, the region maps get one fixed region (`result.regionSource` says
+ * which). */
+std::vector<Contender> makeContenders(
+	const MapBenchmarkOptions& opts, const std::vector<Frame>& frames, MapBenchmarkResult& result)
+{
 	const bool labelled =
 		std::any_of(frames.begin(), frames.end(), [](const Frame& f) { return hasPersonLabels(*f.obs); });
-
 	CAdaptiveOctoMap::TCreationOptions regionRes, paperRes;
 	regionRes.low.resolution = opts.regionLow;
 	regionRes.high.resolution = opts.regionHigh;
@@ -175,33 +180,46 @@ MapBenchmarkResult runMapBenchmark(
 	contenders.push_back(adaptive(pn.str(), paperMap));
 	contenders.push_back(plainOctomap(opts.paperLow, opts.maxRange, true));
 	contenders.push_back(plainOctomap(opts.paperHigh, opts.maxRange, true));
+	return contenders;
+}
+
+/** octomap's input for one frame (world points and the sensor origin), made
+ *  outside its timer; returns the number of points. */
+std::size_t octomapInput(const Frame& f, octomap::Pointcloud& cloud, octomap::point3d& origin)
+{
+	mrpt::maps::CSimplePointsMap pts;
+	mrpt::obs::T3DPointsProjectionParams pp;
+	pp.takeIntoAccountSensorPoseOnRobot = true;
+	pp.robotPoseInTheWorld = f.pose;
+	f.obs->unprojectInto(pts, pp);
+	cloud.reserve(pts.size());
+	const auto& xs = pts.getPointsBufferRef_x();
+	const auto& ys = pts.getPointsBufferRef_y();
+	const auto& zs = pts.getPointsBufferRef_z();
+	for (std::size_t k = 0; k < pts.size(); k++) cloud.push_back(xs[k], ys[k], zs[k]);
+	const auto o = (f.pose + f.obs->sensorPose).translation();
+	origin = octomap::point3d(o.x, o.y, o.z);
+	return pts.size();
+}
+}  // namespace
+
+MapBenchmarkResult runMapBenchmark(
+	const MapBenchmarkOptions& opts, const std::function<void(std::size_t, std::size_t)>& progress)
+{
+	const std::vector<Frame> frames = readFrames(opts);
+	MapBenchmarkResult result;
+	result.frames = frames.size();
+	std::vector<Contender> contenders = makeContenders(opts, frames, result);
 
 	std::size_t points = 0;
 	const std::size_t turn = std::max<std::size_t>(1, opts.framesPerTurn);
 	for (std::size_t begin = 0; begin < frames.size(); begin += turn)
 	{
 		const std::size_t end = std::min(frames.size(), begin + turn);
-		// octomap's input, made outside its timer.
 		std::vector<octomap::Pointcloud> clouds(end - begin);
 		std::vector<octomap::point3d> origins(end - begin);
 		for (std::size_t i = begin; i < end; i++)
-		{
-			const auto& f = frames[i];
-			mrpt::maps::CSimplePointsMap pts;
-			mrpt::obs::T3DPointsProjectionParams pp;
-			pp.takeIntoAccountSensorPoseOnRobot = true;
-			pp.robotPoseInTheWorld = f.pose;
-			f.obs->unprojectInto(pts, pp);
-			auto& cloud = clouds[i - begin];
-			cloud.reserve(pts.size());
-			const auto& xs = pts.getPointsBufferRef_x();
-			const auto& ys = pts.getPointsBufferRef_y();
-			const auto& zs = pts.getPointsBufferRef_z();
-			for (std::size_t k = 0; k < pts.size(); k++) cloud.push_back(xs[k], ys[k], zs[k]);
-			points += pts.size();
-			const auto o = (f.pose + f.obs->sensorPose).translation();
-			origins[i - begin] = octomap::point3d(o.x, o.y, o.z);
-		}
+			points += octomapInput(frames[i], clouds[i - begin], origins[i - begin]);
 		for (auto& c : contenders)
 			for (std::size_t i = begin; i < end; i++)
 			{
@@ -225,7 +243,8 @@ std::string toMarkdown(const MapBenchmarkResult& r)
 	s.setf(std::ios::fixed);
 	s << "frames: " << r.frames << ", mean points per frame: " << static_cast<long>(r.meanPointsPerFrame)
 	  << "\nregion: " << r.regionSource << "\n\n";
-	s << "| map | mean ms/frame | median | p95 | mean CPU ms/frame | occupied leaves | free leaves | memory bytes | "
+	s << "| map | mean ms/frame | median | p95 | mean CPU ms/frame | occupied "
+		 "leaves | free leaves | memory bytes | "
 		 ".bt bytes |\n";
 	s << "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
 	for (const auto& row : r.rows)

@@ -57,4 +57,24 @@ void useImagesFolderOf(const std::filesystem::path& rawlog);
  *  0 after --help or --version, 1 after reporting what it threw. */
 int runProgram(const std::string& name, const std::string& description, const std::function<int(CommandLine&)>& body);
 
+/** The progress bar of every avm program, on stderr: redrawn in place in a
+ *  terminal; in a log, drawn once, when the work is done, so the log keeps
+ *  the totals without a line per step. A quiet bar draws nothing. */
+class ProgressBar
+{
+   public:
+	explicit ProgressBar(bool quiet);
+	/** Ends the bar's line if the work stopped before it was done. */
+	~ProgressBar();
+	ProgressBar(const ProgressBar&) = delete;
+	ProgressBar& operator=(const ProgressBar&) = delete;
+
+	/** `fraction` of the work done (1: all, which ends the line), then `text`. */
+	void show(double fraction, const std::string& text = {});
+
+   private:
+	bool m_quiet, m_terminal;
+	bool m_lineOpen = false;
+};
+
 }  // namespace avm::io
