@@ -15,6 +15,7 @@
 #include "SurfaceSketch.h"
 #include "TreeOps.h"
 #include "avm/io/AtomicFile.h"
+#include "avm/io/RunFolder.h"
 #include "avm/maps/CAdaptiveOctoMap.h"
 
 using namespace avm;
@@ -141,10 +142,11 @@ std::size_t CAdaptiveOctoMap::serializedBytes() const
 
 void CAdaptiveOctoMap::saveMetricMapRepresentationToFile(const std::string& prefix) const
 {
-	writeAtomically(prefix + "_low.bt", [&](const std::string& tmp) { return m_low->writeBinaryConst(tmp); });
-	writeAtomically(prefix + "_high.bt", [&](const std::string& tmp)
+	const auto files = io::MapFiles::ofPrefix(prefix);
+	writeAtomically(files.lowTree.string(), [&](const std::string& tmp) { return m_low->writeBinaryConst(tmp); });
+	writeAtomically(files.highTree.string(), [&](const std::string& tmp)
 		{ return m_high ? m_high->writeBinaryConst(tmp) : detail::makeTree(m_creation.high)->writeBinaryConst(tmp); });
-	writeAtomically(prefix + ".3Dscene",
+	writeAtomically(files.scene.string(),
 		[&](const std::string& tmp)
 		{
 			mrpt::opengl::COpenGLScene scene;

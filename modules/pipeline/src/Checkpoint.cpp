@@ -9,6 +9,7 @@
 
 #include "avm/io/AtomicFile.h"
 #include "avm/io/ErrorMessage.h"
+#include "avm/io/RunFolder.h"
 
 namespace avm::pipeline
 {
@@ -58,7 +59,7 @@ CheckpointedRun readFile(const fs::path& outDir, Rest rest)
 }
 }  // namespace
 
-fs::path checkpointFile(const fs::path& outDir) { return outDir / "checkpoint.bin"; }
+fs::path checkpointFile(const fs::path& outDir) { return io::RunFolder(outDir).checkpoint(); }
 
 CheckpointedRun readCheckpointedRun(const fs::path& outDir)
 {

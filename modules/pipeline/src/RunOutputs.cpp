@@ -9,6 +9,7 @@
 
 #include "JsonWriter.h"
 #include "avm/io/AtomicFile.h"
+#include "avm/io/RunFolder.h"
 #include "avm/persons/PersonsCsv.h"
 #include "avm/pipeline/MapPictures.h"
 
@@ -63,7 +64,7 @@ std::string detectionsText(const std::vector<PersonDetectionRecord>& detections)
 }
 
 /** map_top.png and map_perspective.png. */
-void drawPictures(const fs::path& outDir, const io::Trajectory& trajectory, const CAdaptiveOctoMap& map,
+void drawPictures(const io::RunFolder& run, const io::Trajectory& trajectory, const CAdaptiveOctoMap& map,
 	const TreeStats& trees, int size)
 {
 	MapPictureContent content;
@@ -81,8 +82,8 @@ void drawPictures(const fs::path& outDir, const io::Trajectory& trajectory, cons
 	for (const auto& t : map.personTracks()) content.persons.push_back({t.id, t.position});
 	content.lowResolution = trees.low.resolution;
 	content.highResolution = trees.high.resolution;
-	drawTopView(content, outDir / "map_top.png", size);
-	drawPerspectiveView(content, outDir / "map_perspective.png", size);
+	drawTopView(content, run.topPicture(), size);
+	drawPerspectiveView(content, run.perspectivePicture(), size);
 }
 
 void writeStages(JsonWriter& json, const RunSummary& summary)
@@ -265,17 +266,17 @@ void removeStaleTemporaries(const fs::path& dir)
 void writeRunOutputs(
 	const fs::path& outDir, const RunSummary& summary, const RunRecord& record, const CAdaptiveOctoMap& map)
 {
+	const io::RunFolder run(outDir);
 	const TreeStats trees{map.lowResolutionStats(), map.highResolutionStats()};
-	map.saveMetricMapRepresentationToFile((outDir / "map").string());
-	io::writeTumTrajectory(outDir / "trajectory.txt", record.trajectory,
+	map.saveMetricMapRepresentationToFile(run.mapPrefix());
+	io::writeTumTrajectory(run.trajectory(), record.trajectory,
 		"avm-map camera trajectory (" + toString(record.options->poseSource) + "), optical frame, TUM format");
-	writeText(outDir / "trajectory_status.txt", trajectoryStatusText(record));
-	writeText(outDir / "detections.txt", detectionsText(record.personDetections));
-	writeText(outDir / "persons.csv", persons::personsCsvText(map.personTracks()));
-	if (record.options->pictureSize > 0)
-		drawPictures(outDir, record.trajectory, map, trees, record.options->pictureSize);
-	writeText(outDir / "stats.json", statsJson(summary, record, map, trees));
-	writeText(outDir / "avm-map.log", record.log);
+	writeText(run.trajectoryStatus(), trajectoryStatusText(record));
+	writeText(run.detections(), detectionsText(record.personDetections));
+	writeText(run.persons(), persons::personsCsvText(map.personTracks()));
+	if (record.options->pictureSize > 0) drawPictures(run, record.trajectory, map, trees, record.options->pictureSize);
+	writeText(run.stats(), statsJson(summary, record, map, trees));
+	writeText(run.log(), record.log);
 }
 
 void prepareOutputFolder(const fs::path& dir)

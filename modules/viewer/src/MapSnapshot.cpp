@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "avm/io/RunFolder.h"
 #include "avm/io/Trajectory.h"
 #include "avm/maps/CAdaptiveOctoMap.h"
 #include "avm/persons/PersonsCsv.h"
@@ -102,7 +103,8 @@ MapSnapshot snapshotOfTrees(const octomap::OcTree& low, const octomap::OcTree* h
 
 MapSnapshot snapshotOfRun(const std::filesystem::path& outDir, const SnapshotOptions& options)
 {
-	const auto lowFile = outDir / "map_low.bt", highFile = outDir / "map_high.bt";
+	const io::RunFolder run(outDir);
+	const auto lowFile = run.map().lowTree, highFile = run.map().highTree;
 	if (!std::filesystem::exists(lowFile))
 		throw std::runtime_error(lowFile.string() + ": not found (not an avm-map output folder?)");
 	const auto load = [](const std::filesystem::path& f)
@@ -116,16 +118,16 @@ MapSnapshot snapshotOfRun(const std::filesystem::path& outDir, const SnapshotOpt
 	if (std::filesystem::exists(highFile)) high = load(highFile);
 	MapSnapshot s = snapshotOfTrees(*low, high.get(), options);
 
-	if (const auto f = outDir / "trajectory.txt"; std::filesystem::exists(f))
+	if (const auto f = run.trajectory(); std::filesystem::exists(f))
 	{
 		for (const auto& p : io::readTumTrajectory(f)) s.trajectory.push_back(p.pose);
 		if (!s.trajectory.empty()) s.camera = s.trajectory.back();
 		s.status.frame = s.trajectory.empty() ? std::nullopt : std::optional<std::size_t>(s.trajectory.size() - 1);
 		s.status.frames = s.trajectory.size();
 	}
-	if (const auto f = outDir / "persons.csv"; std::filesystem::exists(f))
+	if (const auto f = run.persons(); std::filesystem::exists(f))
 		for (const auto& t : persons::readPersonsCsv(f)) s.persons.push_back({t.id, t.position, t.lastFrame});
-	if (const auto f = outDir / "stats.json"; std::filesystem::exists(f))
+	if (const auto f = run.stats(); std::filesystem::exists(f))
 	{
 		try
 		{
