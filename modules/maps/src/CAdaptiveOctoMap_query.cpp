@@ -40,26 +40,29 @@ TOccupancyQuery CAdaptiveOctoMap::query(const mrpt::math::TPoint3D& p) const
 	return answer(*m_high, m_high->search(p.x, p.y, p.z), Resolution::High);
 }
 
-bool CAdaptiveOctoMap::isLeafVisible(Resolution which, const mrpt::math::TPoint3D& c) const
+void avm::forEachVisibleLeaf(
+	const octomap::OcTree& tree, const octomap::OcTree* hiddenBy, const std::function<void(const TLeafVoxel&)>& visit)
 {
-	if (which == Resolution::Low || m_policy->policy() == SwitchPolicy::Region) return true;
-	return detail::overlapFilterAdmits(*m_low, c);
+	if (tree.size() == 0) return;
+	for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it)
+	{
+		TLeafVoxel v;
+		v.center = detail::toTPoint(it.getCoordinate());
+		if (hiddenBy && !detail::overlapFilterAdmits(*hiddenBy, v.center)) continue;
+		v.size = it.getSize();
+		v.probability = it->getOccupancy();
+		v.occupied = tree.isNodeOccupied(*it);
+		visit(v);
+	}
 }
 
 void CAdaptiveOctoMap::forEachLeaf(Resolution which, const std::function<void(const TLeafVoxel&)>& visit) const
 {
 	const octomap::OcTree* t = tree(which);
-	if (!t || t->size() == 0) return;
-	for (auto it = t->begin_leafs(), end = t->end_leafs(); it != end; ++it)
-	{
-		TLeafVoxel v;
-		v.center = detail::toTPoint(it.getCoordinate());
-		if (!isLeafVisible(which, v.center)) continue;
-		v.size = it.getSize();
-		v.probability = it->getOccupancy();
-		v.occupied = t->isNodeOccupied(*it);
-		visit(v);
-	}
+	if (!t) return;
+	// The region policy's low tree holds no region space: nothing to hide.
+	const bool overlapFiltered = which == Resolution::High && m_policy->policy() == SwitchPolicy::Paper;
+	forEachVisibleLeaf(*t, overlapFiltered ? m_low.get() : nullptr, visit);
 }
 
 std::optional<CAdaptiveOctoMap::TRayHit> CAdaptiveOctoMap::castRay(

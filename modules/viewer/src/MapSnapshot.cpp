@@ -10,6 +10,7 @@
 #include "avm/io/RunFolder.h"
 #include "avm/io/Trajectory.h"
 #include "avm/maps/CAdaptiveOctoMap.h"
+#include "avm/maps/VisibleLeaves.h"
 #include "avm/persons/PersonsCsv.h"
 
 namespace avm::viewer
@@ -20,6 +21,19 @@ SnapshotVoxel voxelOf(const mrpt::math::TPoint3D& c, double size)
 {
 	return {mrpt::math::TPoint3Df(static_cast<float>(c.x), static_cast<float>(c.y), static_cast<float>(c.z)),
 		static_cast<float>(size)};
+}
+
+/** A leaf visitor that keeps the occupied leaves, and the free ones if `freeSpace`. */
+std::function<void(const TLeafVoxel&)> collector(
+	std::vector<SnapshotVoxel>& occupied, std::vector<SnapshotVoxel>& free, bool freeSpace)
+{
+	return [&occupied, &free, freeSpace](const TLeafVoxel& v)
+	{
+		if (v.occupied)
+			occupied.push_back(voxelOf(v.center, v.size));
+		else if (freeSpace)
+			free.push_back(voxelOf(v.center, v.size));
+	};
 }
 
 mrpt::math::TPoint3D pointOf(const mrpt::containers::yaml& xyz)
@@ -53,19 +67,8 @@ MapSnapshot snapshotOf(const CAdaptiveOctoMap& map, const SnapshotOptions& optio
 	s.lowResolution = map.creationOptions().low.resolution;
 	s.highResolution = map.creationOptions().high.resolution;
 	s.hasFreeSpace = options.freeSpace;
-	const auto take = [&](Resolution which, std::vector<SnapshotVoxel>& occupied, std::vector<SnapshotVoxel>& free)
-	{
-		map.forEachLeaf(which,
-			[&](const TLeafVoxel& v)
-			{
-				if (v.occupied)
-					occupied.push_back(voxelOf(v.center, v.size));
-				else if (options.freeSpace)
-					free.push_back(voxelOf(v.center, v.size));
-			});
-	};
-	take(Resolution::Low, s.lowOccupied, s.lowFree);
-	take(Resolution::High, s.highOccupied, s.highFree);
+	map.forEachLeaf(Resolution::Low, collector(s.lowOccupied, s.lowFree, options.freeSpace));
+	map.forEachLeaf(Resolution::High, collector(s.highOccupied, s.highFree, options.freeSpace));
 	for (const auto& r : map.highResolutionRegions()) s.regions.push_back({r.personId, r.boxes});
 	for (const auto& t : map.personTracks()) s.persons.push_back({t.id, t.position, t.lastFrame});
 	for (const auto which : {Resolution::Low, Resolution::High})
@@ -80,23 +83,9 @@ MapSnapshot snapshotOfTrees(const octomap::OcTree& low, const octomap::OcTree* h
 	s.lowResolution = low.getResolution();
 	s.highResolution = high ? high->getResolution() : 0;
 	s.hasFreeSpace = options.freeSpace;
-	const auto take = [&](const octomap::OcTree& t, bool isHigh, std::vector<SnapshotVoxel>& occupied,
-						  std::vector<SnapshotVoxel>& free)
-	{
-		if (t.size() == 0) return;
-		for (auto it = t.begin_leafs(), end = t.end_leafs(); it != end; ++it)
-		{
-			const auto c = it.getCoordinate();
-			if (isHigh && low.search(c) != nullptr) continue;  // the overlap filter
-			const bool occ = t.isNodeOccupied(*it);
-			if (occ)
-				occupied.push_back(voxelOf({c.x(), c.y(), c.z()}, it.getSize()));
-			else if (options.freeSpace)
-				free.push_back(voxelOf({c.x(), c.y(), c.z()}, it.getSize()));
-		}
-	};
-	take(low, false, s.lowOccupied, s.lowFree);
-	if (high) take(*high, true, s.highOccupied, s.highFree);
+	forEachVisibleLeaf(low, nullptr, collector(s.lowOccupied, s.lowFree, options.freeSpace));
+	// Whatever the policy was: a region-policy low tree has no node in region space.
+	if (high) forEachVisibleLeaf(*high, &low, collector(s.highOccupied, s.highFree, options.freeSpace));
 	s.mapMemoryBytes = low.memoryUsage() + (high ? high->memoryUsage() : 0);
 	return s;
 }

@@ -28,6 +28,7 @@
 
 #include "avm/io/IniKeyOptions.h"
 #include "avm/maps/MapTypes.h"
+#include "avm/maps/VisibleLeaves.h"
 #include "avm/persons/PersonLabels.h"
 #include "avm/persons/PersonSighting.h"
 #include "avm/persons/PersonTracker.h"
@@ -69,15 +70,6 @@ struct TOccupancyQuery
 	Resolution tree = Resolution::Low;
 	/** Voxel edge of that tree [m]. */
 	double resolution = 0;
-};
-
-/** One visible leaf of either tree (see CAdaptiveOctoMap::forEachLeaf). */
-struct TLeafVoxel
-{
-	mrpt::math::TPoint3D center;
-	double size = 0;  //!< edge [m]; larger than the resolution for pruned leaves
-	double probability = 0.5;
-	bool occupied = false;
 };
 
 class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
@@ -291,7 +283,6 @@ class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
 	/** Follow lifetime: the time since the last insertion counts for the
 	 *  regions the camera now looks at; those past region_end_after_s end. */
 	void ageRegions(const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& sensorPose);
-	bool isLeafVisible(Resolution tree, const mrpt::math::TPoint3D& center) const;
 	TTreeStats statsOf(Resolution which) const;
 
 	TCreationOptions m_creation;

@@ -68,6 +68,15 @@ struct THighResolutionRegion
 	double lastSeenTime = 0;  //!< [s] UNIX time of the person's last sighting
 };
 
+/** One visible leaf of either tree (see forEachVisibleLeaf). */
+struct TLeafVoxel
+{
+	mrpt::math::TPoint3D center;
+	double size = 0;  //!< edge [m]; larger than the resolution for pruned leaves
+	double probability = 0.5;
+	bool occupied = false;
+};
+
 /** The parameters of one octree. All keys carry the tree's prefix ("low_" or
  *  "high_") in the `_creationOpts` section (CAdaptiveOctoMap::TTreeOptions). */
 struct TTreeOptions : public io::CIniKeyOptions<TTreeOptions>
