@@ -4,17 +4,18 @@
 #include <array>
 
 #include "KeySet.h"
+#include "OcTreeKeys.h"
 
 namespace avm::detail
 {
 namespace
 {
-constexpr unsigned kDepth = 16;
+constexpr unsigned kDepth = kKeyBits;
 
 /** Spreads the 16 bits of v to every third bit. */
 inline std::uint64_t spread3(std::uint64_t v)
 {
-	v &= 0xFFFF;
+	v &= kKeyMask;
 	v = (v | (v << 16)) & 0x0000FF0000FFull;
 	v = (v | (v << 8)) & 0x00F00F00F00Full;
 	v = (v | (v << 4)) & 0x0C30C30C30C3ull;
@@ -29,7 +30,7 @@ inline std::uint64_t compact3(std::uint64_t v)
 	v = (v | (v >> 2)) & 0x0C30C30C30C3ull;
 	v = (v | (v >> 4)) & 0x00F00F00F00Full;
 	v = (v | (v >> 8)) & 0x0000FF0000FFull;
-	v = (v | (v >> 16)) & 0xFFFF;
+	v = (v | (v >> 16)) & kKeyMask;
 	return v;
 }
 

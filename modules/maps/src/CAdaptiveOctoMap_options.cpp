@@ -6,6 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "OcTreeKeys.h"
 #include "avm/io/EnumNames.h"
 #include "avm/io/IniKeys.h"
 #include "avm/maps/CAdaptiveOctoMap.h"
@@ -24,7 +25,7 @@ io::IniRule<double> inOpenRange(double lo, double hi)
 // A tree of depth 16 spans +-resolution * 2^15 around the origin; below this
 // half extent an indoor run would leave the tree.
 constexpr double kMinTreeHalfExtent = 100.0;  // [m]
-constexpr double kTreeHalfCells = 32768.0;
+constexpr double kTreeHalfCells = detail::kKeyOffset;
 }  // namespace
 
 namespace

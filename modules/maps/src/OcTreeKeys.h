@@ -11,19 +11,25 @@
 
 namespace avm::detail
 {
+/** Bits of one axis of a key: octomap's tree depth, 16. */
+constexpr unsigned kKeyBits = 16;
+constexpr std::uint64_t kKeyMask = (std::uint64_t(1) << kKeyBits) - 1;
 /** octomap's key of coordinate 0 in a depth-16 tree (tree_max_val). */
-constexpr int kKeyOffset = 32768;
+constexpr int kKeyOffset = 1 << (kKeyBits - 1);
+/** What a packed key changes by for one voxel along x, y and z (adding the
+ *  wrapped negative moves back). */
+constexpr std::uint64_t kPackedUnit[3] = {std::uint64_t(1) << (2 * kKeyBits), std::uint64_t(1) << kKeyBits, 1};
 
 /** 3 x 16-bit key in one word, +1 so that 0 can mark "no key". */
 inline std::uint64_t packKey(const octomap::OcTreeKey& k)
 {
-	return ((std::uint64_t(k[0]) << 32) | (std::uint64_t(k[1]) << 16) | std::uint64_t(k[2])) + 1;
+	return (std::uint64_t(k[0]) * kPackedUnit[0] | std::uint64_t(k[1]) * kPackedUnit[1] | std::uint64_t(k[2])) + 1;
 }
 inline octomap::OcTreeKey unpackKey(std::uint64_t packed)
 {
 	const std::uint64_t v = packed - 1;
-	return octomap::OcTreeKey(static_cast<octomap::key_type>(v >> 32),
-		static_cast<octomap::key_type>((v >> 16) & 0xFFFF), static_cast<octomap::key_type>(v & 0xFFFF));
+	return octomap::OcTreeKey(static_cast<octomap::key_type>(v >> (2 * kKeyBits)),
+		static_cast<octomap::key_type>((v >> kKeyBits) & kKeyMask), static_cast<octomap::key_type>(v & kKeyMask));
 }
 
 /** octomap's coordToKey, packed; false when the point is outside the tree.

@@ -33,13 +33,12 @@ bool forEachRayKey(
 	const float length = static_cast<float>(direction.norm());
 	direction /= length;
 	const double res = tree.getResolution();
-	constexpr std::uint64_t kUnit[3] = {std::uint64_t(1) << 32, std::uint64_t(1) << 16, 1};
 	std::uint64_t move[3];
 	double tMax[3], tDelta[3];
 	for (unsigned i = 0; i < 3; ++i)
 	{
 		const int step = direction(i) > 0.0 ? 1 : (direction(i) < 0.0 ? -1 : 0);
-		move[i] = step * kUnit[i];  // -unit wraps: adding it subtracts
+		move[i] = step * kPackedUnit[i];  // -unit wraps: adding it subtracts
 		if (step != 0)
 		{
 			double border = tree.keyToCoord(first[i]);
@@ -537,7 +536,7 @@ void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band
 				[&](int u)
 				{
 					const bool inRegion = inside.x[u] >= kInsideTag;
-					const int x = inside.x[u] < 0 ? -1 : inside.x[u] & 0xFFFF;
+					const int x = inside.x[u] < 0 ? -1 : static_cast<int>(inside.x[u] & kKeyMask);
 					if (const auto key = packedOrNone(x, inside.y[u], inside.z[u]))
 						(inRegion ? band.inside : band.crossing)->insert(key);
 				});

@@ -43,7 +43,7 @@ void pointRowKeys(const RowRays& r, const float* depth, float inverse, int cols,
 void classifyAgainstBox(const RowRays& r, const float* depth, const mrpt::math::TBoundingBox& box, int from, int to,
 	float* inside, float* crossTo);
 
-constexpr int kInsideTag = 1 << 16;
+constexpr int kInsideTag = 1 << kKeyBits;
 
 /** Inside keys of the classified pixels: of the point where it lies in a
  *  region, else of the voxel where its ray leaves the farthest region it
@@ -85,7 +85,7 @@ inline void forEachFlagged(const std::uint8_t* flags, int from, int to, Visit&& 
  *  KeySets) where one is -1 ("no voxel") or beyond the tree. */
 inline std::uint64_t packedOrNone(int x, int y, int z)
 {
-	if ((static_cast<unsigned>(x) | static_cast<unsigned>(y) | static_cast<unsigned>(z)) > 0xFFFFu) return 0;
+	if ((static_cast<unsigned>(x) | static_cast<unsigned>(y) | static_cast<unsigned>(z)) > kKeyMask) return 0;
 	return packKey(octomap::OcTreeKey(
 		static_cast<octomap::key_type>(x), static_cast<octomap::key_type>(y), static_cast<octomap::key_type>(z)));
 }
