@@ -5,10 +5,12 @@
 
 namespace avm::odometry
 {
-io::IniKeys<TOdometryOptions> TOdometryOptions::iniKeys()
+namespace
+{
+/** Features, matching and PnP. */
+void addFrontEndKeys(io::IniKeys<TOdometryOptions>& keys)
 {
 	using O = TOdometryOptions;
-	io::IniKeys<O> keys;
 	keys.number("num_features", &O::num_features, "", "features kept per frame after bucketing",
 			{[](int v) { return v >= 50; }, "must be at least 50"})
 		.number("pyramid_levels", &O::pyramid_levels, "", "ORB pyramid levels",
@@ -41,8 +43,14 @@ io::IniKeys<TOdometryOptions> TOdometryOptions::iniKeys()
 		.number("ransac_iterations", &O::ransac_iterations, "", "PnP RANSAC iterations",
 			{[](int v) { return v >= 1; }, "must be >= 1"})
 		.number("min_inliers", &O::min_inliers, "", "fewer inliers = tracking lost",
-			{[](int v) { return v >= 6; }, "must be >= 6 (PnP needs at least 4, plus margin)"})
-		.number("huber_delta", &O::huber_delta, "px", "Huber loss width",
+			{[](int v) { return v >= 6; }, "must be >= 6 (PnP needs at least 4, plus margin)"});
+}
+
+/** The Ceres refinement, the window bundle adjustment and keyframes. */
+void addBackEndKeys(io::IniKeys<TOdometryOptions>& keys)
+{
+	using O = TOdometryOptions;
+	keys.number("huber_delta", &O::huber_delta, "px", "Huber loss width",
 			{[](double v) { return v > 0; }, "must be > 0 px"})
 		.number("depth_weight", &O::depth_weight, "",
 			"weight of the depth residual fx*(z-d)/d [px] (depth noise is ~20x pixel noise); 0 = reprojection only",
@@ -83,8 +91,14 @@ io::IniKeys<TOdometryOptions> TOdometryOptions::iniKeys()
 			"adjustment gives the keyframe (false)")
 		.check(
 			"motion_prior_sigma", [](const O& o) { return o.motion_prior_sigma == 0 || o.keyframe_tracked_pose; },
-			"must be 0 unless keyframe_tracked_pose = true (the prediction would jump at every keyframe)")
-		.number("map_max_keyframes", &O::map_max_keyframes, "",
+			"must be 0 unless keyframe_tracked_pose = true (the prediction would jump at every keyframe)");
+}
+
+/** The keyframe map, relocalisation and loop closing. */
+void addPlaceKeys(io::IniKeys<TOdometryOptions>& keys)
+{
+	using O = TOdometryOptions;
+	keys.number("map_max_keyframes", &O::map_max_keyframes, "",
 			"keyframes kept for the whole run, about 70 kB each (descriptors, points, words); when full, the older of "
 			"the two closest keyframes goes, >= 10",
 			{[](int v) { return v >= 10; }, "must be >= 10"})
@@ -135,8 +149,14 @@ io::IniKeys<TOdometryOptions> TOdometryOptions::iniKeys()
 		.number("odometry_sigma", &O::odometry_sigma, "m",
 			"standard deviation of the odometry between consecutive keyframes in the pose graph (the same number in "
 			"rad for its rotation)",
-			{[](double v) { return v > 0; }, "must be > 0"})
-		.number("mask_people", &O::mask_people, "", "leave out features on detected people")
+			{[](double v) { return v > 0; }, "must be > 0"});
+}
+
+/** People walking through the view, and threads. */
+void addPeopleAndRuntimeKeys(io::IniKeys<TOdometryOptions>& keys)
+{
+	using O = TOdometryOptions;
+	keys.number("mask_people", &O::mask_people, "", "leave out features on detected people")
 		.number("person_box_margin", &O::person_box_margin, "px", "added on every side of a person box",
 			{[](int v) { return v >= 0; }, "must be >= 0 px"})
 		.number("person_depth_band", &O::person_depth_band, "m",
@@ -144,6 +164,17 @@ io::IniKeys<TOdometryOptions> TOdometryOptions::iniKeys()
 			{[](double v) { return v >= 0; }, "must be >= 0 m"})
 		.number("threads", &O::threads, "", "Ceres threads; OpenCV threads are set by the program",
 			{[](int v) { return v >= 1; }, "must be >= 1"});
+}
+
+}  // namespace
+
+io::IniKeys<TOdometryOptions> TOdometryOptions::iniKeys()
+{
+	io::IniKeys<TOdometryOptions> keys;
+	addFrontEndKeys(keys);
+	addBackEndKeys(keys);
+	addPlaceKeys(keys);
+	addPeopleAndRuntimeKeys(keys);
 	return keys;
 }
 }  // namespace avm::odometry
