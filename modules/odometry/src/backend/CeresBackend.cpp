@@ -49,19 +49,14 @@ void CeresBackend::refinePose(Eigen::Isometry3d& T_cw, const std::vector<Observa
 {
 	if (m_options.refine_iterations == 0 || observations.empty()) return;
 	PoseParams pose = toParams(T_cw);
-	std::vector<std::array<double, 3>> points(observations.size());
 	ceres::Problem::Options po;
 	po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
 	ceres::Problem problem(po);
 	ceres::HuberLoss loss(m_options.huber_delta);
-	for (std::size_t i = 0; i < observations.size(); ++i)
-	{
-		const auto& p = landmarks.at(observations[i].landmark).position;
-		points[i] = {p.x(), p.y(), p.z()};
-		problem.AddResidualBlock(ReprojectionDepthCost::create(observations[i], K, m_options.depth_weight), &loss,
-			pose.data(), points[i].data());
-		problem.SetParameterBlockConstant(points[i].data());
-	}
+	for (const auto& o : observations)
+		problem.AddResidualBlock(ReprojectionDepthCost::createFixedPoint(
+									 o, landmarks.at(o.landmark).position, K, m_options.depth_weight),
+			&loss, pose.data());
 	if (prior)
 		problem.AddResidualBlock(
 			new ceres::AutoDiffCostFunction<CentrePriorCost, 3, 6>(new CentrePriorCost{*prior}), nullptr, pose.data());

@@ -6,6 +6,8 @@
 #include <ceres/autodiff_cost_function.h>
 #include <ceres/rotation.h>
 
+#include <array>
+
 #include "../Types.h"
 
 namespace avm::odometry::detail
@@ -19,11 +21,12 @@ class ReprojectionDepthCost
 	}
 
 	/** pose = T_cw as angle-axis (3) then translation (3); point in the world. */
-	template <typename T>
-	bool operator()(const T* const pose, const T* const point, T* residual) const
+	template <typename T, typename P>
+	bool operator()(const T* const pose, const P* const point, T* residual) const
 	{
+		const T p[3] = {T(point[0]), T(point[1]), T(point[2])};
 		T pc[3];
-		ceres::AngleAxisRotatePoint(pose, point, pc);
+		ceres::AngleAxisRotatePoint(pose, p, pc);
 		pc[0] += pose[3];
 		pc[1] += pose[4];
 		pc[2] += pose[5];
@@ -36,15 +39,40 @@ class ReprojectionDepthCost
 		return true;
 	}
 
+	/** The residual of a pose and a point that both move (bundle adjustment). */
 	static ceres::CostFunction* create(const Observation& obs, const io::DepthCamera& K, double depthWeight)
 	{
 		return new ceres::AutoDiffCostFunction<ReprojectionDepthCost, 3, 6, 3>(
 			new ReprojectionDepthCost(obs, K, depthWeight));
 	}
 
+	/** The residual of a pose against a fixed point (tracking): Ceres then
+	 *  differentiates 6 parameters instead of 9, the same derivatives. */
+	static ceres::CostFunction* createFixedPoint(
+		const Observation& obs, const Eigen::Vector3d& point, const io::DepthCamera& K, double depthWeight);
+
    private:
 	double m_u, m_v, m_depth;
 	io::DepthCamera m_K;
 	double m_depthWeight;
 };
+
+/** ReprojectionDepthCost with its point held in the functor. */
+struct FixedPointReprojectionDepthCost
+{
+	template <typename T>
+	bool operator()(const T* const pose, T* residual) const
+	{
+		return cost(pose, point.data(), residual);
+	}
+	ReprojectionDepthCost cost;
+	std::array<double, 3> point;
+};
+
+inline ceres::CostFunction* ReprojectionDepthCost::createFixedPoint(
+	const Observation& obs, const Eigen::Vector3d& point, const io::DepthCamera& K, double depthWeight)
+{
+	return new ceres::AutoDiffCostFunction<FixedPointReprojectionDepthCost, 3, 6>(new FixedPointReprojectionDepthCost{
+		ReprojectionDepthCost(obs, K, depthWeight), {point.x(), point.y(), point.z()}});
+}
 }  // namespace avm::odometry::detail
