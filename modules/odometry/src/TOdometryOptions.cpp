@@ -116,8 +116,8 @@ void addPlaceKeys(io::IniKeys<TOdometryOptions>& keys)
 			"map starts at the bridged pose",
 			{[](int v) { return v >= 0; }, "must be >= 0"})
 		.number("loop_closure", &O::loop_closure, "",
-			"close loops: a new keyframe that sees an old keyframe's place again is measured against it and the "
-			"keyframes move in a pose graph (Ceres)")
+			"close loops: a new keyframe that sees an old keyframe's place again is measured against it, judged by "
+			"the loop check (loop_sigma, odometry_sigma) and the keyframes move in a pose graph (Ceres)")
 		.number("loop_min_separation", &O::loop_min_separation, "keyframes",
 			"a loop candidate is at least this many keyframes older than the new keyframe",
 			{[](int v) { return v >= 1; }, "must be >= 1"})
@@ -132,23 +132,14 @@ void addPlaceKeys(io::IniKeys<TOdometryOptions>& keys)
 		.check(
 			"loop_min_inliers", [](const O& o) { return o.loop_min_inliers >= o.min_inliers; },
 			"must be >= min_inliers")
-		.number("loop_min_correction", &O::loop_min_correction, "m",
-			"a loop moves the keyframes only when its camera centre is this far from the tracked one (or turned "
-			"loop_min_rotation); less is within the loop's own error",
-			{[](double v) { return v >= 0; }, "must be >= 0 m"})
-		.number("loop_min_rotation", &O::loop_min_rotation, "deg", "see loop_min_correction",
-			{[](double v) { return v >= 0; }, "must be >= 0 deg"})
-		.number("loop_max_correction", &O::loop_max_correction, "m",
-			"a loop this far from the tracked pose is taken for a false one")
-		.check(
-			"loop_max_correction", [](const O& o) { return o.loop_max_correction > o.loop_min_correction; },
-			"must be > loop_min_correction")
 		.number("loop_sigma", &O::loop_sigma, "m",
-			"standard deviation of a loop constraint in the pose graph (the same number in rad for its rotation)",
+			"standard deviation of a loop's measured camera centre on each axis: the loop check's scale and the loop "
+			"constraint's in the pose graph (the same number in rad for its rotation)",
 			{[](double v) { return v > 0; }, "must be > 0"})
 		.number("odometry_sigma", &O::odometry_sigma, "m",
-			"standard deviation of the odometry between consecutive keyframes in the pose graph (the same number in "
-			"rad for its rotation)",
+			"standard deviation of the odometry between consecutive keyframes on each axis: how far the track may "
+			"have drifted since a loop's candidate in the loop check, and the odometry constraint in the pose graph "
+			"(the same number in rad for its rotation)",
 			{[](double v) { return v > 0; }, "must be > 0"});
 }
 

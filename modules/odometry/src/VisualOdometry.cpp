@@ -118,11 +118,7 @@ OdometryEstimate VisualOdometry::Impl::track(const FrameFeatures& f)
 	if (int(inliers.size()) < options.min_inliers)
 		return lost(f, std::to_string(inliers.size()) + " inliers after refinement");
 	const double deviation = (T.inverse().translation() - predicted.inverse().translation()).norm();
-	if (const auto why = implausibleMotion(deviation))
-	{
-		++lostFrames;
-		return bridge(*why);
-	}
+	if (const auto why = implausibleMotion(deviation)) return bridge(*why);
 
 	OdometryEstimate e;
 	e.tracked = true;
@@ -135,16 +131,8 @@ OdometryEstimate VisualOdometry::Impl::track(const FrameFeatures& f)
 	if (recovered) e.status = "tracking again after " + std::to_string(lostFrames) + " lost frames";
 	lostFrames = lostFramesWithFeatures = 0;
 
-	// Keyframe when the camera moved or turned enough, or sees too little of
-	// the last keyframe's landmarks.
-	// Overlap: inliers relative to the most the last keyframe's map gave any frame.
-	auto& last = window.back();
-	const Eigen::Isometry3d rel = T * keyframeMap.find(last.id)->T_cw.inverse();
-	last.bestInliers = std::max(last.bestInliers, inliers.size());
-	const double overlap = double(inliers.size()) / double(last.bestInliers);
 	const Eigen::Isometry3d previous = T_cw;
-	if (rel.translation().norm() > options.keyframe_translation ||
-		rotationAngleDeg(rel.rotation()) > options.keyframe_rotation || overlap < options.keyframe_overlap)
+	if (needsKeyframe(T, inliers.size()))
 	{
 		addKeyframe(f, inliers, T);
 		if (!options.keyframe_tracked_pose) T = keyframeMap.find(window.back().id)->T_cw;
@@ -163,6 +151,19 @@ OdometryEstimate VisualOdometry::Impl::track(const FrameFeatures& f)
 	if (e.keyframe && options.loop_closure) closeLoop(f, e);
 	e.pose = toPose(T_cw.inverse());
 	return e;
+}
+
+bool VisualOdometry::Impl::needsKeyframe(const Eigen::Isometry3d& T, std::size_t inliers)
+{
+	// When the camera moved or turned enough, or sees too little of the last
+	// keyframe's landmarks. Overlap: inliers relative to the most the last
+	// keyframe's map gave any frame.
+	auto& last = window.back();
+	const Eigen::Isometry3d rel = T * keyframeMap.find(last.id)->T_cw.inverse();
+	last.bestInliers = std::max(last.bestInliers, inliers);
+	const double overlap = double(inliers) / double(last.bestInliers);
+	return rel.translation().norm() > options.keyframe_translation ||
+		   rotationAngleDeg(rel.rotation()) > options.keyframe_rotation || overlap < options.keyframe_overlap;
 }
 
 void VisualOdometry::Impl::addKeyframe(
@@ -228,6 +229,10 @@ OdometryEstimate VisualOdometry::process(
 void VisualOdometry::reportFeatures(bool on) { m_impl->reportFeatures = on; }
 void VisualOdometry::saveState(mrpt::serialization::CArchive& out) const { m_impl->saveState(out); }
 void VisualOdometry::loadState(mrpt::serialization::CArchive& in) { m_impl->loadState(in); }
+VisualOdometry::LoopOutcome VisualOdometry::offerLoop(std::size_t oldFrame, const mrpt::poses::CPose3D& measured)
+{
+	return m_impl->offerLoop(oldFrame, measured);
+}
 const TOdometryOptions& VisualOdometry::options() const { return m_impl->options; }
 std::size_t VisualOdometry::keyframeCount() const { return m_impl->window.size(); }
 std::size_t VisualOdometry::mapKeyframeCount() const { return m_impl->keyframeMap.size(); }

@@ -112,6 +112,9 @@ struct VisualOdometry::Impl
 	OdometryEstimate track(const FrameFeatures& f);
 	VisualOdometry::PlaceQuery queryPlace(
 		const mrpt::obs::CObservation3DRangeScan& obs, const std::vector<cv::Rect>& boxes) const;
+	/** Whether a frame tracked at T with `inliers` inliers makes a keyframe
+	 *  (keyframe_translation, keyframe_rotation, keyframe_overlap). */
+	bool needsKeyframe(const Eigen::Isometry3d& T, std::size_t inliers);
 	/** A keyframe at T from the frame's matched inliers and new landmarks for
 	 *  the unmatched features; runs the window bundle adjustment. */
 	void addKeyframe(const FrameFeatures& f, const std::vector<Match>& inliers, const Eigen::Isometry3d& T);
@@ -120,6 +123,10 @@ struct VisualOdometry::Impl
 	 *  loop shows drift, optimises the pose graph and moves everything with
 	 *  it. What it found goes to e's status; e.loopClosed when the poses moved. */
 	void closeLoop(const FrameFeatures& f, OdometryEstimate& e);
+	/** The loop check (judgeLoop) on a loop measured at the newest keyframe,
+	 *  and the pose graph when it says close. */
+	VisualOdometry::LoopOutcome considerLoop(const LoopMeasurement& loop);
+	VisualOdometry::LoopOutcome offerLoop(std::size_t oldFrame, const mrpt::poses::CPose3D& measured);
 	/** Moves the map keyframes to `poses` (T_cw by id), the local map rigidly
 	 *  with the current frame to `newestPose`, and every frame with its
 	 *  keyframe. */
@@ -138,7 +145,8 @@ struct VisualOdometry::Impl
 	/** Why a tracked pose at `deviation` [m] from the prediction is not to be
 	 *  trusted (motion_gate), or nothing. */
 	std::optional<std::string> implausibleMotion(double deviation) const;
-	/** The frame's pose from the motion model, the local map kept: its own pose was not trusted. */
+	/** The frame's pose from the motion model, the local map kept: its own
+	 *  pose was not to be had or not trusted. One more lost frame. */
 	OdometryEstimate bridge(const std::string& why);
 
 	struct Relocalisation

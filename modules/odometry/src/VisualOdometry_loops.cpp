@@ -3,8 +3,10 @@
 // keyframes, the local map and every frame, and the place joined.
 #include <algorithm>
 #include <cstdio>
+#include <stdexcept>
 
 #include "VisualOdometryImpl.h"
+#include "avm/io/RgbdFrame.h"
 
 namespace avm::odometry
 {
@@ -21,42 +23,53 @@ void VisualOdometry::Impl::closeLoop(const FrameFeatures& f, OdometryEstimate& e
 		std::find_if(frames.begin(), frames.end(), [&](const FramePose& p) { return p.keyframe == loop->candidate; });
 	e.loop = LoopReport{std::size_t(made - frames.begin()), loop->inliers, toPose(T_candidate * loop->T_cw.inverse()),
 		toPose(T_candidate * T_cw.inverse())};
-	char said[160];
-	std::snprintf(said, sizeof(said), "; loop with keyframe %d (%zu inliers, %.3f m, %.2f deg): ", loop->candidate,
-		loop->inliers, loop->translation, loop->rotation);
+	char said[120];
+	std::snprintf(said, sizeof(said), "; loop with keyframe %d (%zu inliers, %.2f deg): ", loop->candidate,
+		loop->inliers, loop->rotation);
 	e.status += said;
-	if (loop->translation > options.loop_max_correction)
-	{
-		e.status += "refused, beyond loop_max_correction";
-		return;
-	}
+	const auto outcome = considerLoop(*loop);
+	e.status += outcome.said;
+	e.loopClosed = outcome.closed;
+}
+
+VisualOdometry::LoopOutcome VisualOdometry::Impl::considerLoop(const LoopMeasurement& loop)
+{
+	const Keyframe& newest = window.back();
 	loops.erase(std::remove_if(loops.begin(), loops.end(),
 					[&](const PoseGraphEdge& l) { return !keyframeMap.find(l.from) || !keyframeMap.find(l.to); }),
 		loops.end());
-	// A loop moves the poses only when it shows more drift than its own error
-	// and the loop of the keyframe before found the same.
-	const bool drifted =
-		loop->translation >= options.loop_min_correction || loop->rotation >= options.loop_min_rotation;
-	const bool confirmed = drifted && confirmsLoopBefore(*loop, newest, loops, keyframeMap, options);
-	loops.push_back(loopEdge(*loop, newest.id, keyframeMap, options));
-	if (!confirmed)
-	{
-		e.status += drifted ? "kept, not confirmed by the keyframe before" : "kept, within its own error";
-		return;
-	}
+	const LoopJudgement judged = judgeLoop(loop, newest.id, loops, keyframeMap, options);
+	if (judged.verdict == LoopVerdict::Refused) return {false, "refused, " + judged.why};
+	loops.push_back(loopEdge(loop, newest.id, keyframeMap, options));
+	if (judged.verdict == LoopVerdict::Unconfirmed) return {false, "kept, not confirmed (" + judged.why + ")"};
+	if (judged.verdict == LoopVerdict::WithinOwnError)
+		return {false, "kept, within the loops' own error (" + judged.why + ")"};
 	const auto poses = closeLoops(keyframeMap, loops, options);
-	if (!poses)
-	{
-		e.status += "kept, the pose graph found no solution";
-		return;
-	}
+	if (!poses) return {false, "kept, the pose graph found no solution"};
 	// The graph moved the place too; the loop measured the new keyframe
 	// against the place as it was.
-	const Eigen::Isometry3d T_loop = loop->T_cw * (T_candidate.inverse() * poses->at(loop->candidate));
+	const Eigen::Isometry3d T_candidate = keyframeMap.find(loop.candidate)->T_cw;
+	const Eigen::Isometry3d T_loop = loop.T_cw * (T_candidate.inverse() * poses->at(loop.candidate));
 	moveTo(*poses, T_loop);
-	joinPlace(*loop);
-	e.status += "closed, poses corrected";
-	e.loopClosed = true;
+	joinPlace(loop);
+	return {true, "closed, poses corrected (" + judged.why + ")"};
+}
+
+VisualOdometry::LoopOutcome VisualOdometry::Impl::offerLoop(std::size_t oldFrame, const mrpt::poses::CPose3D& measured)
+{
+	const auto madeKeyframe = [&](std::size_t i)
+	{ return i < frames.size() && frames[i].keyframe >= 0 && (i == 0 || frames[i - 1].keyframe != frames[i].keyframe); };
+	if (window.empty() || frames.empty() || !madeKeyframe(frames.size() - 1) ||
+		frames.back().keyframe != window.back().id)
+		throw std::logic_error("offerLoop: the last frame processed did not make a keyframe");
+	if (!madeKeyframe(oldFrame) || !keyframeMap.find(frames[oldFrame].keyframe))
+		throw std::invalid_argument(
+			"offerLoop: frame " + std::to_string(oldFrame) + " made no keyframe that the keyframe map still holds");
+	if (!io::isFinite(measured)) throw std::invalid_argument("offerLoop: the measured pose is not finite");
+	LoopMeasurement loop;
+	loop.candidate = frames[oldFrame].keyframe;
+	loop.T_cw = toIsometry(measured).inverse() * keyframeMap.find(loop.candidate)->T_cw;
+	return considerLoop(measuredFrom(std::move(loop), T_cw));
 }
 
 void VisualOdometry::Impl::joinPlace(const LoopMeasurement& loop)
@@ -64,6 +77,7 @@ void VisualOdometry::Impl::joinPlace(const LoopMeasurement& loop)
 	// The new keyframe's features that matched the place now observe the
 	// place's points: tracking goes on against the old map there, not against
 	// the drifted copy the local map made of it.
+	if (loop.inlierMatches.empty()) return;
 	Keyframe& newest = window.back();
 	const LandmarkMap place =
 		placeAround(loop.candidate, newest.id - options.loop_min_separation, keyframeMap, options.loop_neighbours);

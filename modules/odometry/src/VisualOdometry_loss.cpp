@@ -14,7 +14,6 @@ namespace avm::odometry
 OdometryEstimate VisualOdometry::Impl::lost(const FrameFeatures& f, const std::string& why)
 {
 	OdometryEstimate e;
-	++lostFrames;
 	const bool trackable = int(f.keypoints.size()) >= options.min_inliers;
 	if (trackable)
 	{
@@ -25,7 +24,7 @@ OdometryEstimate VisualOdometry::Impl::lost(const FrameFeatures& f, const std::s
 		{
 			// Back in the old map's frame: a new local map starts at the
 			// relocalised pose. The motion across the gap is unknown.
-			const std::string after = std::to_string(lostFrames);
+			const std::string after = std::to_string(lostFrames + 1);
 			restartLocalMap(f, r->T_cw);
 			T_cw = keyframeMap.find(window.back().id)->T_cw;
 			velocity = Eigen::Isometry3d::Identity();
@@ -56,6 +55,7 @@ OdometryEstimate VisualOdometry::Impl::lost(const FrameFeatures& f, const std::s
 OdometryEstimate VisualOdometry::Impl::bridge(const std::string& why)
 {
 	OdometryEstimate e;
+	++lostFrames;
 	T_cw = velocity * T_cw;
 	e.status = why;
 	e.pose = toPose(T_cw.inverse());

@@ -3,6 +3,8 @@
 #include <mrpt/core/bits_math.h>
 
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 
 namespace avm::odometry::detail
 {
@@ -59,30 +61,59 @@ std::optional<LoopMeasurement> measureLoop(const FrameFeatures& f, const Eigen::
 		if (!refined || int(refined->inliers.size()) < options.loop_min_inliers ||
 			(best && refined->inliers.size() <= best->inliers))
 			continue;
-		const Eigen::Isometry3d& T = refined->T_cw;
 		LoopMeasurement m;
 		m.candidate = c.keyframe;
-		m.T_cw = T;
+		m.T_cw = refined->T_cw;
 		m.inliers = refined->inliers.size();
-		m.translation = (cameraCentre(T) - cameraCentre(T_cw)).norm();
-		m.rotation = mrpt::RAD2DEG(Eigen::AngleAxisd(T.rotation() * T_cw.rotation().transpose()).angle());
 		m.inlierMatches = std::move(refined->inliers);
-		best = m;
+		best = measuredFrom(std::move(m), T_cw);
 	}
 	return best;
 }
 
-bool confirmsLoopBefore(const LoopMeasurement& loop, const Keyframe& newest, const std::vector<PoseGraphEdge>& loops,
+LoopMeasurement measuredFrom(LoopMeasurement loop, const Eigen::Isometry3d& T_cw)
+{
+	const Eigen::Isometry3d& T = loop.T_cw;
+	loop.translation = (cameraCentre(T) - cameraCentre(T_cw)).norm();
+	loop.rotation = mrpt::RAD2DEG(Eigen::AngleAxisd(T.rotation() * T_cw.rotation().transpose()).angle());
+	return loop;
+}
+
+LoopJudgement judgeLoop(const LoopMeasurement& loop, int newestId, const std::vector<PoseGraphEdge>& loops,
 	const KeyframeMap& map, const TOdometryOptions& options)
 {
-	if (loops.empty() || loops.back().to != newest.id - 1) return false;
-	const PoseGraphEdge& before = loops.back();
-	const MapKeyframe* from = map.find(before.from);
-	const MapKeyframe* to = map.find(before.to);
-	if (!from || !to) return false;
-	const Eigen::Vector3d shift = cameraCentre(loop.T_cw) - cameraCentre(map.find(newest.id)->T_cw);
-	const Eigen::Vector3d shiftBefore = cameraCentre(before.T_to_from * from->T_cw) - cameraCentre(to->T_cw);
-	return (shift - shiftBefore).norm() < options.loop_min_correction;
+	// Chi-square with 3 degrees of freedom at 99 %: a camera centre's error
+	// over its per-axis standard deviation stays below this 99 times in 100.
+	constexpr double kChiSquare = 11.345;
+	const double loopVariance = options.loop_sigma * options.loop_sigma;
+	const Eigen::Vector3d shift = cameraCentre(loop.T_cw) - cameraCentre(map.find(newestId)->T_cw);
+	const int keyframesApart = newestId - loop.candidate;
+	const double trackVariance = keyframesApart * options.odometry_sigma * options.odometry_sigma;
+	char why[200];
+	std::snprintf(why, sizeof(why), "%.3f m from the track", shift.norm());
+	if (shift.squaredNorm() > kChiSquare * (loopVariance + trackVariance))
+	{
+		std::snprintf(why + std::strlen(why), sizeof(why) - std::strlen(why),
+			", beyond what a loop and %d keyframes of odometry allow (%.3f m)", keyframesApart,
+			std::sqrt(kChiSquare * (loopVariance + trackVariance)));
+		return {LoopVerdict::Refused, why};
+	}
+	const PoseGraphEdge* before = loops.empty() || loops.back().to != newestId - 1 ? nullptr : &loops.back();
+	const MapKeyframe* from = before ? map.find(before->from) : nullptr;
+	const MapKeyframe* to = before ? map.find(before->to) : nullptr;
+	if (!from || !to) return {LoopVerdict::Unconfirmed, why};
+	const Eigen::Vector3d shiftBefore = cameraCentre(before->T_to_from * from->T_cw) - cameraCentre(to->T_cw);
+	if ((shift - shiftBefore).squaredNorm() > kChiSquare * 2 * loopVariance)
+	{
+		std::snprintf(why + std::strlen(why), sizeof(why) - std::strlen(why),
+			", %.3f m from the keyframe before's loop", (shift - shiftBefore).norm());
+		return {LoopVerdict::Unconfirmed, why};
+	}
+	const Eigen::Vector3d drift = (shift + shiftBefore) / 2;
+	std::snprintf(why + std::strlen(why), sizeof(why) - std::strlen(why), ", %.3f m with the keyframe before's loop",
+		drift.norm());
+	return {drift.squaredNorm() > kChiSquare * loopVariance / 2 ? LoopVerdict::Close : LoopVerdict::WithinOwnError,
+		why};
 }
 
 PoseGraphEdge loopEdge(

@@ -16,6 +16,7 @@
 #include <cstddef>
 #include <map>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "../Types.h"
@@ -59,13 +60,38 @@ std::optional<LoopMeasurement> measureLoop(const FrameFeatures& f, const Eigen::
 std::optional<std::map<int, Eigen::Isometry3d>> closeLoops(
 	const KeyframeMap& map, const std::vector<PoseGraphEdge>& loops, const TOdometryOptions& options);
 
-/** Whether the loop of the keyframe just before `newest` (the last of
- *  `loops`) found the camera shifted the same way as `loop` does, within
- *  loop_min_correction. One loop's shift may be its own error (on Bonn
- *  2-4 cm, pointing anywhere from one keyframe to the next); drift shows in
- *  consecutive loops alike. */
-bool confirmsLoopBefore(const LoopMeasurement& loop, const Keyframe& newest, const std::vector<PoseGraphEdge>& loops,
+/** What the loop check makes of a loop measured at the newest keyframe. */
+enum class LoopVerdict
+{
+	Refused,         //!< it disagrees with the track beyond both their uncertainties: a false loop
+	Unconfirmed,     //!< the keyframe before measured no loop, or one that disagrees with it
+	WithinOwnError,  //!< the drift it shows is within the loops' own error
+	Close            //!< the drift is real: the pose graph moves the keyframes
+};
+
+struct LoopJudgement
+{
+	LoopVerdict verdict = LoopVerdict::Refused;
+	std::string why;  //!< the figures the verdict came from, for the status line
+};
+
+/** The loop check, on the shift of the newest keyframe's camera centre that
+ *  `loop` measures against its tracked pose, with per-axis standard
+ *  deviations loop_sigma for a loop and odometry_sigma for each keyframe of
+ *  odometry since the candidate; every test at 99 % (chi-square, 3 degrees
+ *  of freedom):
+ *  - refused when the shift is beyond what the loop and the odometry since
+ *    the candidate together allow;
+ *  - unconfirmed unless the keyframe before measured a loop (the last of
+ *    `loops`) whose shift agrees within two loops' error: one loop may be
+ *    off by its own error, drift shows in consecutive loops alike;
+ *  - within its own error when the mean of the two shifts is within what two
+ *    loops' error allows; else the drift is real and the loop closes. */
+LoopJudgement judgeLoop(const LoopMeasurement& loop, int newestId, const std::vector<PoseGraphEdge>& loops,
 	const KeyframeMap& map, const TOdometryOptions& options);
+
+/** `loop` with its shift from the tracked pose T_cw (translation, rotation). */
+LoopMeasurement measuredFrom(LoopMeasurement loop, const Eigen::Isometry3d& T_cw);
 
 /** The loop constraint of a measurement made at keyframe `keyframe`. */
 PoseGraphEdge loopEdge(

@@ -116,6 +116,22 @@ class VisualOdometry
 	PlaceQuery queryPlace(
 		const mrpt::obs::CObservation3DRangeScan& obs, const std::vector<cv::Rect>& personBoxes = {}) const;
 
+	/** What the loop check made of a loop. */
+	struct LoopOutcome
+	{
+		bool closed = false;  //!< the keyframes and frames moved (trajectory() has them)
+		std::string said;     //!< refused, kept (not confirmed, within the loops' own error) or closed, and why
+	};
+	/** A loop measured outside the odometry (another place recogniser, a
+	 *  fiducial marker, a map server): the camera of the frame just
+	 *  processed, which must have made a keyframe, at `measured` in the
+	 *  camera frame of frame `oldFrame` (which made a keyframe the keyframe
+	 *  map still holds). It goes through the same check as the odometry's own
+	 *  loops (loop_sigma, odometry_sigma), whether loop_closure is on or not.
+	 *  Throws std::logic_error when the last frame made no keyframe and
+	 *  std::invalid_argument for a bad oldFrame or a non-finite pose. */
+	LoopOutcome offerLoop(std::size_t oldFrame, const mrpt::poses::CPose3D& measured);
+
 	const TOdometryOptions& options() const;
 	/** Keyframes of the local window (bundle adjustment). */
 	std::size_t keyframeCount() const;

@@ -1,0 +1,87 @@
+// The loop check on a synthetic straight path of keyframes 10 cm apart: a
+// loop is refused beyond what it and the odometry since its candidate allow,
+// waits for the loop of the keyframe before to agree, and moves the poses only
+// for drift beyond two loops' own error (loop_sigma = 0.02 m, odometry_sigma
+// = 0.01 m a keyframe: the built-in defaults).
+#include <gtest/gtest.h>
+
+#include <opencv2/core.hpp>
+
+#include "map/LoopClosing.h"
+
+using namespace avm::odometry;
+using namespace avm::odometry::detail;
+
+namespace
+{
+constexpr int kNewest = 20;
+
+/** T_cw of a camera whose centre is at `centre`, looking along the world's x axis. */
+Eigen::Isometry3d cameraAt(const Eigen::Vector3d& centre)
+{
+	Eigen::Isometry3d T_wc = Eigen::Isometry3d::Identity();
+	T_wc.translation() = centre;
+	return T_wc.inverse();
+}
+
+Eigen::Vector3d centreOfKeyframe(int id) { return {0.1 * id, 0, 0}; }
+
+class LoopCheck : public ::testing::Test
+{
+   protected:
+	void SetUp() override
+	{
+		cv::RNG rng(7);
+		for (int id = 0; id <= kNewest; ++id)
+		{
+			cv::Mat descriptors(50, 32, CV_8U);
+			rng.fill(descriptors, cv::RNG::UNIFORM, 0, 256);
+			map.add(id, MapKeyframe{cameraAt(centreOfKeyframe(id)), descriptors, {}, {}}, 0);
+		}
+	}
+
+	/** A loop of keyframe `id` with candidate 0 that puts its camera centre `shift` [m] sideways. */
+	LoopMeasurement loopAt(int id, double shift) const
+	{
+		LoopMeasurement loop;
+		loop.candidate = 0;
+		loop.T_cw = cameraAt(centreOfKeyframe(id) + Eigen::Vector3d(0, shift, 0));
+		return measuredFrom(loop, map.find(id)->T_cw);
+	}
+
+	LoopVerdict judge(double shift, std::optional<double> shiftBefore = std::nullopt) const
+	{
+		std::vector<PoseGraphEdge> loops;
+		if (shiftBefore) loops.push_back(loopEdge(loopAt(kNewest - 1, *shiftBefore), kNewest - 1, map, options));
+		return judgeLoop(loopAt(kNewest, shift), kNewest, loops, map, options).verdict;
+	}
+
+	TOdometryOptions options;
+	KeyframeMap map{options};
+};
+}  // namespace
+
+TEST_F(LoopCheck, ALoopBeyondItsOwnAndTheTracksUncertaintyIsRefused)
+{
+	// 20 keyframes of odometry and one loop: 0.165 m at 99 %.
+	EXPECT_EQ(judge(0.5), LoopVerdict::Refused);
+	EXPECT_EQ(judge(0.5, 0.5), LoopVerdict::Refused);
+	EXPECT_EQ(judge(0.15, 0.15), LoopVerdict::Close);
+}
+
+TEST_F(LoopCheck, OneLoopAloneNeverMovesThePoses)
+{
+	EXPECT_EQ(judge(0.10), LoopVerdict::Unconfirmed);
+	// The keyframe before saw the drift the other way: one of the two is off.
+	EXPECT_EQ(judge(0.06, -0.06), LoopVerdict::Unconfirmed);
+}
+
+TEST_F(LoopCheck, TwoAgreeingLoopsCloseOnlyBeyondTheirOwnError)
+{
+	// Two loops agreeing: their mean's error is loop_sigma / sqrt(2), and 99 %
+	// of it stays within 0.048 m.
+	EXPECT_EQ(judge(0.10, 0.09), LoopVerdict::Close);
+	EXPECT_EQ(judge(0.03, 0.02), LoopVerdict::WithinOwnError);
+	EXPECT_EQ(judge(0.045, 0.045), LoopVerdict::WithinOwnError);
+	EXPECT_EQ(judge(0.052, 0.052), LoopVerdict::Close);
+}
