@@ -95,7 +95,7 @@ CAdaptiveOctoMap::CAdaptiveOctoMap(const CAdaptiveOctoMap& o)
 	  m_high(o.m_high ? std::make_unique<octomap::OcTree>(*o.m_high) : nullptr),
 	  m_policy(std::make_unique<detail::ResolutionPolicy>(*o.m_policy)),
 	  m_sketch(std::make_unique<detail::SurfaceSketch>(*o.m_sketch)),
-	  m_tracker(o.m_tracker),
+	  m_persons(o.m_persons),
 	  m_lastScanTime(o.m_lastScanTime),
 	  m_integrator(std::make_unique<detail::RayIntegrator>()),
 	  m_insertions(o.m_insertions)
@@ -115,7 +115,7 @@ CAdaptiveOctoMap& CAdaptiveOctoMap::operator=(const CAdaptiveOctoMap& o)
 	m_high = std::move(copy.m_high);
 	m_policy = std::move(copy.m_policy);
 	m_sketch = std::move(copy.m_sketch);
-	m_tracker = copy.m_tracker;
+	m_persons = copy.m_persons;
 	m_lastScanTime = copy.m_lastScanTime;
 	m_insertions = copy.m_insertions;
 	m_pointsCacheValid = false;
@@ -129,7 +129,7 @@ void CAdaptiveOctoMap::internal_clear()
 	m_policy = std::make_unique<detail::ResolutionPolicy>(insertionOptions.switchPolicy, m_creation.low.resolution);
 	m_sketch = std::make_unique<detail::SurfaceSketch>(
 		static_cast<unsigned>(std::lround(m_creation.low.resolution / m_creation.high.resolution)));
-	m_tracker = persons::PersonTracker(insertionOptions.tracking);
+	m_persons = persons::PersonLayer(insertionOptions.tracking);
 	m_lastScanTime.reset();
 	if (!m_integrator) m_integrator = std::make_unique<detail::RayIntegrator>();
 	m_insertions = 0;
@@ -158,51 +158,40 @@ void CAdaptiveOctoMap::addHighResolutionRegion(const mrpt::math::TBoundingBox& w
 	applyRegionChanges();
 }
 
-std::vector<TPersonObservation> CAdaptiveOctoMap::observePersons(const mrpt::obs::CObservation3DRangeScan& obs,
-	const mrpt::poses::CPose3D& robotPose, const std::vector<persons::PixelSet>& persons, std::size_t frameIndex)
+void CAdaptiveOctoMap::placeRegions(const std::vector<TRegionPlacement>& placements, double time)
 {
-	std::vector<TPersonObservation> out(persons.size());
-	if (persons.empty()) return out;
-	if (!io::isFinite(robotPose))
-		throw std::invalid_argument("CAdaptiveOctoMap::observePersons: non-finite robot pose " + robotPose.asString());
-	if (obs.hasRangeImage && obs.rangeImage_isExternallyStored()) obs.load();
-	const auto sensorPose = robotPose + obs.sensorPose;
-	std::vector<persons::PersonSighting> sightings;
-	std::vector<std::size_t> ofSighting;
-	for (std::size_t i = 0; i < persons.size(); i++)
+	for (const auto& p : placements)
 	{
-		auto est = persons::estimateSighting(obs, sensorPose, persons[i], insertionOptions.sighting);
-		out[i].skipReason = est.skipReason;
-		if (!est.sighting) continue;
-		out[i].sighting = est.sighting;
-		sightings.push_back(*est.sighting);
-		ofSighting.push_back(i);
-	}
-	const double time = mrpt::Clock::toDouble(obs.timestamp);
-	const auto ids = m_tracker.update(sightings, frameIndex, time);
-	const double m = insertionOptions.regionMargin;
-	for (std::size_t s = 0; s < sightings.size(); s++)
-	{
-		auto& o = out[ofSighting[s]];
-		o.personId = ids[s];
-		mrpt::math::TBoundingBox box = sightings[s].box;
-		box.min -= mrpt::math::TPoint3D(m, m, m);
-		box.max += mrpt::math::TPoint3D(m, m, m);
-		o.regionBox = box;
-		m_policy->personSeen(ids[s], box, time, insertionOptions.regionLifetime, m_insertions);
+		if (p.id == 0) throw std::invalid_argument("CAdaptiveOctoMap::placeRegions: region id 0 is reserved");
+		m_policy->personSeen(p.id, p.box, time, insertionOptions.regionLifetime, m_insertions);
 	}
 	applyRegionChanges();
-	return out;
 }
 
-bool CAdaptiveOctoMap::endPersonRegion(std::uint32_t personId)
+bool CAdaptiveOctoMap::endRegion(std::uint32_t id)
 {
-	if (!m_policy->endRegion(personId)) return false;
+	if (!m_policy->endRegion(id)) return false;
 	applyRegionChanges();
 	return true;
 }
 
-const std::vector<persons::PersonTrack>& CAdaptiveOctoMap::personTracks() const { return m_tracker.tracks(); }
+std::vector<persons::PersonObservation> CAdaptiveOctoMap::observePersons(const mrpt::obs::CObservation3DRangeScan& obs,
+	const mrpt::poses::CPose3D& robotPose, const std::vector<persons::PixelSet>& persons, std::size_t frameIndex)
+{
+	if (persons.empty()) return {};
+	if (!io::isFinite(robotPose))
+		throw std::invalid_argument("CAdaptiveOctoMap::observePersons: non-finite robot pose " + robotPose.asString());
+	if (obs.hasRangeImage && obs.rangeImage_isExternallyStored()) obs.load();
+	auto seen = m_persons.observe(
+		obs, robotPose + obs.sensorPose, persons, frameIndex, insertionOptions.sighting, insertionOptions.regionMargin);
+	std::vector<TRegionPlacement> placements;
+	for (const auto& o : seen)
+		if (o.regionBox) placements.push_back({o.personId, *o.regionBox});
+	placeRegions(placements, mrpt::Clock::toDouble(obs.timestamp));
+	return seen;
+}
+
+const std::vector<persons::PersonTrack>& CAdaptiveOctoMap::personTracks() const { return m_persons.tracks(); }
 
 void CAdaptiveOctoMap::ageRegions(const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& sensorPose)
 {

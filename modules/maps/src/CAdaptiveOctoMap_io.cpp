@@ -85,7 +85,7 @@ void CAdaptiveOctoMap::serializeTo(mrpt::serialization::CArchive& out) const
 	out << likelihoodOptions.decimation << renderingOptions.showFreeSpace << renderingOptions.showRegions;
 	out.WriteAs<uint64_t>(m_insertions);
 	m_policy->serializeTo(out);
-	m_tracker.serializeTo(out);
+	m_persons.serializeTo(out);
 	m_sketch->serializeTo(out);
 	out.WriteAs<uint8_t>(m_lastScanTime.has_value());
 	out << m_lastScanTime.value_or(0.0);
@@ -118,8 +118,8 @@ void CAdaptiveOctoMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t 
 	m_insertions = in.ReadAs<uint64_t>();
 	m_policy = std::make_unique<detail::ResolutionPolicy>(i.switchPolicy, m_creation.low.resolution);
 	m_policy->serializeFrom(in);
-	m_tracker = persons::PersonTracker(i.tracking);
-	m_tracker.serializeFrom(in);
+	m_persons = persons::PersonLayer(i.tracking);
+	m_persons.serializeFrom(in);
 	m_sketch = std::make_unique<detail::SurfaceSketch>();
 	m_sketch->serializeFrom(in);
 	const bool hasScanTime = in.ReadAs<uint8_t>() != 0;

@@ -30,8 +30,7 @@
 #include "avm/maps/MapTypes.h"
 #include "avm/maps/VisibleLeaves.h"
 #include "avm/persons/PersonLabels.h"
-#include "avm/persons/PersonSighting.h"
-#include "avm/persons/PersonTracker.h"
+#include "avm/persons/PersonLayer.h"
 
 namespace octomap
 {
@@ -47,17 +46,6 @@ class RayIntegrator;
 class SurfaceSketch;
 struct ScanTargets;
 }  // namespace detail
-
-/** What observePersons() made of one person's pixels. */
-struct TPersonObservation
-{
-	std::optional<persons::PersonSighting> sighting;
-	std::uint32_t personId = 0;  //!< the track (0 when there is no sighting)
-	/** The region box the person gave (world, margin included, before grid
-	 *  alignment); nothing when there is no sighting. */
-	std::optional<mrpt::math::TBoundingBox> regionBox;
-	std::string skipReason;  //!< why there is no sighting
-};
 
 /** The answer to CAdaptiveOctoMap::query(). */
 struct TOccupancyQuery
@@ -180,18 +168,23 @@ class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
 	 *  Paper policy: the call switches like switchToHighResolution().
 	 *  Throws std::invalid_argument on an empty or non-finite box. */
 	void addHighResolutionRegion(const mrpt::math::TBoundingBox& worldBox);
-	/** The persons whose pixels are `persons` in `obs` (taken at `robotPose`,
-	 *  composed with obs.sensorPose as for insertion), seen at frame
-	 *  `frameIndex`: each becomes a sighting, joins a person track, and its
-	 *  box grown by region_margin becomes (or moves) that person's region.
-	 *  Inserting an observation with person pixel labels calls this itself.
-	 *  Paper policy: a sighting switches. */
-	std::vector<TPersonObservation> observePersons(const mrpt::obs::CObservation3DRangeScan& obs,
+	/** Region policy: each region moves to its placement's box (world frame,
+	 *  grown to the low tree's voxel grid) or, for a new id, is made there;
+	 *  `time` [s] is when its owner was there (the follow lifetime's clock).
+	 *  Persist lifetime: the box joins the region. Paper policy: switches.
+	 *  Placed together, so space one region leaves and another enters in the
+	 *  same call stays in the high tree. */
+	void placeRegions(const std::vector<TRegionPlacement>& placements, double time);
+	/** Ends the region now, as its lifetime would (its detail folded into the
+	 *  low tree): e.g. its person has been attended to. False if there is no
+	 *  region of that id. */
+	bool endRegion(std::uint32_t id);
+	/** The person layer on `persons`, the pixels of each person in `obs` (taken
+	 *  at `robotPose`, composed with obs.sensorPose as for insertion), seen at
+	 *  frame `frameIndex`; then the regions of the persons seen are placed.
+	 *  Inserting an observation with person pixel labels calls this itself. */
+	std::vector<persons::PersonObservation> observePersons(const mrpt::obs::CObservation3DRangeScan& obs,
 		const mrpt::poses::CPose3D& robotPose, const std::vector<persons::PixelSet>& persons, std::size_t frameIndex);
-	/** Ends the person's region now, as its lifetime would (its detail folded
-	 *  into the low tree): e.g. the person has been attended to. False if the
-	 *  person has no region. */
-	bool endPersonRegion(std::uint32_t personId);
 	/** Every person seen so far. */
 	const std::vector<persons::PersonTrack>& personTracks() const;
 	/** Paper policy: every later insertion goes to the high tree (filtered by
@@ -290,7 +283,8 @@ class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
 	std::unique_ptr<detail::ResolutionPolicy> m_policy;
 	/** Where in each low voxel the surface was (region policy). */
 	std::unique_ptr<detail::SurfaceSketch> m_sketch;
-	persons::PersonTracker m_tracker;
+	/** Sightings and person tracks; it tells where the persons' regions go. */
+	persons::PersonLayer m_persons;
 	/** [s] timestamp of the last depth image inserted (for region ageing). */
 	std::optional<double> m_lastScanTime;
 	/** Scratch buffers of the insertion hot path; not part of the map state. */

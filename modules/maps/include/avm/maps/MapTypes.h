@@ -68,6 +68,13 @@ struct THighResolutionRegion
 	double lastSeenTime = 0;  //!< [s] UNIX time of the person's last sighting
 };
 
+/** Where a region goes (CAdaptiveOctoMap::placeRegions). */
+struct TRegionPlacement
+{
+	std::uint32_t id = 0;          //!< > 0 (0 is the id of addHighResolutionRegion()'s regions)
+	mrpt::math::TBoundingBox box;  //!< world frame, used as given, then grown to the low voxel grid
+};
+
 /** One visible leaf of either tree (see forEachVisibleLeaf). */
 struct TLeafVoxel
 {
