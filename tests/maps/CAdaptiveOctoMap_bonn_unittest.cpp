@@ -14,7 +14,7 @@
 #include <map>
 
 #include "BonnFrames.h"
-#include "avm/maps/CAdaptiveOctoMap.h"
+#include "avm/plugin/CAdaptiveOctoMap.h"
 
 using avm::CAdaptiveOctoMap;
 using avm::Resolution;
@@ -264,7 +264,7 @@ TEST(CAdaptiveOctoMapBonn, PersonPixelLabelsCreateARegionAroundThosePoints)
 
 	// Labels of another name do nothing.
 	CAdaptiveOctoMap other;
-	other.insertionOptions.personLabel = "dog";
+	other.personOptions.personLabel = "dog";
 	ASSERT_TRUE(other.insertObservation(*labelled, f.pose));
 	EXPECT_FALSE(other.hasSwitched());
 }

@@ -15,11 +15,27 @@
 #include <string>
 #include <vector>
 
+#include "avm/io/IniKeyOptions.h"
+#include "avm/persons/PersonLabels.h"
 #include "avm/persons/PersonSighting.h"
 #include "avm/persons/PersonTracker.h"
 
 namespace avm::persons
 {
+/** The person layer's keys, read from the map's `_insertOpts` section (where
+ *  stock MRPT apps' ini files have always had them). */
+struct TPersonLayerOptions : public io::CIniKeyOptions<TPersonLayerOptions>
+{
+	/** [m] grown on each side of a person's box to make its region. */
+	double regionMargin = 0.20;
+	/** Label name of the pixels that are persons (labelled rawlogs). */
+	std::string personLabel = kPersonLabel;
+	SightingOptions sighting;
+	TrackerOptions tracking;
+
+	static io::IniKeys<TPersonLayerOptions> iniKeys();
+};
+
 /** What the person layer made of one person's pixels. */
 struct PersonObservation
 {

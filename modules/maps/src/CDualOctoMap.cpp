@@ -1,12 +1,10 @@
-// The map itself: construction from an .ini map definition, plugin
-// registration, switching and observation insertion.
-#include "avm/maps/CAdaptiveOctoMap.h"
+// The map itself: construction, the region API, switching and observation
+// insertion.
+#include "avm/maps/CDualOctoMap.h"
 
-#include <mrpt/core/initializer.h>
 #include <mrpt/maps/CPointsMap.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/obs/CObservationPointCloud.h>
-#include <mrpt/rtti/CObject.h>
 #include <octomap/OcTree.h>
 
 #include <algorithm>
@@ -24,56 +22,7 @@
 
 using namespace avm;
 
-MAP_DEFINITION_REGISTER("avm::CAdaptiveOctoMap,adaptiveOctoMap", avm::CAdaptiveOctoMap)
-
-// A plugin loaded by dlopen must register its class itself, or MRPT cannot
-// deserialize it (CMultiMetricMap copies maps by serializing them).
-MRPT_INITIALIZER(avm_register_CAdaptiveOctoMap) { mrpt::rtti::registerClass(CLASS_ID(avm::CAdaptiveOctoMap)); }
-
-CAdaptiveOctoMap::TMapDefinition::TMapDefinition() = default;
-
-void CAdaptiveOctoMap::TMapDefinition::loadFromConfigFile_map_specific(
-	const mrpt::config::CConfigFileBase& source, const std::string& prefix)
-{
-	// MRPT 2.5.8's TSetOfMetricMapInitializers::loadFromConfigFile leaks the
-	// definition when this throws (found by fuzzing), so a bad value is kept
-	// and thrown when the map is created, with the same message.
-	try
-	{
-		creationOpts.loadFromConfigFile(source, prefix + "_creationOpts");
-		insertionOpts.loadFromConfigFile(source, prefix + "_insertOpts");
-		likelihoodOpts.loadFromConfigFile(source, prefix + "_likelihoodOpts");
-		renderOpts.loadFromConfigFile(source, prefix + "_renderOpts");
-		loadError.clear();
-	}
-	catch (const std::exception& e)
-	{
-		loadError = e.what();
-	}
-}
-
-void CAdaptiveOctoMap::TMapDefinition::dumpToTextStream_map_specific(std::ostream& out) const
-{
-	creationOpts.dumpToTextStream(out);
-	insertionOpts.dumpToTextStream(out);
-	likelihoodOpts.dumpToTextStream(out);
-	renderOpts.dumpToTextStream(out);
-}
-
-mrpt::maps::CMetricMap* CAdaptiveOctoMap::internal_CreateFromMapDefinition(const mrpt::maps::TMetricMapInitializer& def)
-{
-	const auto& d = dynamic_cast<const TMapDefinition&>(def);
-	if (!d.loadError.empty()) throw std::invalid_argument(d.loadError);
-	auto* map = new CAdaptiveOctoMap(d.creationOpts, d.insertionOpts, d.likelihoodOpts);
-	map->renderingOptions = d.renderOpts;
-	return map;
-}
-
-CAdaptiveOctoMap::CAdaptiveOctoMap() : CAdaptiveOctoMap(TCreationOptions(), TInsertionOptions(), TLikelihoodOptions())
-{
-}
-
-CAdaptiveOctoMap::CAdaptiveOctoMap(
+CDualOctoMap::CDualOctoMap(
 	const TCreationOptions& creation, const TInsertionOptions& insertion, const TLikelihoodOptions& likelihood)
 	: insertionOptions(insertion), likelihoodOptions(likelihood), m_creation(creation)
 {
@@ -83,66 +32,57 @@ CAdaptiveOctoMap::CAdaptiveOctoMap(
 	internal_clear();
 }
 
-CAdaptiveOctoMap::~CAdaptiveOctoMap() = default;
+CDualOctoMap::~CDualOctoMap() = default;
 
-CAdaptiveOctoMap::CAdaptiveOctoMap(const CAdaptiveOctoMap& o)
-	: mrpt::maps::CMetricMap(o),
-	  insertionOptions(o.insertionOptions),
-	  likelihoodOptions(o.likelihoodOptions),
-	  renderingOptions(o.renderingOptions),
-	  m_creation(o.m_creation),
-	  m_low(std::make_unique<octomap::OcTree>(*o.m_low)),
-	  m_high(o.m_high ? std::make_unique<octomap::OcTree>(*o.m_high) : nullptr),
-	  m_policy(std::make_unique<detail::ResolutionPolicy>(*o.m_policy)),
-	  m_sketch(std::make_unique<detail::SurfaceSketch>(*o.m_sketch)),
-	  m_persons(o.m_persons),
-	  m_lastScanTime(o.m_lastScanTime),
-	  m_integrator(std::make_unique<detail::RayIntegrator>()),
-	  m_insertions(o.m_insertions)
+CDualOctoMap::CDualOctoMap(const CDualOctoMap& o)
+	: mrpt::maps::CMetricMap(o), m_integrator(std::make_unique<detail::RayIntegrator>())
 {
+	copyFrom(o);
 }
 
-CAdaptiveOctoMap& CAdaptiveOctoMap::operator=(const CAdaptiveOctoMap& o)
+CDualOctoMap& CDualOctoMap::operator=(const CDualOctoMap& o)
 {
 	if (this == &o) return *this;
-	CAdaptiveOctoMap copy(o);
 	mrpt::maps::CMetricMap::operator=(o);
-	insertionOptions = copy.insertionOptions;
-	likelihoodOptions = copy.likelihoodOptions;
-	renderingOptions = copy.renderingOptions;
-	m_creation = copy.m_creation;
-	m_low = std::move(copy.m_low);
-	m_high = std::move(copy.m_high);
-	m_policy = std::move(copy.m_policy);
-	m_sketch = std::move(copy.m_sketch);
-	m_persons = copy.m_persons;
-	m_lastScanTime = copy.m_lastScanTime;
-	m_insertions = copy.m_insertions;
-	m_pointsCacheValid = false;
+	copyFrom(o);
 	return *this;
 }
 
-void CAdaptiveOctoMap::internal_clear()
+void CDualOctoMap::copyFrom(const CDualOctoMap& o)
+{
+	insertionOptions = o.insertionOptions;
+	likelihoodOptions = o.likelihoodOptions;
+	renderingOptions = o.renderingOptions;
+	m_creation = o.m_creation;
+	m_low = std::make_unique<octomap::OcTree>(*o.m_low);
+	m_high = o.m_high ? std::make_unique<octomap::OcTree>(*o.m_high) : nullptr;
+	m_policy = std::make_unique<detail::ResolutionPolicy>(*o.m_policy);
+	m_sketch = std::make_unique<detail::SurfaceSketch>(*o.m_sketch);
+	m_lastScanTime = o.m_lastScanTime;
+	m_insertions = o.m_insertions;
+	m_pointsCacheValid = false;
+}
+
+void CDualOctoMap::internal_clear()
 {
 	m_low = detail::makeTree(m_creation.low);
 	m_high.reset();
 	m_policy = std::make_unique<detail::ResolutionPolicy>(insertionOptions.switchPolicy, m_creation.low.resolution);
 	m_sketch = std::make_unique<detail::SurfaceSketch>(
 		static_cast<unsigned>(std::lround(m_creation.low.resolution / m_creation.high.resolution)));
-	m_persons = persons::PersonLayer(insertionOptions.tracking);
 	m_lastScanTime.reset();
 	if (!m_integrator) m_integrator = std::make_unique<detail::RayIntegrator>();
 	m_insertions = 0;
 	m_pointsCacheValid = false;
 }
 
-octomap::OcTree& CAdaptiveOctoMap::ensureHighTree()
+octomap::OcTree& CDualOctoMap::ensureHighTree()
 {
 	if (!m_high) m_high = detail::makeTree(m_creation.high);
 	return *m_high;
 }
 
-void CAdaptiveOctoMap::applyRegionChanges()
+void CDualOctoMap::applyRegionChanges()
 {
 	if (m_policy->hasSwitched()) ensureHighTree();
 	const auto change = m_policy->takeSpaceChange();
@@ -152,13 +92,13 @@ void CAdaptiveOctoMap::applyRegionChanges()
 	m_pointsCacheValid = false;
 }
 
-void CAdaptiveOctoMap::addHighResolutionRegion(const mrpt::math::TBoundingBox& worldBox)
+void CDualOctoMap::addHighResolutionRegion(const mrpt::math::TBoundingBox& worldBox)
 {
 	m_policy->addFixedRegion(worldBox, m_insertions);
 	applyRegionChanges();
 }
 
-void CAdaptiveOctoMap::placeRegions(const std::vector<TRegionPlacement>& placements, double time)
+void CDualOctoMap::placeRegions(const std::vector<TRegionPlacement>& placements, double time)
 {
 	for (const auto& p : placements)
 	{
@@ -168,32 +108,14 @@ void CAdaptiveOctoMap::placeRegions(const std::vector<TRegionPlacement>& placeme
 	applyRegionChanges();
 }
 
-bool CAdaptiveOctoMap::endRegion(std::uint32_t id)
+bool CDualOctoMap::endRegion(std::uint32_t id)
 {
 	if (!m_policy->endRegion(id)) return false;
 	applyRegionChanges();
 	return true;
 }
 
-std::vector<persons::PersonObservation> CAdaptiveOctoMap::observePersons(const mrpt::obs::CObservation3DRangeScan& obs,
-	const mrpt::poses::CPose3D& robotPose, const std::vector<persons::PixelSet>& persons, std::size_t frameIndex)
-{
-	if (persons.empty()) return {};
-	if (!io::isFinite(robotPose))
-		throw std::invalid_argument("CAdaptiveOctoMap::observePersons: non-finite robot pose " + robotPose.asString());
-	if (obs.hasRangeImage && obs.rangeImage_isExternallyStored()) obs.load();
-	auto seen = m_persons.observe(
-		obs, robotPose + obs.sensorPose, persons, frameIndex, insertionOptions.sighting, insertionOptions.regionMargin);
-	std::vector<TRegionPlacement> placements;
-	for (const auto& o : seen)
-		if (o.regionBox) placements.push_back({o.personId, *o.regionBox});
-	placeRegions(placements, mrpt::Clock::toDouble(obs.timestamp));
-	return seen;
-}
-
-const std::vector<persons::PersonTrack>& CAdaptiveOctoMap::personTracks() const { return m_persons.tracks(); }
-
-void CAdaptiveOctoMap::ageRegions(const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& sensorPose)
+void CDualOctoMap::ageRegions(const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& sensorPose)
 {
 	const double now = mrpt::Clock::toDouble(obs.timestamp);
 	// A gap in the stream (a paused recording) is not time spent looking.
@@ -213,31 +135,28 @@ void CAdaptiveOctoMap::ageRegions(const mrpt::obs::CObservation3DRangeScan& obs,
 	if (!m_policy->age(from, now, insertionOptions.regionEndAfterSeconds, inView).empty()) applyRegionChanges();
 }
 
-void CAdaptiveOctoMap::switchToHighResolution()
+void CDualOctoMap::switchToHighResolution()
 {
 	m_policy->switchToHighResolution(m_insertions);
 	applyRegionChanges();
 }
 
-bool CAdaptiveOctoMap::hasSwitched() const { return m_policy->hasSwitched(); }
+bool CDualOctoMap::hasSwitched() const { return m_policy->hasSwitched(); }
 
-const std::vector<THighResolutionRegion>& CAdaptiveOctoMap::highResolutionRegions() const
-{
-	return m_policy->regions();
-}
+const std::vector<THighResolutionRegion>& CDualOctoMap::highResolutionRegions() const { return m_policy->regions(); }
 
-std::optional<std::size_t> CAdaptiveOctoMap::switchInsertionIndex() const { return m_policy->switchIndex(); }
+std::optional<std::size_t> CDualOctoMap::switchInsertionIndex() const { return m_policy->switchIndex(); }
 
-void CAdaptiveOctoMap::setExpectedFrameCount(std::size_t frames) { insertionOptions.expectedFrameCount = frames; }
+void CDualOctoMap::setExpectedFrameCount(std::size_t frames) { insertionOptions.expectedFrameCount = frames; }
 
-std::size_t CAdaptiveOctoMap::insertionCount() const { return m_insertions; }
+std::size_t CDualOctoMap::insertionCount() const { return m_insertions; }
 
-const octomap::OcTree* CAdaptiveOctoMap::tree(Resolution which) const
+const octomap::OcTree* CDualOctoMap::tree(Resolution which) const
 {
 	return which == Resolution::Low ? m_low.get() : m_high.get();
 }
 
-detail::ScanTargets CAdaptiveOctoMap::prepareInsertion()
+detail::ScanTargets CDualOctoMap::prepareInsertion()
 {
 	m_policy->beforeIntegration(m_insertions, insertionOptions.switchAtFrame, insertionOptions.switchAtFraction,
 		insertionOptions.expectedFrameCount);
@@ -267,7 +186,7 @@ detail::ScanTargets CAdaptiveOctoMap::prepareInsertion()
 	return t;
 }
 
-void CAdaptiveOctoMap::finishInsertion()
+void CDualOctoMap::finishInsertion()
 {
 	// The sketch matters for occupied low voxels and for free ones that still
 	// hold a surface not seen through: forget the others now and then.
@@ -283,7 +202,7 @@ void CAdaptiveOctoMap::finishInsertion()
 	m_pointsCacheValid = false;
 }
 
-bool CAdaptiveOctoMap::internal_insertObservation(
+bool CDualOctoMap::internal_insertObservation(
 	const mrpt::obs::CObservation& obs, const std::optional<const mrpt::poses::CPose3D>& robotPose)
 {
 	const mrpt::poses::CPose3D robot = robotPose ? *robotPose : mrpt::poses::CPose3D();
@@ -297,9 +216,7 @@ bool CAdaptiveOctoMap::internal_insertObservation(
 		if (scan->hasRangeImage && scan->rangeImage_isExternallyStored()) scan->load();
 		if (!scan->hasRangeImage || scan->rangeImage.rows() == 0 || scan->cameraParams.fx() <= 0) return false;
 		const mrpt::poses::CPose3D sensorPose = robot + scan->sensorPose;
-		observePersons(*scan, robot,
-			persons::personPixelsFromLabels(*scan, insertionOptions.personLabel, insertionOptions.sighting.minPixels),
-			m_insertions);
+		beforeDepthImage(*scan, robot);
 		ageRegions(*scan, sensorPose);
 		m_integrator->setThreads(insertionOptions.insertionThreads);
 		m_integrator->integrateDepthImage(*scan, sensorPose, prepareInsertion());
@@ -318,8 +235,7 @@ bool CAdaptiveOctoMap::internal_insertObservation(
 	return false;
 }
 
-bool CAdaptiveOctoMap::insertPointCloud(
-	const mrpt::maps::CPointsMap& worldPoints, const mrpt::math::TPoint3D& sensorOrigin)
+bool CDualOctoMap::insertPointCloud(const mrpt::maps::CPointsMap& worldPoints, const mrpt::math::TPoint3D& sensorOrigin)
 {
 	if (worldPoints.empty()) return false;
 	if (!std::isfinite(sensorOrigin.x) || !std::isfinite(sensorOrigin.y) || !std::isfinite(sensorOrigin.z))
@@ -331,4 +247,4 @@ bool CAdaptiveOctoMap::insertPointCloud(
 	return true;
 }
 
-bool CAdaptiveOctoMap::isEmpty() const { return m_low->size() == 0 && (!m_high || m_high->size() == 0); }
+bool CDualOctoMap::isEmpty() const { return m_low->size() == 0 && (!m_high || m_high->size() == 0); }
