@@ -18,7 +18,6 @@
 #include "OcTreeKeys.h"
 #include "TreeOps.h"
 #include "avm/io/DepthCamera.h"
-#include "avm/io/RgbdFrame.h"
 
 using namespace avm;
 
@@ -102,7 +101,7 @@ void CDualOctoMap::placeRegions(const std::vector<TRegionPlacement>& placements,
 {
 	for (const auto& p : placements)
 	{
-		if (p.id == 0) throw std::invalid_argument("CAdaptiveOctoMap::placeRegions: region id 0 is reserved");
+		if (p.id == 0) throw std::invalid_argument("CDualOctoMap::placeRegions: region id 0 is reserved");
 		m_policy->personSeen(p.id, p.box, time, insertionOptions.regionLifetime, m_insertions);
 	}
 	applyRegionChanges();
