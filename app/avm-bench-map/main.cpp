@@ -5,7 +5,7 @@
 #include <iostream>
 
 #include "avm/io/ProgramMain.h"
-#include "avm/maps/MapBenchmark.h"
+#include "avm/plugin/MapBenchmark.h"
 
 int main(int argc, char** argv)
 {

@@ -12,7 +12,7 @@
 #include <thread>
 
 #include "avm/io/AtomicFile.h"
-#include "avm/maps/CAdaptiveOctoMap.h"
+#include "avm/plugin/CAdaptiveOctoMap.h"
 #include "avm/pipeline/MappingPipeline.h"
 
 namespace avm::apps::paper

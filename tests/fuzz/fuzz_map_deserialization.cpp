@@ -3,7 +3,7 @@
 #include <mrpt/io/CMemoryStream.h>
 #include <mrpt/serialization/CArchive.h>
 
-#include "avm/maps/CAdaptiveOctoMap.h"
+#include "avm/plugin/CAdaptiveOctoMap.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 {

@@ -14,7 +14,7 @@
 #include <map>
 
 #include "BonnFrames.h"
-#include "avm/maps/CAdaptiveOctoMap.h"
+#include "avm/plugin/CAdaptiveOctoMap.h"
 
 using avm::CAdaptiveOctoMap;
 using avm::Resolution;
@@ -264,7 +264,7 @@ TEST(CAdaptiveOctoMapBonn, PersonPixelLabelsCreateARegionAroundThosePoints)
 
 	// Labels of another name do nothing.
 	CAdaptiveOctoMap other;
-	other.insertionOptions.personLabel = "dog";
+	other.personOptions.personLabel = "dog";
 	ASSERT_TRUE(other.insertObservation(*labelled, f.pose));
 	EXPECT_FALSE(other.hasSwitched());
 }
@@ -310,8 +310,8 @@ TEST(CAdaptiveOctoMapBonn, AnEndingRegionIsCoarsenedNeverDropped)
 	ASSERT_GT(occupiedFine, 50u);
 
 	const auto regions = map.highResolutionRegions();
-	for (const auto& r : regions) EXPECT_TRUE(map.endPersonRegion(r.personId));
-	EXPECT_FALSE(map.endPersonRegion(regions.front().personId)) << "ended already";
+	for (const auto& r : regions) EXPECT_TRUE(map.endRegion(r.personId));
+	EXPECT_FALSE(map.endRegion(regions.front().personId)) << "ended already";
 	EXPECT_FALSE(map.hasSwitched());
 	EXPECT_EQ(map.highResolutionStats().occupiedLeaves + map.highResolutionStats().freeLeaves, 0u);
 	std::size_t lost = 0, notHigher = 0;

@@ -13,7 +13,7 @@
 
 #include <filesystem>
 
-#include "avm/maps/CAdaptiveOctoMap.h"
+#include "avm/plugin/CAdaptiveOctoMap.h"
 
 using avm::CAdaptiveOctoMap;
 
@@ -89,7 +89,7 @@ TEST(CAdaptiveOctoMapOptions, MapDefinitionFromIniCreatesTheMapWithItsValues)
 	EXPECT_EQ(map->insertionOptions.switchPolicy, avm::SwitchPolicy::Paper);
 	EXPECT_DOUBLE_EQ(map->insertionOptions.switchAtFraction, 0.25);
 	EXPECT_EQ(map->insertionOptions.expectedFrameCount, 300u);
-	EXPECT_DOUBLE_EQ(map->insertionOptions.regionMargin, 0.2);
+	EXPECT_DOUBLE_EQ(map->personOptions.regionMargin, 0.2);
 	EXPECT_EQ(map->likelihoodOptions.decimation, 4u);
 	EXPECT_TRUE(map->isEmpty());
 }
@@ -101,13 +101,16 @@ TEST(CAdaptiveOctoMapOptions, SaveThenLoadGivesTheSameOptionsAndKeySet)
 	mrpt::config::CConfigFileMemory saved;
 	map->creationOptions().saveToConfigFile(saved, "c");
 	map->insertionOptions.saveToConfigFile(saved, "i");
+	map->personOptions.saveToConfigFile(saved, "i");
 	map->likelihoodOptions.saveToConfigFile(saved, "l");
 
 	CAdaptiveOctoMap::TCreationOptions c;
 	CAdaptiveOctoMap::TInsertionOptions i;
+	avm::persons::TPersonLayerOptions p;
 	CAdaptiveOctoMap::TLikelihoodOptions l;
 	c.loadFromConfigFile(saved, "c");
 	i.loadFromConfigFile(saved, "i");
+	p.loadFromConfigFile(saved, "i");
 	l.loadFromConfigFile(saved, "l");
 	for (const auto* t : {&c.low, &c.high})
 	{
@@ -123,8 +126,8 @@ TEST(CAdaptiveOctoMapOptions, SaveThenLoadGivesTheSameOptionsAndKeySet)
 	EXPECT_EQ(i.switchPolicy, map->insertionOptions.switchPolicy);
 	EXPECT_EQ(i.switchAtFraction, map->insertionOptions.switchAtFraction);
 	EXPECT_EQ(i.expectedFrameCount, map->insertionOptions.expectedFrameCount);
-	EXPECT_EQ(i.regionMargin, map->insertionOptions.regionMargin);
-	EXPECT_EQ(i.personLabel, map->insertionOptions.personLabel);
+	EXPECT_EQ(p.regionMargin, map->personOptions.regionMargin);
+	EXPECT_EQ(p.personLabel, map->personOptions.personLabel);
 	EXPECT_EQ(l.decimation, map->likelihoodOptions.decimation);
 
 	// The key set a user's ini is checked against: 7 per tree in creationOpts.

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "BonnFrames.h"
-#include "avm/maps/CAdaptiveOctoMap.h"
+#include "avm/plugin/CAdaptiveOctoMap.h"
 
 using avm::CAdaptiveOctoMap;
 using avm::Resolution;
@@ -217,9 +217,10 @@ CAdaptiveOctoMap usedMap()
 {
 	CAdaptiveOctoMap::TInsertionOptions other;
 	other.regionLifetime = avm::RegionLifetime::Persist;
-	other.regionMargin = 0.4;
-	other.tracking.gate = 0.3;
-	CAdaptiveOctoMap map({}, other, {});
+	avm::persons::TPersonLayerOptions people;
+	people.regionMargin = 0.4;
+	people.tracking.gate = 0.3;
+	CAdaptiveOctoMap map({}, other, {}, people);
 	const auto& f = frames().back();
 	map.addHighResolutionRegion(
 		{f.pose.translation() - mrpt::math::TPoint3D(1, 1, 1), f.pose.translation() + mrpt::math::TPoint3D(1, 1, 1)});

@@ -21,7 +21,7 @@
 #include "SurfaceSketch.h"
 #include "TreeOps.h"
 #include "SerializationCopy.h"
-#include "avm/maps/CAdaptiveOctoMap.h"
+#include "avm/plugin/CAdaptiveOctoMap.h"
 
 using namespace avm;
 using namespace avm::detail;

@@ -21,7 +21,7 @@
 #include <thread>
 
 #include "BonnFrames.h"
-#include "avm/maps/CAdaptiveOctoMap.h"
+#include "avm/plugin/CAdaptiveOctoMap.h"
 
 namespace fs = std::filesystem;
 

@@ -16,7 +16,7 @@
 
 #include "DefaultIni.h"
 #include "TestData.h"
-#include "avm/maps/CAdaptiveOctoMap.h"
+#include "avm/plugin/CAdaptiveOctoMap.h"
 #include "avm/pipeline/MappingPipeline.h"
 
 using namespace avm;

@@ -12,7 +12,7 @@
 
 #include "avm/detection/TDetectorOptions.h"
 #include "avm/io/IniKeys.h"
-#include "avm/maps/CAdaptiveOctoMap.h"
+#include "avm/plugin/CAdaptiveOctoMap.h"
 #include "avm/odometry/TOdometryOptions.h"
 #include "avm/pipeline/MappingPipeline.h"
 
@@ -54,13 +54,11 @@ IniComments commentsOf(const fs::path& file)
 	return out;
 }
 
-/** Each key `keys` declares is in [section] of default.ini with the comment
- *  its declaration gives; [section] holds no other key. */
-template <class Options>
+/** Each key `declared` is in [section] of default.ini with the comment its
+ *  declaration gives; [section] holds no other key. */
 void expectDocumented(const IniComments& docs, const mrpt::config::CConfigFileBase& ini, const std::string& section,
-	const io::IniKeys<Options>& keys, const Options& defaults)
+	const std::vector<io::IniKeyDoc>& declared)
 {
-	const auto declared = keys.documentation(defaults);
 	ASSERT_FALSE(declared.empty()) << section;
 	const auto inSection = docs.find(section);
 	ASSERT_NE(inSection, docs.end()) << "ini/default.ini has no [" << section << "]";
@@ -87,13 +85,18 @@ TEST(IniDocumentation, DefaultIniDocumentsEveryKeyWithItsDefault)
 	const fs::path file = fs::path(AVM_SOURCE_DIR) / "ini/default.ini";
 	const auto docs = commentsOf(file);
 	mrpt::config::CConfigFile ini(file.string());
-	expectDocumented(docs, ini, "pipeline", pipeline::TPipelineOptions::iniKeys(), pipeline::TPipelineOptions());
-	expectDocumented(docs, ini, "odometry", odometry::TOdometryOptions::iniKeys(), odometry::TOdometryOptions());
-	expectDocumented(docs, ini, "detection", detection::TDetectorOptions::iniKeys(), detection::TDetectorOptions());
+	const auto of = [](const auto& options) { return options.iniKeys().documentation(options); };
+	expectDocumented(docs, ini, "pipeline", of(pipeline::TPipelineOptions()));
+	expectDocumented(docs, ini, "odometry", of(odometry::TOdometryOptions()));
+	expectDocumented(docs, ini, "detection", of(detection::TDetectorOptions()));
 	const CAdaptiveOctoMap map;
 	const std::string prefix = "map_adaptiveOctoMap_00_";
-	expectDocumented(docs, ini, prefix + "creationOpts", map.creationOptions().iniKeys(), map.creationOptions());
-	expectDocumented(docs, ini, prefix + "insertOpts", map.insertionOptions.iniKeys(), map.insertionOptions);
-	expectDocumented(docs, ini, prefix + "likelihoodOpts", map.likelihoodOptions.iniKeys(), map.likelihoodOptions);
-	expectDocumented(docs, ini, prefix + "renderOpts", map.renderingOptions.iniKeys(), map.renderingOptions);
+	expectDocumented(docs, ini, prefix + "creationOpts", of(map.creationOptions()));
+	// The map's and the person layer's keys share the section.
+	auto insertKeys = of(map.insertionOptions);
+	const auto personKeys = of(map.personOptions);
+	insertKeys.insert(insertKeys.end(), personKeys.begin(), personKeys.end());
+	expectDocumented(docs, ini, prefix + "insertOpts", insertKeys);
+	expectDocumented(docs, ini, prefix + "likelihoodOpts", of(map.likelihoodOptions));
+	expectDocumented(docs, ini, prefix + "renderOpts", of(map.renderingOptions));
 }

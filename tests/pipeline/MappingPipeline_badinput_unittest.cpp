@@ -103,3 +103,18 @@ TEST(MappingPipelineBadInput, UnknownKeyIsWarnedAbout)
 	EXPECT_EQ(r.exitCode, 0) << r.output;
 	EXPECT_NE(r.output.find("unknown key [pipeline] detect_evry_n"), std::string::npos) << r.output;
 }
+
+TEST(MappingPipelineBadInput, InsertOptsKnowsTheMapsAndThePersonLayersKeys)
+{
+	// _insertOpts feeds two options structs: a key is unknown only when neither reads it.
+	const auto dir = test::scratchDir("map-unknown-insert-key");
+	const std::string section = "map_adaptiveOctoMap_00_insertOpts";
+	const auto r = runMap(quickConfig("-s pipeline:max_frames=3 -s " + section + ":region_margn=0.3 -s " + section +
+									  ":track_gate=0.5 -s " + section + ":region_end_after_s=2") +
+							  " -r " + test::bonnRawlog().string() + " -o " + (dir / "out").string(),
+		dir);
+	EXPECT_EQ(r.exitCode, 0) << r.output;
+	EXPECT_NE(r.output.find("unknown key [" + section + "] region_margn"), std::string::npos) << r.output;
+	EXPECT_EQ(r.output.find("] track_gate"), std::string::npos) << r.output;
+	EXPECT_EQ(r.output.find("] region_end_after_s"), std::string::npos) << r.output;
+}

@@ -22,7 +22,7 @@
 #include "TestData.h"
 #include "avm/io/RawlogFrameReader.h"
 #include "avm/io/Trajectory.h"
-#include "avm/maps/CAdaptiveOctoMap.h"
+#include "avm/plugin/CAdaptiveOctoMap.h"
 #include "avm/pipeline/MappingPipeline.h"
 
 extern char** environ;

@@ -21,7 +21,7 @@
 #include "avm/io/RawlogFrameReader.h"
 #include "avm/io/RgbdFrame.h"
 #include "avm/io/Trajectory.h"
-#include "avm/maps/CAdaptiveOctoMap.h"
+#include "avm/plugin/CAdaptiveOctoMap.h"
 #include "avm/persons/PersonsCsv.h"
 #include "avm/pipeline/MappingPipeline.h"
 

@@ -16,7 +16,7 @@
 #include "TestData.h"
 #include "Xvfb.h"
 #include "avm/io/RawlogFrameReader.h"
-#include "avm/maps/CAdaptiveOctoMap.h"
+#include "avm/plugin/CAdaptiveOctoMap.h"
 #include "avm/viewer/MapView.h"
 
 namespace fs = std::filesystem;

@@ -1,6 +1,6 @@
 // Algorithm 1 (resolution switching) and its per-person variant: which space
 // the high-resolution tree maps, and how that changed. Knows nothing of
-// octrees; CAdaptiveOctoMap applies the changes it reports to the trees.
+// octrees; CDualOctoMap applies the changes it reports to the trees.
 //
 // Region policy: the high-resolution space is the exact union of the low
 // voxels covered by the regions' boxes (each box grown to whole low voxels),

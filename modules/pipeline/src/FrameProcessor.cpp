@@ -199,7 +199,7 @@ void FrameProcessor::observePersons(const DetectionResult& r)
 {
 	if (r.persons.empty()) return;
 	const auto pose = m_recentPoses.find(r.frameIndex);
-	std::vector<TPersonObservation> seen;
+	std::vector<persons::PersonObservation> seen;
 	mrpt::system::CTicTac timer;
 	const double cpu = io::threadCpuMs();
 	if (pose != m_recentPoses.end()) seen = seePersons(*r.observation, pose->second, r.persons, r.frameIndex);
@@ -219,8 +219,8 @@ void FrameProcessor::observePersons(const DetectionResult& r)
 	}
 }
 
-std::vector<TPersonObservation> FrameProcessor::seePersons(const CObservation3DRangeScan& obs, const CPose3D& pose,
-	const std::vector<detection::Detection>& persons, std::size_t frameIndex)
+std::vector<persons::PersonObservation> FrameProcessor::seePersons(const CObservation3DRangeScan& obs,
+	const CPose3D& pose, const std::vector<detection::Detection>& persons, std::size_t frameIndex)
 {
 	const cv::Size size(static_cast<int>(obs.rangeImage.cols()), static_cast<int>(obs.rangeImage.rows()));
 	std::vector<persons::PixelSet> pixels;

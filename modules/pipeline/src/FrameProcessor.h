@@ -33,8 +33,8 @@
 #include "avm/io/RgbdFrame.h"
 #include "avm/io/TimingSummary.h"
 #include "avm/io/Trajectory.h"
-#include "avm/maps/CAdaptiveOctoMap.h"
-#include "avm/maps/ReferenceOctoMaps.h"
+#include "avm/plugin/CAdaptiveOctoMap.h"
+#include "avm/plugin/ReferenceOctoMaps.h"
 #include "avm/odometry/VisualOdometry.h"
 #include "avm/pipeline/MappingPipeline.h"
 #include "avm/viewer/MapView.h"
@@ -48,7 +48,7 @@ struct PersonDetectionRecord
 	double timestamp = 0;
 	detection::Detection person;
 	/** Nothing when the frame had no pose (it was not mapped). */
-	std::optional<TPersonObservation> seen;
+	std::optional<persons::PersonObservation> seen;
 };
 
 /** Durations of each stage, frame by frame [ms]. */
@@ -164,7 +164,7 @@ class FrameProcessor
 	void updatePersons();
 	void observePersons(const DetectionResult& detection);
 	/** One detection's persons into the map, seen from `pose`: what it made of each. */
-	std::vector<TPersonObservation> seePersons(const mrpt::obs::CObservation3DRangeScan& obs,
+	std::vector<persons::PersonObservation> seePersons(const mrpt::obs::CObservation3DRangeScan& obs,
 		const mrpt::poses::CPose3D& pose, const std::vector<detection::Detection>& persons, std::size_t frameIndex);
 	// 4. The map.
 	void insert(const io::RgbdFrame& frame, const mrpt::poses::CPose3D& pose);

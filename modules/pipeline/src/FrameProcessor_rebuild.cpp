@@ -51,7 +51,7 @@ RunSummary::MapRebuildCost FrameProcessor::rebuildMap(const std::function<std::o
 		{
 			auto& d = it->second;
 			const auto pose = mappedPoses.find(it->first);
-			std::vector<TPersonObservation> seen;
+			std::vector<persons::PersonObservation> seen;
 			if (pose != mappedPoses.end() && d.observation)
 				seen = seePersons(*d.observation, pose->second, d.persons, it->first);
 			for (std::size_t i = 0; i < d.records.size(); ++i)

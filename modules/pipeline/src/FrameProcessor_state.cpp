@@ -72,7 +72,7 @@ void write(CArchive& out, const PersonDetectionRecord& r)
 	out << d.box.x << d.box.y << d.box.width << d.box.height << static_cast<std::int32_t>(d.classId) << d.className
 		<< d.score;
 	writeOptional(out, r.seen,
-		[&](const TPersonObservation& seen)
+		[&](const persons::PersonObservation& seen)
 		{
 			writeOptional(out, seen.sighting,
 				[&](const persons::PersonSighting& s)
@@ -96,7 +96,7 @@ void read(CArchive& in, PersonDetectionRecord& r)
 	d.classId = in.ReadAs<std::int32_t>();
 	in >> d.className >> d.score;
 	readOptional(in, r.seen,
-		[&](TPersonObservation& seen)
+		[&](persons::PersonObservation& seen)
 		{
 			readOptional(in, seen.sighting,
 				[&](persons::PersonSighting& s)

@@ -22,8 +22,8 @@
 #include "avm/io/IniOptions.h"
 #include "avm/io/RawlogFrameReader.h"
 #include "avm/io/TimingSummary.h"
-#include "avm/maps/CAdaptiveOctoMap.h"
-#include "avm/maps/ReferenceOctoMaps.h"
+#include "avm/plugin/CAdaptiveOctoMap.h"
+#include "avm/plugin/ReferenceOctoMaps.h"
 #include "avm/odometry/VisualOdometry.h"
 
 namespace avm::pipeline
@@ -117,9 +117,20 @@ void warnUnknownMapKeys(
 	static const std::vector<std::string> generic = {
 		"enableSaveAs3DObject", "enableObservationLikelihood", "enableObservationInsertion"};
 	const CAdaptiveOctoMap defaults;
-	const auto check = [&](const std::string& section, const mrpt::config::CLoadableOptions& opts, bool creation)
+	// A section may feed two options structs (_insertOpts: the map's and the
+	// person layer's): a key is unknown when none of them reads it.
+	const auto check = [&](const std::string& section,
+						   std::initializer_list<const mrpt::config::CLoadableOptions*> readers, bool creation)
 	{
-		for (const auto& key : io::unknownKeys(ini, section, opts))
+		auto unknown = io::unknownKeys(ini, section, **readers.begin());
+		for (const auto* reader : readers)
+		{
+			const auto notRead = io::unknownKeys(ini, section, *reader);
+			const auto read = [&](const std::string& k)
+			{ return std::find(notRead.begin(), notRead.end(), k) == notRead.end(); };
+			unknown.erase(std::remove_if(unknown.begin(), unknown.end(), read), unknown.end());
+		}
+		for (const auto& key : unknown)
 			if (!creation || std::find(generic.begin(), generic.end(), key) == generic.end())
 				log.logStr(mrpt::system::LVL_WARN, io::unknownKeyWarning(section, key) + "\n");
 	};
@@ -129,10 +140,10 @@ void warnUnknownMapKeys(
 		char prefix[64];
 		std::snprintf(prefix, sizeof(prefix), "%s_adaptiveOctoMap_%02d", mapSection.c_str(), i);
 		const std::string p = prefix;
-		check(p + "_creationOpts", defaults.creationOptions(), true);
-		check(p + "_insertOpts", defaults.insertionOptions, false);
-		check(p + "_likelihoodOpts", defaults.likelihoodOptions, false);
-		check(p + "_renderOpts", defaults.renderingOptions, false);
+		check(p + "_creationOpts", {&defaults.creationOptions()}, true);
+		check(p + "_insertOpts", {&defaults.insertionOptions, &defaults.personOptions}, false);
+		check(p + "_likelihoodOpts", {&defaults.likelihoodOptions}, false);
+		check(p + "_renderOpts", {&defaults.renderingOptions}, false);
 	}
 }
 

@@ -11,7 +11,7 @@
 
 #include "FrameProcessor.h"
 #include "avm/io/Trajectory.h"
-#include "avm/maps/CAdaptiveOctoMap.h"
+#include "avm/plugin/CAdaptiveOctoMap.h"
 #include "avm/pipeline/MappingPipeline.h"
 
 namespace avm::pipeline::detail

@@ -9,7 +9,7 @@
 
 #include "avm/io/RunFolder.h"
 #include "avm/io/Trajectory.h"
-#include "avm/maps/CAdaptiveOctoMap.h"
+#include "avm/plugin/CAdaptiveOctoMap.h"
 #include "avm/maps/VisibleLeaves.h"
 #include "avm/persons/PersonsCsv.h"
 

@@ -1,5 +1,5 @@
 // The colours of the adaptive map's trees and regions, wherever the map is
-// drawn in 3D: map.3Dscene and MRPT's viewers (CAdaptiveOctoMap_render.cpp)
+// drawn in 3D: map.3Dscene and MRPT's viewers (CDualOctoMap_render.cpp)
 // and avm's live view (modules/viewer), so that both show a tree alike; and of
 // the camera path and the persons, which the pictures (map_top.png,
 // map_perspective.png) and the live view draw alike.

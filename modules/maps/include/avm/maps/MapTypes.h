@@ -1,6 +1,6 @@
 // The adaptive map's vocabulary: the two trees (low and high resolution), how
 // space switches between them, the options of one tree and the answers of a
-// query. Below both the public CAdaptiveOctoMap.h and the map's internals
+// query. Below both the public CDualOctoMap.h and the map's internals
 // (ResolutionPolicy, TreeOps), so neither includes the other for a name.
 #pragma once
 
@@ -68,6 +68,13 @@ struct THighResolutionRegion
 	double lastSeenTime = 0;  //!< [s] UNIX time of the person's last sighting
 };
 
+/** Where a region goes (CDualOctoMap::placeRegions). */
+struct TRegionPlacement
+{
+	std::uint32_t id = 0;          //!< > 0 (0 is the id of addHighResolutionRegion()'s regions)
+	mrpt::math::TBoundingBox box;  //!< world frame, used as given, then grown to the low voxel grid
+};
+
 /** One visible leaf of either tree (see forEachVisibleLeaf). */
 struct TLeafVoxel
 {
@@ -78,7 +85,7 @@ struct TLeafVoxel
 };
 
 /** The parameters of one octree. All keys carry the tree's prefix ("low_" or
- *  "high_") in the `_creationOpts` section (CAdaptiveOctoMap::TTreeOptions). */
+ *  "high_") in the `_creationOpts` section (CDualOctoMap::TTreeOptions). */
 struct TTreeOptions : public io::CIniKeyOptions<TTreeOptions>
 {
 	explicit TTreeOptions(std::string keyPrefix, double resolution);

@@ -22,7 +22,7 @@
 
 #include "avm/io/IniKeyOptions.h"
 #include "avm/io/TimingSummary.h"
-#include "avm/maps/ReferenceOctoMaps.h"
+#include "avm/plugin/ReferenceOctoMaps.h"
 #include "avm/viewer/TViewerOptions.h"
 
 namespace avm::pipeline

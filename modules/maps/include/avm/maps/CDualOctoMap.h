@@ -1,15 +1,17 @@
-// avm::CAdaptiveOctoMap — an MRPT metric map made of two OctoMaps: a low-resolution
-// tree for the scene and a high-resolution one for the space around detected people
-// (Choi & Shin 2025, Algorithm 1 resolution switching and Algorithm 2 overlap
-// filtering), usable from any MRPT app as the plugin map "adaptiveOctoMap".
+// avm::CDualOctoMap — the dual octree: a low-resolution OctoMap for the scene and
+// a high-resolution one for regions of space (Choi & Shin 2025, Algorithm 1
+// resolution switching and Algorithm 2 overlap filtering), as an MRPT metric
+// map. It knows regions, not people: the layer above adds, moves and ends them
+// (placeRegions, endRegion) and inserts points; avm::CAdaptiveOctoMap
+// (modules/plugin) is that layer for persons and the registered MRPT map.
 //
 // Where things live: src/ResolutionPolicy.cpp decides which space goes to
-// which tree (Algorithm 1, per-person regions and their lifetime),
+// which tree (Algorithm 1, the regions and their lifetime),
 // src/RegionSpace.cpp refines space that enters a region and coarsens space
 // that leaves one, src/RayIntegrator.cpp turns a
 // scan into per-tree free/occupied key sets (the hot path, and Algorithm 2),
 // src/BatchUpdate.cpp applies them to a tree in one sweep,
-// src/CAdaptiveOctoMap_{options,query,likelihood,io,render}.cpp the rest
+// src/CDualOctoMap_{options,query,likelihood,io,render}.cpp the rest
 // (doc/map.md has the full map of files).
 #pragma once
 
@@ -17,6 +19,7 @@
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/math/TBoundingBox.h>
 #include <mrpt/math/TPoint3D.h>
+#include <mrpt/obs/CObservation3DRangeScan.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -29,9 +32,6 @@
 #include "avm/io/IniKeyOptions.h"
 #include "avm/maps/MapTypes.h"
 #include "avm/maps/VisibleLeaves.h"
-#include "avm/persons/PersonLabels.h"
-#include "avm/persons/PersonSighting.h"
-#include "avm/persons/PersonTracker.h"
 
 namespace octomap
 {
@@ -48,18 +48,7 @@ class SurfaceSketch;
 struct ScanTargets;
 }  // namespace detail
 
-/** What observePersons() made of one person's pixels. */
-struct TPersonObservation
-{
-	std::optional<persons::PersonSighting> sighting;
-	std::uint32_t personId = 0;  //!< the track (0 when there is no sighting)
-	/** The region box the person gave (world, margin included, before grid
-	 *  alignment); nothing when there is no sighting. */
-	std::optional<mrpt::math::TBoundingBox> regionBox;
-	std::string skipReason;  //!< why there is no sighting
-};
-
-/** The answer to CAdaptiveOctoMap::query(). */
+/** The answer to CDualOctoMap::query(). */
 struct TOccupancyQuery
 {
 	OccupancyState state = OccupancyState::Unknown;
@@ -72,10 +61,8 @@ struct TOccupancyQuery
 	double resolution = 0;
 };
 
-class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
+class CDualOctoMap : public mrpt::maps::CMetricMap
 {
-	DEFINE_SERIALIZABLE(CAdaptiveOctoMap, avm)
-
    public:
 	/** The parameters of one octree (avm/maps/MapTypes.h). */
 	using TTreeOptions = avm::TTreeOptions;
@@ -96,16 +83,10 @@ class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
 	struct TInsertionOptions : public io::CIniKeyOptions<TInsertionOptions>
 	{
 		SwitchPolicy switchPolicy = SwitchPolicy::Region;
-		/** [m] grown on each side of a person's box to make its region. */
-		double regionMargin = 0.20;
 		RegionLifetime regionLifetime = RegionLifetime::Follow;
 		/** [s] follow: a region ends after its space was in view this long with
 		 *  no sighting of its person. */
 		double regionEndAfterSeconds = 1.5;
-		/** Label name of the pixels that are persons (labelled rawlogs). */
-		std::string personLabel = persons::kPersonLabel;
-		persons::SightingOptions sighting;
-		persons::TrackerOptions tracking;
 		/** paper policy: switch at this insertion index (-1 = off). */
 		std::int64_t switchAtFrame = -1;
 		/** paper policy: switch at this fraction of the run (-1 = off); needs
@@ -157,14 +138,7 @@ class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
 		double resolution = 0;
 	};
 
-	/** Default options (region policy, 0.20 m / 0.05 m). */
-	CAdaptiveOctoMap();
-	/** Throws std::invalid_argument (naming the key) on invalid options. */
-	CAdaptiveOctoMap(
-		const TCreationOptions& creation, const TInsertionOptions& insertion, const TLikelihoodOptions& likelihood);
-	~CAdaptiveOctoMap() override;
-	CAdaptiveOctoMap(const CAdaptiveOctoMap& other);
-	CAdaptiveOctoMap& operator=(const CAdaptiveOctoMap& other);
+	~CDualOctoMap() override;
 
 	/** The tree parameters; fixed for the map's life (clear() keeps them). */
 	const TCreationOptions& creationOptions() const { return m_creation; }
@@ -180,20 +154,17 @@ class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
 	 *  Paper policy: the call switches like switchToHighResolution().
 	 *  Throws std::invalid_argument on an empty or non-finite box. */
 	void addHighResolutionRegion(const mrpt::math::TBoundingBox& worldBox);
-	/** The persons whose pixels are `persons` in `obs` (taken at `robotPose`,
-	 *  composed with obs.sensorPose as for insertion), seen at frame
-	 *  `frameIndex`: each becomes a sighting, joins a person track, and its
-	 *  box grown by region_margin becomes (or moves) that person's region.
-	 *  Inserting an observation with person pixel labels calls this itself.
-	 *  Paper policy: a sighting switches. */
-	std::vector<TPersonObservation> observePersons(const mrpt::obs::CObservation3DRangeScan& obs,
-		const mrpt::poses::CPose3D& robotPose, const std::vector<persons::PixelSet>& persons, std::size_t frameIndex);
-	/** Ends the person's region now, as its lifetime would (its detail folded
-	 *  into the low tree): e.g. the person has been attended to. False if the
-	 *  person has no region. */
-	bool endPersonRegion(std::uint32_t personId);
-	/** Every person seen so far. */
-	const std::vector<persons::PersonTrack>& personTracks() const;
+	/** Region policy: each region moves to its placement's box (world frame,
+	 *  grown to the low tree's voxel grid) or, for a new id, is made there;
+	 *  `time` [s] is when its owner was there (the follow lifetime's clock).
+	 *  Persist lifetime: the box joins the region. Paper policy: switches.
+	 *  Placed together, so space one region leaves and another enters in the
+	 *  same call stays in the high tree. */
+	void placeRegions(const std::vector<TRegionPlacement>& placements, double time);
+	/** Ends the region now, as its lifetime would (its detail folded into the
+	 *  low tree): e.g. its person has been attended to. False if there is no
+	 *  region of that id. */
+	bool endRegion(std::uint32_t id);
 	/** Paper policy: every later insertion goes to the high tree (filtered by
 	 *  Algorithm 2). Region policy: std::logic_error (a region is needed). */
 	void switchToHighResolution();
@@ -254,17 +225,37 @@ class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
 	std::string asString() const override;
 	/** @} */
 
-	MAP_DEFINITION_START(CAdaptiveOctoMap)
-	TCreationOptions creationOpts;
-	TInsertionOptions insertionOpts;
-	TLikelihoodOptions likelihoodOpts;
-	TRenderingOptions renderOpts;
-	/** Why the options were rejected ("" = valid); thrown when the map is
-	 *  created (see loadFromConfigFile_map_specific). */
-	std::string loadError;
-	MAP_DEFINITION_END(CAdaptiveOctoMap)
-
    protected:
+	/** Throws std::invalid_argument (naming the key) on invalid options. */
+	CDualOctoMap(
+		const TCreationOptions& creation, const TInsertionOptions& insertion, const TLikelihoodOptions& likelihood);
+	CDualOctoMap(const CDualOctoMap& other);
+	CDualOctoMap& operator=(const CDualOctoMap& other);
+
+	/** Called with each depth image about to be inserted (after its checks,
+	 *  before regions age and rays are cast): where the layer above reads it,
+	 *  e.g. places the regions of the persons it shows. */
+	virtual void beforeDepthImage(
+		const mrpt::obs::CObservation3DRangeScan& /*scan*/, const mrpt::poses::CPose3D& /*robotPose*/)
+	{
+	}
+
+	/** @name The map's parts of a serialized stream
+	 *  CAdaptiveOctoMap's stream (version 1) holds the person layer's options
+	 *  and tracks between them, so the map writes and reads itself in parts.
+	 * @{ */
+	/** Both trees' creation options. */
+	void writeTreeOptions(mrpt::serialization::CArchive& out) const;
+	void readTreeOptions(mrpt::serialization::CArchive& in);
+	/** The insertion count, the switch and the regions (read after
+	 *  insertionOptions.switchPolicy). */
+	void writeRegions(mrpt::serialization::CArchive& out) const;
+	void readRegions(mrpt::serialization::CArchive& in);
+	/** The surface sketch, the last depth image's time and both trees. */
+	void writeTrees(mrpt::serialization::CArchive& out) const;
+	void readTrees(mrpt::serialization::CArchive& in);
+	/** @} */
+
 	void internal_clear() override;
 	bool internal_insertObservation(
 		const mrpt::obs::CObservation& obs, const std::optional<const mrpt::poses::CPose3D>& robotPose) override;
@@ -284,13 +275,14 @@ class CAdaptiveOctoMap : public mrpt::maps::CMetricMap
 	 *  regions the camera now looks at; those past region_end_after_s end. */
 	void ageRegions(const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& sensorPose);
 	TTreeStats statsOf(Resolution which) const;
+	/** The options and a deep copy of the trees, regions and sketch. */
+	void copyFrom(const CDualOctoMap& other);
 
 	TCreationOptions m_creation;
 	std::unique_ptr<octomap::OcTree> m_low, m_high;
 	std::unique_ptr<detail::ResolutionPolicy> m_policy;
 	/** Where in each low voxel the surface was (region policy). */
 	std::unique_ptr<detail::SurfaceSketch> m_sketch;
-	persons::PersonTracker m_tracker;
 	/** [s] timestamp of the last depth image inserted (for region ageing). */
 	std::optional<double> m_lastScanTime;
 	/** Scratch buffers of the insertion hot path; not part of the map state. */

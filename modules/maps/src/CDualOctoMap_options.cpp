@@ -9,7 +9,7 @@
 #include "OcTreeKeys.h"
 #include "avm/io/EnumNames.h"
 #include "avm/io/IniKeys.h"
-#include "avm/maps/CAdaptiveOctoMap.h"
+#include "avm/maps/CDualOctoMap.h"
 
 namespace avm
 {
@@ -88,7 +88,7 @@ io::IniKeys<TTreeOptions> TTreeOptions::iniKeys() const
 }
 
 // ------------------------------------------------------------ TCreationOptions
-io::IniKeys<CAdaptiveOctoMap::TCreationOptions> CAdaptiveOctoMap::TCreationOptions::iniKeys() const
+io::IniKeys<CDualOctoMap::TCreationOptions> CDualOctoMap::TCreationOptions::iniKeys() const
 {
 	using O = TCreationOptions;
 	const std::string highKey = high.keyPrefix + "resolution", lowKey = low.keyPrefix + "resolution";
@@ -114,19 +114,15 @@ io::IniKeys<CAdaptiveOctoMap::TCreationOptions> CAdaptiveOctoMap::TCreationOptio
 }
 
 // ----------------------------------------------------------- TInsertionOptions
-io::IniKeys<CAdaptiveOctoMap::TInsertionOptions> CAdaptiveOctoMap::TInsertionOptions::iniKeys()
+io::IniKeys<CDualOctoMap::TInsertionOptions> CDualOctoMap::TInsertionOptions::iniKeys()
 {
 	using O = TInsertionOptions;
-	using S = persons::SightingOptions;
-	using T = persons::TrackerOptions;
 	const auto forcedSwitchNeedsPaper = [](const O& o) { return o.switchPolicy == SwitchPolicy::Paper; };
 	io::IniKeys<O> keys;
 	keys.choice(
 			"switch_policy", &O::switchPolicy, switchPolicyFromString, [](SwitchPolicy p) { return toString(p); },
 			"region (space around people at high resolution) | paper (Algorithm 1 as published)",
 			"expected paper or region")
-		.number("region_margin", &O::regionMargin, "m", "grown on each side of a person's box to make its region",
-			{[](double v) { return v >= 0; }, "must be >= 0 metres"})
 		.choice(
 			"region_lifetime", &O::regionLifetime, regionLifetimeFromString,
 			[](RegionLifetime l) { return toString(l); },
@@ -137,30 +133,6 @@ io::IniKeys<CAdaptiveOctoMap::TInsertionOptions> CAdaptiveOctoMap::TInsertionOpt
 		.number("region_end_after_s", &O::regionEndAfterSeconds, "s",
 			"follow: in-view time with no sighting after which a region ends, its detail folded into the low tree",
 			{[](double v) { return v > 0; }, "must be > 0 seconds"})
-		.text("person_label", &O::personLabel,
-			"pixelLabels name of persons: \"person\" may hold many (one per 4-connected blob), \"person/<k>\" one each",
-			{[](const std::string& v) { return !v.empty(); }, "must not be empty"})
-		.number("person_depth_band", &O::sighting, &S::depthBand, "m",
-			"half-width of the person's depth band around its robust depth; pixels outside are background",
-			{[](double v) { return v > 0; }, "must be > 0 metres"})
-		.number("person_percentile", &O::sighting, &S::percentile, "",
-			"a person's box spans the [p, 1-p] percentiles of its points on each axis, p in [0, 0.5)",
-			{[](double v) { return v >= 0 && v < 0.5; }, "must be in [0, 0.5)"})
-		.number<std::int64_t>("min_person_pixels", &O::sighting, &S::minPixels, "pixels",
-			"depth pixels in the band needed for a sighting", {[](std::int64_t v) { return v >= 1; }, "must be >= 1"})
-		.number("min_person_depth_fraction", &O::sighting, &S::minDepthFraction, "0..1",
-			"share of a person's pixels that must have depth",
-			{[](double v) { return v >= 0 && v <= 1; }, "must be in [0, 1]"})
-		.number("track_gate", &O::tracking, &T::gate, "m",
-			"farthest a sighting may be from a track seen at the same instant to join it",
-			{[](double v) { return v > 0; }, "must be > 0 metres"})
-		.number("track_gate_growth", &O::tracking, &T::gateGrowth, "m/s",
-			"the gate widens by this per second the track was unseen",
-			{[](double v) { return v >= 0; }, "must be >= 0 m/s"})
-		.number("track_max_gate", &O::tracking, &T::maxGate, "m",
-			"widest gate: a person back near where last seen keeps the id")
-		.check(
-			"track_max_gate", [](const O& o) { return o.tracking.maxGate >= o.tracking.gate; }, "must be >= track_gate")
 		.number("switch_at_frame", &O::switchAtFrame, "",
 			"paper policy: force the switch at this insertion index; -1 = off",
 			{[](std::int64_t v) { return v >= -1; }, "must be -1 (off) or >= 0"})
@@ -184,7 +156,7 @@ io::IniKeys<CAdaptiveOctoMap::TInsertionOptions> CAdaptiveOctoMap::TInsertionOpt
 }
 
 // ---------------------------------------------------------- TLikelihoodOptions
-io::IniKeys<CAdaptiveOctoMap::TLikelihoodOptions> CAdaptiveOctoMap::TLikelihoodOptions::iniKeys()
+io::IniKeys<CDualOctoMap::TLikelihoodOptions> CDualOctoMap::TLikelihoodOptions::iniKeys()
 {
 	io::IniKeys<TLikelihoodOptions> keys;
 	keys.number<std::int64_t>("decimation", &TLikelihoodOptions::decimation, "",
@@ -193,7 +165,7 @@ io::IniKeys<CAdaptiveOctoMap::TLikelihoodOptions> CAdaptiveOctoMap::TLikelihoodO
 }
 
 // ----------------------------------------------------------- TRenderingOptions
-io::IniKeys<CAdaptiveOctoMap::TRenderingOptions> CAdaptiveOctoMap::TRenderingOptions::iniKeys()
+io::IniKeys<CDualOctoMap::TRenderingOptions> CDualOctoMap::TRenderingOptions::iniKeys()
 {
 	io::IniKeys<TRenderingOptions> keys;
 	keys.number("show_free_space", &TRenderingOptions::showFreeSpace, "", "draw free voxels too")
@@ -203,7 +175,7 @@ io::IniKeys<CAdaptiveOctoMap::TRenderingOptions> CAdaptiveOctoMap::TRenderingOpt
 }  // namespace avm
 
 template struct avm::io::CIniKeyOptions<avm::TTreeOptions>;
-template struct avm::io::CIniKeyOptions<avm::CAdaptiveOctoMap::TCreationOptions>;
-template struct avm::io::CIniKeyOptions<avm::CAdaptiveOctoMap::TInsertionOptions>;
-template struct avm::io::CIniKeyOptions<avm::CAdaptiveOctoMap::TLikelihoodOptions>;
-template struct avm::io::CIniKeyOptions<avm::CAdaptiveOctoMap::TRenderingOptions>;
+template struct avm::io::CIniKeyOptions<avm::CDualOctoMap::TCreationOptions>;
+template struct avm::io::CIniKeyOptions<avm::CDualOctoMap::TInsertionOptions>;
+template struct avm::io::CIniKeyOptions<avm::CDualOctoMap::TLikelihoodOptions>;
+template struct avm::io::CIniKeyOptions<avm::CDualOctoMap::TRenderingOptions>;

@@ -8,7 +8,7 @@
 #include "ResolutionPolicy.h"
 #include "SurfaceSketch.h"
 #include "TreeOps.h"
-#include "avm/maps/CAdaptiveOctoMap.h"
+#include "avm/maps/CDualOctoMap.h"
 
 using namespace avm;
 
@@ -26,7 +26,7 @@ TOccupancyQuery answer(const octomap::OcTree& tree, const octomap::OcTreeNode* n
 }
 }  // namespace
 
-TOccupancyQuery CAdaptiveOctoMap::query(const mrpt::math::TPoint3D& p) const
+TOccupancyQuery CDualOctoMap::query(const mrpt::math::TPoint3D& p) const
 {
 	if (m_policy->policy() == SwitchPolicy::Region)
 	{
@@ -56,7 +56,7 @@ void avm::forEachVisibleLeaf(
 	}
 }
 
-void CAdaptiveOctoMap::forEachLeaf(Resolution which, const std::function<void(const TLeafVoxel&)>& visit) const
+void CDualOctoMap::forEachLeaf(Resolution which, const std::function<void(const TLeafVoxel&)>& visit) const
 {
 	const octomap::OcTree* t = tree(which);
 	if (!t) return;
@@ -65,7 +65,7 @@ void CAdaptiveOctoMap::forEachLeaf(Resolution which, const std::function<void(co
 	forEachVisibleLeaf(*t, overlapFiltered ? m_low.get() : nullptr, visit);
 }
 
-std::optional<CAdaptiveOctoMap::TRayHit> CAdaptiveOctoMap::castRay(
+std::optional<CDualOctoMap::TRayHit> CDualOctoMap::castRay(
 	const mrpt::math::TPoint3D& origin, const mrpt::math::TPoint3D& direction, double maxRange) const
 {
 	const double n = direction.norm();
@@ -83,7 +83,7 @@ std::optional<CAdaptiveOctoMap::TRayHit> CAdaptiveOctoMap::castRay(
 	return std::nullopt;
 }
 
-std::optional<mrpt::math::TBoundingBox> CAdaptiveOctoMap::knownSpaceBoundingBox() const
+std::optional<mrpt::math::TBoundingBox> CDualOctoMap::knownSpaceBoundingBox() const
 {
 	std::optional<mrpt::math::TBoundingBox> box;
 	auto grow = [&](const TLeafVoxel& v)
@@ -98,7 +98,7 @@ std::optional<mrpt::math::TBoundingBox> CAdaptiveOctoMap::knownSpaceBoundingBox(
 	return box;
 }
 
-CAdaptiveOctoMap::TTreeStats CAdaptiveOctoMap::statsOf(Resolution which) const
+CDualOctoMap::TTreeStats CDualOctoMap::statsOf(Resolution which) const
 {
 	TTreeStats s;
 	s.resolution = which == Resolution::Low ? m_creation.low.resolution : m_creation.high.resolution;
@@ -114,10 +114,10 @@ CAdaptiveOctoMap::TTreeStats CAdaptiveOctoMap::statsOf(Resolution which) const
 	return s;
 }
 
-CAdaptiveOctoMap::TTreeStats CAdaptiveOctoMap::lowResolutionStats() const { return statsOf(Resolution::Low); }
-CAdaptiveOctoMap::TTreeStats CAdaptiveOctoMap::highResolutionStats() const { return statsOf(Resolution::High); }
+CDualOctoMap::TTreeStats CDualOctoMap::lowResolutionStats() const { return statsOf(Resolution::Low); }
+CDualOctoMap::TTreeStats CDualOctoMap::highResolutionStats() const { return statsOf(Resolution::High); }
 
-std::string CAdaptiveOctoMap::asString() const
+std::string CDualOctoMap::asString() const
 {
 	std::ostringstream s;
 	s << "CAdaptiveOctoMap: policy " << toString(m_policy->policy()) << ", low " << m_creation.low.resolution << " m ("

@@ -7,7 +7,7 @@
 #include <mrpt/opengl/CSetOfObjects.h>
 
 #include "ResolutionPolicy.h"
-#include "avm/maps/CAdaptiveOctoMap.h"
+#include "avm/maps/CDualOctoMap.h"
 #include "avm/maps/MapColours.h"
 
 using namespace avm;
@@ -26,7 +26,7 @@ enum VoxelSet : std::size_t
 };
 }  // namespace
 
-void CAdaptiveOctoMap::getVisualizationInto(mrpt::opengl::CSetOfObjects& outObj) const
+void CDualOctoMap::getVisualizationInto(mrpt::opengl::CSetOfObjects& outObj) const
 {
 	if (!genericMapParams.enableSaveAs3DObject) return;
 	auto voxels = mrpt::opengl::COctoMapVoxels::Create();
@@ -71,7 +71,7 @@ void CAdaptiveOctoMap::getVisualizationInto(mrpt::opengl::CSetOfObjects& outObj)
 	}
 }
 
-const mrpt::maps::CSimplePointsMap* CAdaptiveOctoMap::getAsSimplePointsMap() const
+const mrpt::maps::CSimplePointsMap* CDualOctoMap::getAsSimplePointsMap() const
 {
 	if (m_pointsCacheValid) return &m_pointsCache;
 	m_pointsCache.clear();

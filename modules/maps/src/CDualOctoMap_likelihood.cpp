@@ -9,7 +9,7 @@
 #include <cmath>
 
 #include "avm/io/DepthCamera.h"
-#include "avm/maps/CAdaptiveOctoMap.h"
+#include "avm/maps/CDualOctoMap.h"
 
 using namespace avm;
 
@@ -21,7 +21,7 @@ double logOccupancy(const TOccupancyQuery& q)
 }
 }  // namespace
 
-bool CAdaptiveOctoMap::internal_canComputeObservationLikelihood(const mrpt::obs::CObservation& obs) const
+bool CDualOctoMap::internal_canComputeObservationLikelihood(const mrpt::obs::CObservation& obs) const
 {
 	if (const auto* scan = dynamic_cast<const mrpt::obs::CObservation3DRangeScan*>(&obs)) return scan->hasRangeImage;
 	if (const auto* cloud = dynamic_cast<const mrpt::obs::CObservationPointCloud*>(&obs))
@@ -29,7 +29,7 @@ bool CAdaptiveOctoMap::internal_canComputeObservationLikelihood(const mrpt::obs:
 	return false;
 }
 
-double CAdaptiveOctoMap::internal_computeObservationLikelihood(
+double CDualOctoMap::internal_computeObservationLikelihood(
 	const mrpt::obs::CObservation& obs, const mrpt::poses::CPose3D& takenFrom) const
 {
 	const std::size_t step = likelihoodOptions.decimation;
@@ -65,7 +65,7 @@ double CAdaptiveOctoMap::internal_computeObservationLikelihood(
 	return logLik;
 }
 
-float CAdaptiveOctoMap::compute3DMatchingRatio(const mrpt::maps::CMetricMap* otherMap,
+float CDualOctoMap::compute3DMatchingRatio(const mrpt::maps::CMetricMap* otherMap,
 	const mrpt::poses::CPose3D& otherMapPose, [[maybe_unused]] const mrpt::maps::TMatchingRatioParams& params) const
 {
 	// Matching is by voxel membership: a point matches when it falls in an

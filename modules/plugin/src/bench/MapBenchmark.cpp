@@ -1,4 +1,4 @@
-#include "avm/maps/MapBenchmark.h"
+#include "avm/plugin/MapBenchmark.h"
 
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
@@ -14,7 +14,7 @@
 #include "avm/io/RawlogFrameReader.h"
 #include "avm/io/ThreadCpuTime.h"
 #include "avm/io/TimingSummary.h"
-#include "avm/maps/CAdaptiveOctoMap.h"
+#include "avm/plugin/CAdaptiveOctoMap.h"
 
 namespace avm::maps
 {

@@ -1,5 +1,6 @@
-// Serialization (exact: full log-odds of every node) and the files MRPT apps
-// write with saveMetricMapRepresentationToFile().
+// The map's parts of the serialized stream (exact: full log-odds of every node;
+// CAdaptiveOctoMap_io.cpp puts them together) and the files MRPT apps write
+// with saveMetricMapRepresentationToFile().
 #include <mrpt/io/CMemoryStream.h>
 #include <mrpt/opengl/COpenGLScene.h>
 #include <mrpt/opengl/CSetOfObjects.h>
@@ -16,20 +17,18 @@
 #include "TreeOps.h"
 #include "avm/io/AtomicFile.h"
 #include "avm/io/RunFolder.h"
-#include "avm/maps/CAdaptiveOctoMap.h"
+#include "avm/maps/CDualOctoMap.h"
 
 using namespace avm;
 
-IMPLEMENTS_SERIALIZABLE(CAdaptiveOctoMap, CMetricMap, avm)
-
 namespace
 {
-void writeTreeOptions(mrpt::serialization::CArchive& out, const CAdaptiveOctoMap::TTreeOptions& o)
+void writeTreeOptionsOf(mrpt::serialization::CArchive& out, const TTreeOptions& o)
 {
 	out << o.resolution << o.probHit << o.probMiss << o.clampingThresMin << o.clampingThresMax << o.occupancyThres
 		<< o.maxRange;
 }
-void readTreeOptions(mrpt::serialization::CArchive& in, CAdaptiveOctoMap::TTreeOptions& o)
+void readTreeOptionsOf(mrpt::serialization::CArchive& in, TTreeOptions& o)
 {
 	in >> o.resolution >> o.probHit >> o.probMiss >> o.clampingThresMin >> o.clampingThresMax >> o.occupancyThres >>
 		o.maxRange;
@@ -42,7 +41,7 @@ void writeTree(mrpt::serialization::CArchive& out, const octomap::OcTree* tree)
 	if (tree && tree->size() > 0) tree->writeData(s);
 	out << s.str();
 }
-std::unique_ptr<octomap::OcTree> readTree(mrpt::serialization::CArchive& in, const CAdaptiveOctoMap::TTreeOptions& o)
+std::unique_ptr<octomap::OcTree> readTree(mrpt::serialization::CArchive& in, const TTreeOptions& o)
 {
 	std::string data;
 	in >> data;
@@ -66,26 +65,33 @@ void writeAtomically(const std::string& file, const std::function<bool(const std
 }
 }  // namespace
 
-// Version 1: per-person regions and person tracks.
-uint8_t CAdaptiveOctoMap::serializeGetVersion() const { return 1; }
-
-void CAdaptiveOctoMap::serializeTo(mrpt::serialization::CArchive& out) const
+void CDualOctoMap::writeTreeOptions(mrpt::serialization::CArchive& out) const
 {
-	out << genericMapParams;
-	writeTreeOptions(out, m_creation.low);
-	writeTreeOptions(out, m_creation.high);
-	const auto& i = insertionOptions;
-	out.WriteAs<uint8_t>(static_cast<uint8_t>(i.switchPolicy));
-	out << i.regionMargin;
-	out.WriteAs<uint8_t>(static_cast<uint8_t>(i.regionLifetime));
-	out << i.regionEndAfterSeconds << i.personLabel << i.sighting.depthBand << i.sighting.percentile
-		<< static_cast<uint64_t>(i.sighting.minPixels) << i.sighting.minDepthFraction << i.tracking.gate
-		<< i.tracking.gateGrowth << i.tracking.maxGate << i.switchAtFrame << i.switchAtFraction << i.expectedFrameCount
-		<< i.insertionThreads;
-	out << likelihoodOptions.decimation << renderingOptions.showFreeSpace << renderingOptions.showRegions;
+	writeTreeOptionsOf(out, m_creation.low);
+	writeTreeOptionsOf(out, m_creation.high);
+}
+
+void CDualOctoMap::readTreeOptions(mrpt::serialization::CArchive& in)
+{
+	readTreeOptionsOf(in, m_creation.low);
+	readTreeOptionsOf(in, m_creation.high);
+}
+
+void CDualOctoMap::writeRegions(mrpt::serialization::CArchive& out) const
+{
 	out.WriteAs<uint64_t>(m_insertions);
 	m_policy->serializeTo(out);
-	m_tracker.serializeTo(out);
+}
+
+void CDualOctoMap::readRegions(mrpt::serialization::CArchive& in)
+{
+	m_insertions = in.ReadAs<uint64_t>();
+	m_policy = std::make_unique<detail::ResolutionPolicy>(insertionOptions.switchPolicy, m_creation.low.resolution);
+	m_policy->serializeFrom(in);
+}
+
+void CDualOctoMap::writeTrees(mrpt::serialization::CArchive& out) const
+{
 	m_sketch->serializeTo(out);
 	out.WriteAs<uint8_t>(m_lastScanTime.has_value());
 	out << m_lastScanTime.value_or(0.0);
@@ -94,32 +100,8 @@ void CAdaptiveOctoMap::serializeTo(mrpt::serialization::CArchive& out) const
 	if (m_high) writeTree(out, m_high.get());
 }
 
-void CAdaptiveOctoMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t version)
+void CDualOctoMap::readTrees(mrpt::serialization::CArchive& in)
 {
-	if (version != 1) MRPT_THROW_UNKNOWN_SERIALIZATION_VERSION(version);
-	in >> genericMapParams;
-	readTreeOptions(in, m_creation.low);
-	readTreeOptions(in, m_creation.high);
-	auto& i = insertionOptions;
-	i.switchPolicy = static_cast<SwitchPolicy>(in.ReadAs<uint8_t>());
-	in >> i.regionMargin;
-	const auto lifetime = in.ReadAs<uint8_t>();
-	if (lifetime > static_cast<uint8_t>(RegionLifetime::Persist))
-		throw std::runtime_error("CAdaptiveOctoMap: corrupt region lifetime in the serialized map");
-	i.regionLifetime = static_cast<RegionLifetime>(lifetime);
-	uint64_t minPixels = 0;
-	in >> i.regionEndAfterSeconds >> i.personLabel >> i.sighting.depthBand >> i.sighting.percentile >> minPixels >>
-		i.sighting.minDepthFraction >> i.tracking.gate >> i.tracking.gateGrowth >> i.tracking.maxGate >>
-		i.switchAtFrame >> i.switchAtFraction >> i.expectedFrameCount >> i.insertionThreads;
-	i.sighting.minPixels = minPixels;
-	in >> likelihoodOptions.decimation >> renderingOptions.showFreeSpace >> renderingOptions.showRegions;
-	m_creation.validate("serialized creationOpts");
-	insertionOptions.validate("serialized insertOpts");
-	m_insertions = in.ReadAs<uint64_t>();
-	m_policy = std::make_unique<detail::ResolutionPolicy>(i.switchPolicy, m_creation.low.resolution);
-	m_policy->serializeFrom(in);
-	m_tracker = persons::PersonTracker(i.tracking);
-	m_tracker.serializeFrom(in);
 	m_sketch = std::make_unique<detail::SurfaceSketch>();
 	m_sketch->serializeFrom(in);
 	const bool hasScanTime = in.ReadAs<uint8_t>() != 0;
@@ -132,7 +114,7 @@ void CAdaptiveOctoMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t 
 	m_pointsCacheValid = false;
 }
 
-std::size_t CAdaptiveOctoMap::serializedBytes() const
+std::size_t CDualOctoMap::serializedBytes() const
 {
 	mrpt::io::CMemoryStream buf;
 	auto arch = mrpt::serialization::archiveFrom(buf);
@@ -140,7 +122,7 @@ std::size_t CAdaptiveOctoMap::serializedBytes() const
 	return static_cast<std::size_t>(buf.getTotalBytesCount());
 }
 
-void CAdaptiveOctoMap::saveMetricMapRepresentationToFile(const std::string& prefix) const
+void CDualOctoMap::saveMetricMapRepresentationToFile(const std::string& prefix) const
 {
 	const auto files = io::MapFiles::ofPrefix(prefix);
 	writeAtomically(files.lowTree.string(), [&](const std::string& tmp) { return m_low->writeBinaryConst(tmp); });

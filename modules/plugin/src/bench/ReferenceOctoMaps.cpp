@@ -1,4 +1,4 @@
-#include "avm/maps/ReferenceOctoMaps.h"
+#include "avm/plugin/ReferenceOctoMaps.h"
 
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <octomap/OcTree.h>
@@ -8,7 +8,7 @@
 #include <tuple>
 
 #include "avm/io/ThreadCpuTime.h"
-#include "avm/maps/CAdaptiveOctoMap.h"
+#include "avm/plugin/CAdaptiveOctoMap.h"
 
 namespace avm
 {

@@ -1,0 +1,76 @@
+#include "avm/persons/PersonLayer.h"
+
+#include "avm/io/IniKeys.h"
+
+namespace avm::persons
+{
+PersonLayer::PersonLayer(const TrackerOptions& tracking) : m_tracker(tracking) {}
+
+std::vector<PersonObservation> PersonLayer::observe(const mrpt::obs::CObservation3DRangeScan& obs,
+	const mrpt::poses::CPose3D& sensorPoseInWorld, const std::vector<PixelSet>& persons, std::size_t frameIndex,
+	const SightingOptions& sighting, double regionMargin)
+{
+	std::vector<PersonObservation> out(persons.size());
+	std::vector<PersonSighting> sightings;
+	std::vector<std::size_t> ofSighting;
+	for (std::size_t i = 0; i < persons.size(); i++)
+	{
+		auto est = estimateSighting(obs, sensorPoseInWorld, persons[i], sighting);
+		out[i].skipReason = est.skipReason;
+		if (!est.sighting) continue;
+		out[i].sighting = est.sighting;
+		sightings.push_back(*est.sighting);
+		ofSighting.push_back(i);
+	}
+	const auto ids = m_tracker.update(sightings, frameIndex, mrpt::Clock::toDouble(obs.timestamp));
+	const mrpt::math::TPoint3D margin(regionMargin, regionMargin, regionMargin);
+	for (std::size_t s = 0; s < sightings.size(); s++)
+	{
+		auto& o = out[ofSighting[s]];
+		o.personId = ids[s];
+		auto box = sightings[s].box;
+		box.min -= margin;
+		box.max += margin;
+		o.regionBox = box;
+	}
+	return out;
+}
+
+io::IniKeys<TPersonLayerOptions> TPersonLayerOptions::iniKeys()
+{
+	using O = TPersonLayerOptions;
+	using S = SightingOptions;
+	using T = TrackerOptions;
+	io::IniKeys<O> keys;
+	keys.number("region_margin", &O::regionMargin, "m", "grown on each side of a person's box to make its region",
+			{[](double v) { return v >= 0; }, "must be >= 0 metres"})
+		.text("person_label", &O::personLabel,
+			"pixelLabels name of persons: \"person\" may hold many (one per 4-connected blob), \"person/<k>\" one each",
+			{[](const std::string& v) { return !v.empty(); }, "must not be empty"})
+		.number("person_depth_band", &O::sighting, &S::depthBand, "m",
+			"half-width of the person's depth band around its robust depth; pixels outside are background",
+			{[](double v) { return v > 0; }, "must be > 0 metres"})
+		.number("person_percentile", &O::sighting, &S::percentile, "",
+			"a person's box spans the [p, 1-p] percentiles of its points on each axis, p in [0, 0.5)",
+			{[](double v) { return v >= 0 && v < 0.5; }, "must be in [0, 0.5)"})
+		.number<std::int64_t>("min_person_pixels", &O::sighting, &S::minPixels, "pixels",
+			"depth pixels in the band needed for a sighting", {[](std::int64_t v) { return v >= 1; }, "must be >= 1"})
+		.number("min_person_depth_fraction", &O::sighting, &S::minDepthFraction, "0..1",
+			"share of a person's pixels that must have depth",
+			{[](double v) { return v >= 0 && v <= 1; }, "must be in [0, 1]"})
+		.number("track_gate", &O::tracking, &T::gate, "m",
+			"farthest a sighting may be from a track seen at the same instant to join it",
+			{[](double v) { return v > 0; }, "must be > 0 metres"})
+		.number("track_gate_growth", &O::tracking, &T::gateGrowth, "m/s",
+			"the gate widens by this per second the track was unseen",
+			{[](double v) { return v >= 0; }, "must be >= 0 m/s"})
+		.number("track_max_gate", &O::tracking, &T::maxGate, "m",
+			"widest gate: a person back near where last seen keeps the id")
+		.check(
+			"track_max_gate", [](const O& o) { return o.tracking.maxGate >= o.tracking.gate; },
+			"must be >= track_gate");
+	return keys;
+}
+}  // namespace avm::persons
+
+template struct avm::io::CIniKeyOptions<avm::persons::TPersonLayerOptions>;

@@ -1,0 +1,68 @@
+// avm::CAdaptiveOctoMap — the MRPT plugin map "adaptiveOctoMap": the dual octree
+// (avm::CDualOctoMap, modules/maps) joined with the person layer
+// (avm::persons::PersonLayer, modules/persons). It reads the person pixel labels
+// of each depth image it inserts, turns them into person tracks and moves each
+// person's high-resolution region with it, so stock MRPT apps that load
+// libavm-adaptive-octomap.so map people at high resolution with no avm code of
+// their own. It owns the map's MRPT serialization (checkpoints, CMultiMetricMap
+// copies) and the `.ini` map definition.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "avm/maps/CDualOctoMap.h"
+#include "avm/persons/PersonLabels.h"
+#include "avm/persons/PersonLayer.h"
+
+namespace avm
+{
+class CAdaptiveOctoMap : public CDualOctoMap
+{
+	DEFINE_SERIALIZABLE(CAdaptiveOctoMap, avm)
+
+   public:
+	/** Default options (region policy, 0.20 m / 0.05 m). */
+	CAdaptiveOctoMap();
+	/** Throws std::invalid_argument (naming the key) on invalid options. */
+	CAdaptiveOctoMap(const TCreationOptions& creation, const TInsertionOptions& insertion,
+		const TLikelihoodOptions& likelihood, const persons::TPersonLayerOptions& people = {});
+	CAdaptiveOctoMap(const CAdaptiveOctoMap& other);
+	CAdaptiveOctoMap& operator=(const CAdaptiveOctoMap& other);
+
+	/** Section `<prefix>_insertOpts` too: person labels, sightings, tracks and
+	 *  the margin of their regions. */
+	persons::TPersonLayerOptions personOptions;
+
+	/** The person layer on `persons`, the pixels of each person in `obs` (taken
+	 *  at `robotPose`, composed with obs.sensorPose as for insertion), seen at
+	 *  frame `frameIndex`; then the regions of the persons seen are placed.
+	 *  Inserting an observation with person pixel labels calls this itself. */
+	std::vector<persons::PersonObservation> observePersons(const mrpt::obs::CObservation3DRangeScan& obs,
+		const mrpt::poses::CPose3D& robotPose, const std::vector<persons::PixelSet>& persons, std::size_t frameIndex);
+	/** Every person seen so far. */
+	const std::vector<persons::PersonTrack>& personTracks() const { return m_persons.tracks(); }
+
+	MAP_DEFINITION_START(CAdaptiveOctoMap)
+	TCreationOptions creationOpts;
+	TInsertionOptions insertionOpts;
+	persons::TPersonLayerOptions personOpts;
+	TLikelihoodOptions likelihoodOpts;
+	TRenderingOptions renderOpts;
+	/** Why the options were rejected ("" = valid); thrown when the map is
+	 *  created (see loadFromConfigFile_map_specific). */
+	std::string loadError;
+	MAP_DEFINITION_END(CAdaptiveOctoMap)
+
+   protected:
+	void internal_clear() override;
+	/** The persons labelled in the image are observed before it is inserted, so
+	 *  the image is mapped with their regions in place. */
+	void beforeDepthImage(
+		const mrpt::obs::CObservation3DRangeScan& scan, const mrpt::poses::CPose3D& robotPose) override;
+
+   private:
+	/** Sightings and person tracks; it tells where the persons' regions go. */
+	persons::PersonLayer m_persons;
+};
+}  // namespace avm

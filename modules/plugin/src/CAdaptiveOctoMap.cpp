@@ -1,0 +1,114 @@
+// The plugin map: registration in MRPT, construction from an .ini map
+// definition, and the person layer driving the dual octree's regions.
+#include "avm/plugin/CAdaptiveOctoMap.h"
+
+#include <mrpt/core/initializer.h>
+#include <mrpt/rtti/CObject.h>
+
+#include <stdexcept>
+
+#include "avm/io/RgbdFrame.h"
+
+using namespace avm;
+
+MAP_DEFINITION_REGISTER("avm::CAdaptiveOctoMap,adaptiveOctoMap", avm::CAdaptiveOctoMap)
+
+// A plugin loaded by dlopen must register its class itself, or MRPT cannot
+// deserialize it (CMultiMetricMap copies maps by serializing them).
+MRPT_INITIALIZER(avm_register_CAdaptiveOctoMap) { mrpt::rtti::registerClass(CLASS_ID(avm::CAdaptiveOctoMap)); }
+
+CAdaptiveOctoMap::TMapDefinition::TMapDefinition() = default;
+
+void CAdaptiveOctoMap::TMapDefinition::loadFromConfigFile_map_specific(
+	const mrpt::config::CConfigFileBase& source, const std::string& prefix)
+{
+	// MRPT 2.5.8's TSetOfMetricMapInitializers::loadFromConfigFile leaks the
+	// definition when this throws (found by fuzzing), so a bad value is kept
+	// and thrown when the map is created, with the same message.
+	try
+	{
+		creationOpts.loadFromConfigFile(source, prefix + "_creationOpts");
+		insertionOpts.loadFromConfigFile(source, prefix + "_insertOpts");
+		personOpts.loadFromConfigFile(source, prefix + "_insertOpts");
+		likelihoodOpts.loadFromConfigFile(source, prefix + "_likelihoodOpts");
+		renderOpts.loadFromConfigFile(source, prefix + "_renderOpts");
+		loadError.clear();
+	}
+	catch (const std::exception& e)
+	{
+		loadError = e.what();
+	}
+}
+
+void CAdaptiveOctoMap::TMapDefinition::dumpToTextStream_map_specific(std::ostream& out) const
+{
+	creationOpts.dumpToTextStream(out);
+	insertionOpts.dumpToTextStream(out);
+	personOpts.dumpToTextStream(out);
+	likelihoodOpts.dumpToTextStream(out);
+	renderOpts.dumpToTextStream(out);
+}
+
+mrpt::maps::CMetricMap* CAdaptiveOctoMap::internal_CreateFromMapDefinition(const mrpt::maps::TMetricMapInitializer& def)
+{
+	const auto& d = dynamic_cast<const TMapDefinition&>(def);
+	if (!d.loadError.empty()) throw std::invalid_argument(d.loadError);
+	auto* map = new CAdaptiveOctoMap(d.creationOpts, d.insertionOpts, d.likelihoodOpts, d.personOpts);
+	map->renderingOptions = d.renderOpts;
+	return map;
+}
+
+CAdaptiveOctoMap::CAdaptiveOctoMap() : CAdaptiveOctoMap(TCreationOptions(), TInsertionOptions(), TLikelihoodOptions())
+{
+}
+
+CAdaptiveOctoMap::CAdaptiveOctoMap(const TCreationOptions& creation, const TInsertionOptions& insertion,
+	const TLikelihoodOptions& likelihood, const persons::TPersonLayerOptions& people)
+	: CDualOctoMap(creation, insertion, likelihood), personOptions(people), m_persons(people.tracking)
+{
+	personOptions.validate("insertOpts");
+}
+
+CAdaptiveOctoMap::CAdaptiveOctoMap(const CAdaptiveOctoMap& o)
+	: CDualOctoMap(o), personOptions(o.personOptions), m_persons(o.m_persons)
+{
+}
+
+CAdaptiveOctoMap& CAdaptiveOctoMap::operator=(const CAdaptiveOctoMap& o)
+{
+	if (this == &o) return *this;
+	CDualOctoMap::operator=(o);
+	personOptions = o.personOptions;
+	m_persons = o.m_persons;
+	return *this;
+}
+
+void CAdaptiveOctoMap::internal_clear()
+{
+	CDualOctoMap::internal_clear();
+	m_persons = persons::PersonLayer(personOptions.tracking);
+}
+
+std::vector<persons::PersonObservation> CAdaptiveOctoMap::observePersons(const mrpt::obs::CObservation3DRangeScan& obs,
+	const mrpt::poses::CPose3D& robotPose, const std::vector<persons::PixelSet>& persons, std::size_t frameIndex)
+{
+	if (persons.empty()) return {};
+	if (!io::isFinite(robotPose))
+		throw std::invalid_argument("CAdaptiveOctoMap::observePersons: non-finite robot pose " + robotPose.asString());
+	if (obs.hasRangeImage && obs.rangeImage_isExternallyStored()) obs.load();
+	auto seen = m_persons.observe(
+		obs, robotPose + obs.sensorPose, persons, frameIndex, personOptions.sighting, personOptions.regionMargin);
+	std::vector<TRegionPlacement> placements;
+	for (const auto& o : seen)
+		if (o.regionBox) placements.push_back({o.personId, *o.regionBox});
+	placeRegions(placements, mrpt::Clock::toDouble(obs.timestamp));
+	return seen;
+}
+
+void CAdaptiveOctoMap::beforeDepthImage(
+	const mrpt::obs::CObservation3DRangeScan& scan, const mrpt::poses::CPose3D& robotPose)
+{
+	observePersons(scan, robotPose,
+		persons::personPixelsFromLabels(scan, personOptions.personLabel, personOptions.sighting.minPixels),
+		insertionCount());
+}

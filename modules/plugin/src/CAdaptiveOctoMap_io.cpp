@@ -1,0 +1,63 @@
+// The plugin map's MRPT serialization: checkpoints, CMultiMetricMap copies and
+// maps saved by stock MRPT apps. Version 1 is the stream of the map before the
+// person layer moved out of it: the person layer's options and tracks keep
+// their places between the dual octree's parts.
+#include <mrpt/serialization/CArchive.h>
+
+#include <stdexcept>
+
+#include "avm/plugin/CAdaptiveOctoMap.h"
+
+using namespace avm;
+
+IMPLEMENTS_SERIALIZABLE(CAdaptiveOctoMap, CMetricMap, avm)
+
+// Version 1: per-person regions and person tracks.
+uint8_t CAdaptiveOctoMap::serializeGetVersion() const { return 1; }
+
+void CAdaptiveOctoMap::serializeTo(mrpt::serialization::CArchive& out) const
+{
+	out << genericMapParams;
+	writeTreeOptions(out);
+	const auto& i = insertionOptions;
+	const auto& p = personOptions;
+	out.WriteAs<uint8_t>(static_cast<uint8_t>(i.switchPolicy));
+	out << p.regionMargin;
+	out.WriteAs<uint8_t>(static_cast<uint8_t>(i.regionLifetime));
+	out << i.regionEndAfterSeconds << p.personLabel << p.sighting.depthBand << p.sighting.percentile
+		<< static_cast<uint64_t>(p.sighting.minPixels) << p.sighting.minDepthFraction << p.tracking.gate
+		<< p.tracking.gateGrowth << p.tracking.maxGate << i.switchAtFrame << i.switchAtFraction << i.expectedFrameCount
+		<< i.insertionThreads;
+	out << likelihoodOptions.decimation << renderingOptions.showFreeSpace << renderingOptions.showRegions;
+	writeRegions(out);
+	m_persons.serializeTo(out);
+	writeTrees(out);
+}
+
+void CAdaptiveOctoMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t version)
+{
+	if (version != 1) MRPT_THROW_UNKNOWN_SERIALIZATION_VERSION(version);
+	in >> genericMapParams;
+	readTreeOptions(in);
+	auto& i = insertionOptions;
+	auto& p = personOptions;
+	i.switchPolicy = static_cast<SwitchPolicy>(in.ReadAs<uint8_t>());
+	in >> p.regionMargin;
+	const auto lifetime = in.ReadAs<uint8_t>();
+	if (lifetime > static_cast<uint8_t>(RegionLifetime::Persist))
+		throw std::runtime_error("CAdaptiveOctoMap: corrupt region lifetime in the serialized map");
+	i.regionLifetime = static_cast<RegionLifetime>(lifetime);
+	uint64_t minPixels = 0;
+	in >> i.regionEndAfterSeconds >> p.personLabel >> p.sighting.depthBand >> p.sighting.percentile >> minPixels >>
+		p.sighting.minDepthFraction >> p.tracking.gate >> p.tracking.gateGrowth >> p.tracking.maxGate >>
+		i.switchAtFrame >> i.switchAtFraction >> i.expectedFrameCount >> i.insertionThreads;
+	p.sighting.minPixels = minPixels;
+	in >> likelihoodOptions.decimation >> renderingOptions.showFreeSpace >> renderingOptions.showRegions;
+	creationOptions().validate("serialized creationOpts");
+	insertionOptions.validate("serialized insertOpts");
+	personOptions.validate("serialized insertOpts");
+	readRegions(in);
+	m_persons = persons::PersonLayer(p.tracking);
+	m_persons.serializeFrom(in);
+	readTrees(in);
+}
