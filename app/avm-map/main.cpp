@@ -162,7 +162,8 @@ void printSummary(const avm::pipeline::RunSummary& summary, const std::string& o
 	std::cout << "outputs in:  " << outDir
 			  << " (map_low.bt, map_high.bt, map.3Dscene, trajectory.txt, "
 				 "detections.txt, stats.json, "
-				 "map_top.png, map_perspective.png, avm-map.log, checkpoint.bin)\n";
+				 "map_top.png, map_perspective.png, avm-map.log"
+			  << (summary.interrupted ? ", checkpoint.bin for --resume" : "") << ")\n";
 }
 }  // namespace
 

@@ -116,8 +116,7 @@ TEST(ProgramErrors, MissingRequiredArgumentsAreNamed)
 	const auto empty = test::scratchDir("resume-without-checkpoint");
 	expectOneLineError(run("avm-map", "--resume '" + empty.string() + "'", "resume-nothing"),
 		"avm-map: error: " + (empty / "checkpoint.bin").string() +
-			": no checkpoint (the run was stopped before its "
-			"first frame, or " +
+			": no checkpoint (the run finished, which removes it, or was stopped before its first frame, or " +
 			empty.string() + " is not an avm-map output folder)");
 	expectOneLineError(run("avm-tum2rawlog", "", "missing-tum"),
 		"avm-tum2rawlog: error: missing required argument <DATASET_DIR>, <OUT.rawlog> (see avm-tum2rawlog --help)");

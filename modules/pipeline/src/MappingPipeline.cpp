@@ -472,6 +472,9 @@ RunSummary MappingPipeline::runFrames(const fs::path& rawlog, const fs::path& ou
 			processor.trajectory(), processor.trackedPoses(), processor.personDetections(),
 			frames.peakMemoryPerReplay(), before.log + getLogAsString() + frames.log()};
 		detail::writeRunOutputs(outDir, summary, record, map);
+		// A finished run has nothing left to resume: its folder keeps what a
+		// user opens. An interrupted one keeps its checkpoint for --resume.
+		if (!interrupted) fs::remove(checkpointFile(outDir));
 		return summary;
 	}
 	catch (...)
