@@ -375,6 +375,20 @@ void MapView::waitUntilClosed()
 	m_changed.wait(lock, [&] { return m_closed; });
 }
 
+void MapView::showFinished(MapSnapshot final, const std::atomic<bool>* stop)
+{
+	final.status.note = "finished: a key (but f l h m r) or closing the window exits";
+	{
+		std::lock_guard lock(m_mutex);
+		m_finished = true;
+		m_paused = false;
+	}
+	m_windows->view3D->setWindowTitle(m_options.title + ": finished");
+	show(std::move(final));
+	std::unique_lock lock(m_mutex);
+	while (!m_closed && !m_endKey && !(stop && stop->load())) m_changed.wait_for(lock, std::chrono::milliseconds(100));
+}
+
 void MapView::close()
 {
 	{
@@ -392,8 +406,15 @@ void MapView::saveScreenshot(const std::filesystem::path& png, double settleSeco
 
 void MapView::handleKey(int key)
 {
-	// Under the mutex (called from loop()).
-	switch (std::tolower(key))
+	// Under the mutex (called from loop()). Once the run has finished, the
+	// keys that change what is shown still do; any other ends the view.
+	const int k = std::tolower(key);
+	if (m_finished && (k == 0 || std::string("flhmr").find(char(k)) == std::string::npos))
+	{
+		m_endKey = true;
+		return;
+	}
+	switch (k)
 	{
 		case ' ':
 			m_paused = !m_paused;
