@@ -208,12 +208,11 @@ TEST(ProgramOutput, AGoodAvmMapRunPrintsNothingOnStderrButLogLines)
 {
 	const auto dir = test::scratchDir("quiet-run");
 	const auto out = dir / "run", err = dir / "stderr.txt";
-	const auto r = test::runCommand(test::binary("avm-map").string() + " -c '" + AVM_SOURCE_DIR +
-										"/ini/default.ini' -r '" + test::bonnRawlog().string() + "' -o '" +
-										out.string() + "' --poses gt --set pipeline:max_frames=100" +
-										" --set pipeline:reference_maps=true --set detection:model='" +
-										test::sharedFile("models/yolox_nano.onnx").string() + "' 2> '" +
-										err.string() + "'",
+	const auto r = test::runCommand(
+		test::binary("avm-map").string() + " -c '" + AVM_SOURCE_DIR + "/ini/default.ini' -r '" +
+			test::bonnRawlog().string() + "' -o '" + out.string() + "' --poses gt --set pipeline:max_frames=100" +
+			" --set pipeline:reference_maps=true --set detection:model='" +
+			test::sharedFile("models/yolox_nano.onnx").string() + "' 2> '" + err.string() + "'",
 		dir);
 	ASSERT_EQ(r.exitCode, 0) << r.output << test::fileBytes(err);
 	ASSERT_TRUE(fs::exists(out / "map_high.bt"));

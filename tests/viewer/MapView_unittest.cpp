@@ -402,8 +402,8 @@ TEST(AvmMapGui, PeakMemoryDoesNotGrowWithTheRunsLength)
 	for (const std::size_t frames : {100, 300})
 	{
 		const auto out = dir / ("run-" + std::to_string(frames));
-		const auto run = avm::test::runCommand("MRPT_REVEAL_OPENGL_BUFFER_LEAKS=1 DISPLAY=" + x.display() + " " +
-												   avmMapGui(out, frames, "--gui-no-wait"),
+		const auto run = avm::test::runCommand(
+			"MRPT_REVEAL_OPENGL_BUFFER_LEAKS=1 DISPLAY=" + x.display() + " " + avmMapGui(out, frames, "--gui-no-wait"),
 			dir);
 		ASSERT_EQ(run.exitCode, 0) << run.output;
 		EXPECT_EQ(run.output.find("MapView::draw"), std::string::npos)

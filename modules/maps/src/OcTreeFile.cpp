@@ -73,8 +73,9 @@ EncodedNode Encoder::encode(const octomap::OcTreeNode* node, unsigned depth)
 	}
 	EncodedNode out;
 	const bool collapsible = depth > 0 && depth >= minDepth && children[0].state != NodeState::Inner &&
-		std::all_of(exists.begin(), exists.end(), [](bool e) { return e; }) &&
-		std::all_of(children.begin(), children.end(), [&](const EncodedNode& c) { return c.state == children[0].state; });
+							 std::all_of(exists.begin(), exists.end(), [](bool e) { return e; }) &&
+							 std::all_of(children.begin(), children.end(),
+								 [&](const EncodedNode& c) { return c.state == children[0].state; });
 	if (collapsible)
 	{
 		++collapsed[depth];
@@ -123,8 +124,7 @@ std::string binaryTreeBytes(const octomap::OcTree& tree)
 	if (const auto* r = tree.getRoot()) root = encodeRoot(tree, r);
 	// The header as AbstractOccupancyOcTree::writeBinaryConst writes it.
 	std::ostringstream s;
-	s << kBinaryFileHeader
-	  << "\n# (feel free to add / change comments, but leave the first line as it is!)\n#\n";
+	s << kBinaryFileHeader << "\n# (feel free to add / change comments, but leave the first line as it is!)\n#\n";
 	s << "id " << tree.getTreeType() << std::endl;
 	s << "size " << root.nodes << std::endl;
 	s << "res " << tree.getResolution() << std::endl;
@@ -151,8 +151,7 @@ std::unique_ptr<octomap::OcTree> readBinaryTree(const std::filesystem::path& fil
 	if (!f) throw std::runtime_error(file.string() + ": cannot open");
 	const auto bad = [&](const std::string& why) { return std::runtime_error(file.string() + ": " + why); };
 	std::string line;
-	if (!std::getline(f, line) || line != kBinaryFileHeader)
-		throw bad("not an octomap .bt file");
+	if (!std::getline(f, line) || line != kBinaryFileHeader) throw bad("not an octomap .bt file");
 	std::string id;
 	double resolution = 0;
 	while (std::getline(f, line) && line != "data")

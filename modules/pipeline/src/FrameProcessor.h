@@ -197,9 +197,9 @@ class FrameProcessor
 	std::vector<DetectionResult> m_detectionsWithoutPersons;    // applied, persons not yet observed
 	MapWork m_personWork;  // person updates since the last insertion: counted in the next one
 	viewer::MapView* m_view = nullptr;
-	odometry::OdometryEstimate m_lastEstimate;  // its features, for the view
+	odometry::OdometryEstimate m_lastEstimate;       // its features, for the view
 	std::optional<mrpt::img::TCamera> m_intrinsics;  // of the last frame shown: the final view's frustum
-	std::size_t m_framesWhenShown = 0;          // the view's fps: frames since showOn()
+	std::size_t m_framesWhenShown = 0;               // the view's fps: frames since showOn()
 	mrpt::system::CTicTac m_shownFor;
 	std::optional<std::size_t> m_lastFrame;       // the last frame given to process()
 	std::set<std::size_t> m_detectionsToRestart;  // after loadState: frames whose detection was pending

@@ -290,7 +290,7 @@ struct MappingPipeline::Impl
 	bool mapsUsed = false;
 	fs::path viewScreenshot;      //!< "" = none
 	bool viewWaitsAtEnd = false;  //!< the finished map stays on screen for the user
-	std::string iniText;      //!< the configuration, for checkpoints
+	std::string iniText;          //!< the configuration, for checkpoints
 
 	/** Fresh maps for a run of `rawlog`. */
 	CAdaptiveOctoMap& startMaps(const fs::path& rawlog);

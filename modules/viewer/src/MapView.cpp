@@ -277,7 +277,7 @@ struct MapView::Windows
 {
 	GlThreadRelease release;  //!< declared first: it outlives the window it observes
 	mrpt::gui::CDisplayWindow3D::Ptr view3D;
-	mrpt::gui::CDisplayWindow::Ptr image;        //!< opened with the first image
+	mrpt::gui::CDisplayWindow::Ptr image;       //!< opened with the first image
 	mrpt::opengl::CSetOfObjects::Ptr onScreen;  //!< the scene's objects, replaced by each draw
 };
 

@@ -104,7 +104,7 @@ class MapView
 	ViewToggles m_toggles;
 	bool m_redraw = false, m_resetCamera = true, m_paused = false, m_closed = false;
 	bool m_finished = false, m_endKey = false;  //!< showFinished() called; a key ended it
-	double m_framedExtent = 0;  //!< [m] diagonal of the map the camera last framed (view thread only)
+	double m_framedExtent = 0;                  //!< [m] diagonal of the map the camera last framed (view thread only)
 	int m_steps = 0;
 	std::atomic<bool> m_stop{false};
 	std::thread m_thread;
