@@ -101,7 +101,7 @@ tmp=$(mktemp "$root/doc/.performance.XXXX")
   echo "| pair | fps with / without | CPU [ms a frame] with / without | map stage [ms] with / without | CPU time stolen [%] with / without |"
   echo "|---|---:|---:|---:|---:|"
   for i in 1 2 3; do
-    map_command "gui-$i" --gui
+    map_command "gui-$i" --gui --gui-no-wait  # a scripted run: no wait for the user at the end
     (cd "$root" && xvfb-run -a "${cmd[@]}" >/dev/null)
     quiet_run "no-gui-$i"
     echo "| $i | $(pair_field "gui-$i" "no-gui-$i" fps 1) | $(pair_field "gui-$i" "no-gui-$i" cpu_ms_per_frame 1) | $(printf "%.1f / %.1f" "$(stage "gui-$i" map)" "$(stage "no-gui-$i" map)") | $(pair_field "gui-$i" "no-gui-$i" cpu_stolen_percent 0) |"

@@ -77,11 +77,13 @@ struct Arguments
 		  quiet("q", "quiet", "no progress bar", cmd),
 		  gui("", "gui",
 			  "live 3D view of the run (sets [pipeline] gui = true); closing it "
-			  "ends the run as Ctrl-C does",
+			  "ends the run as Ctrl-C does; at the end it shows the finished map "
+			  "until closed or a key is pressed",
 			  cmd),
+		  guiNoWait("", "gui-no-wait", "with --gui: close the view and exit when the run ends (scripts)", cmd),
 		  guiShot("", "gui-screenshot",
 			  "with --gui: after the last frame, save the X server's picture "
-			  "of the view as this PNG",
+			  "of the view as this PNG, and exit when the run ends",
 			  false, "", "PNG", cmd)
 	{
 	}
@@ -112,7 +114,7 @@ struct Arguments
 
 	TCLAP::ValueArg<std::string> config, rawlog, out, resume, poses;
 	TCLAP::MultiArg<std::string> set;
-	TCLAP::SwitchArg quiet, gui;
+	TCLAP::SwitchArg quiet, gui, guiNoWait;
 	TCLAP::ValueArg<std::string> guiShot;
 };
 
@@ -162,7 +164,8 @@ void printSummary(const avm::pipeline::RunSummary& summary, const std::string& o
 	std::cout << "outputs in:  " << outDir
 			  << " (map_low.bt, map_high.bt, map.3Dscene, trajectory.txt, "
 				 "detections.txt, stats.json, "
-				 "map_top.png, map_perspective.png, avm-map.log, checkpoint.bin)\n";
+				 "map_top.png, map_perspective.png, avm-map.log"
+			  << (summary.interrupted ? ", checkpoint.bin for --resume" : "") << ")\n";
 }
 }  // namespace
 
@@ -198,6 +201,7 @@ int main(int argc, char** argv)
 			pipeline.setMinLoggingLevel(mrpt::system::LVL_INFO);
 			if (args.poses.isSet()) pipeline.setPoseSource(avm::pipeline::poseSourceFromString(args.poses.getValue()));
 			if (args.guiShot.isSet()) pipeline.setViewScreenshot(args.guiShot.getValue());
+			pipeline.setViewWaitsAtEnd(!args.guiShot.isSet() && !args.guiNoWait.getValue());
 
 			std::signal(SIGINT, onSignal);
 			std::signal(SIGTERM, onSignal);

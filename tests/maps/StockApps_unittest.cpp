@@ -22,6 +22,7 @@
 
 #include "BonnFrames.h"
 #include "avm/plugin/CAdaptiveOctoMap.h"
+#include "avm/maps/OcTreeFile.h"
 
 namespace fs = std::filesystem;
 
@@ -174,12 +175,11 @@ TEST(StockApps, Observations2MapBuildsTheSameMapAsInProcess)
 	auto map = multi.mapByClass<avm::CAdaptiveOctoMap>();
 	ASSERT_TRUE(map);
 	for (const auto& f : frames) ASSERT_TRUE(map->insertObservation(*f.obs, f.pose));
-	std::ostringstream expected;
-	map->tree(avm::Resolution::Low)->writeBinaryConst(expected);
+	const auto expected = avm::binaryTreeBytes(*map->tree(avm::Resolution::Low));
 	const auto written = readFile(prefix.string() + "_low.bt");
 	EXPECT_GT(map->lowResolutionStats().occupiedLeaves, 100u);
-	EXPECT_EQ(written.size(), expected.str().size());
-	EXPECT_TRUE(written == expected.str()) << "observations2map's coarse tree differs from the in-process one";
+	EXPECT_EQ(written.size(), expected.size());
+	EXPECT_TRUE(written == expected) << "observations2map's coarse tree differs from the in-process one";
 }
 
 // icp-slam needs points3D for its own ICP (its points map does not unproject

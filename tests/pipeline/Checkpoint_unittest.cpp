@@ -70,6 +70,7 @@ TEST(PipelineCheckpoint, AResumedRunEndsLikeARunThatWasNeverStopped)
 								   if (frames == 100) stop = true;
 							   });
 	ASSERT_TRUE(first.interrupted);
+	EXPECT_TRUE(fs::exists(pipeline::checkpointFile(stopped))) << "an interrupted run removed its checkpoint";
 	EXPECT_EQ(first.frames, 100u);
 	EXPECT_GE(first.checkpoint.count, 3u) << "before the first frame, at least one on the way, after the last";
 	EXPECT_GT(first.persons, 0u);
@@ -83,6 +84,7 @@ TEST(PipelineCheckpoint, AResumedRunEndsLikeARunThatWasNeverStopped)
 	EXPECT_EQ(*resumed.resumedAfterFrame, 99u);
 	EXPECT_EQ(resumed.frames, 150u);
 	EXPECT_FALSE(resumed.interrupted);
+	EXPECT_FALSE(fs::exists(pipeline::checkpointFile(stopped))) << "a finished run keeps its checkpoint";
 	EXPECT_FALSE(first.mapRebuild) << "an interrupted run is not rebuilt";
 	ASSERT_TRUE(resumed.mapRebuild);
 	EXPECT_EQ(resumed.mapRebuild->frames, 150u);
@@ -110,11 +112,13 @@ TEST(PipelineCheckpoint, AMissingOrDamagedCheckpointIsNamedAndNothingIsWritten)
 			<< e.what();
 	}
 
+	// An interrupted run: a finished one removes its checkpoint.
 	auto ini = defaultIni();
-	ini.write("pipeline", "max_frames", "10");
 	ini.write("pipeline", "detect_every_n", "0");
 	const auto run = dir / "run";
-	pipeline::MappingPipeline(ini, AVM_SOURCE_DIR).run(test::bonnRawlog(), run);
+	std::atomic<bool> stop{false};
+	pipeline::MappingPipeline(ini, AVM_SOURCE_DIR)
+		.run(test::bonnRawlog(), run, &stop, [&](double, std::size_t frames) { stop = frames >= 10; });
 	const auto file = pipeline::checkpointFile(run);
 	const std::string whole = test::fileBytes(file);
 	ASSERT_GT(whole.size(), 1000u);

@@ -116,8 +116,7 @@ TEST(ProgramErrors, MissingRequiredArgumentsAreNamed)
 	const auto empty = test::scratchDir("resume-without-checkpoint");
 	expectOneLineError(run("avm-map", "--resume '" + empty.string() + "'", "resume-nothing"),
 		"avm-map: error: " + (empty / "checkpoint.bin").string() +
-			": no checkpoint (the run was stopped before its "
-			"first frame, or " +
+			": no checkpoint (the run finished, which removes it, or was stopped before its first frame, or " +
 			empty.string() + " is not an avm-map output folder)");
 	expectOneLineError(run("avm-tum2rawlog", "", "missing-tum"),
 		"avm-tum2rawlog: error: missing required argument <DATASET_DIR>, <OUT.rawlog> (see avm-tum2rawlog --help)");
@@ -199,4 +198,28 @@ TEST(ProgramErrors, VerboseAddsMrptsCallStack)
 		<< r.output;
 	EXPECT_NE(r.output.find("Call stack backtrace"), std::string::npos) << r.output;
 	EXPECT_GT(lineCount(r.output), 3u);
+}
+
+// A good run prints through its logger (stdout) and progress bar only: no
+// library's chatter on stderr (liboctomap printed " done." for every .bt it
+// wrote, the reference maps' included), and the finished run's folder holds
+// its outputs without the checkpoint it no longer needs.
+TEST(ProgramOutput, AGoodAvmMapRunPrintsNothingOnStderrButLogLines)
+{
+	const auto dir = test::scratchDir("quiet-run");
+	const auto out = dir / "run", err = dir / "stderr.txt";
+	const auto r = test::runCommand(
+		test::binary("avm-map").string() + " -c '" + AVM_SOURCE_DIR + "/ini/default.ini' -r '" +
+			test::bonnRawlog().string() + "' -o '" + out.string() + "' --poses gt --set pipeline:max_frames=100" +
+			" --set pipeline:reference_maps=true --set detection:model='" +
+			test::sharedFile("models/yolox_nano.onnx").string() + "' 2> '" + err.string() + "'",
+		dir);
+	ASSERT_EQ(r.exitCode, 0) << r.output << test::fileBytes(err);
+	ASSERT_TRUE(fs::exists(out / "map_high.bt"));
+	EXPECT_NE(r.output.find("|INFO |avm-map]"), std::string::npos) << r.output;
+	std::istringstream in(test::fileBytes(err));
+	for (std::string line; std::getline(in, line);)
+		EXPECT_TRUE(line.rfind("[", 0) == 0 && line.find("|avm-map] ") != std::string::npos)
+			<< "not a log line on stderr: '" << line << "'";
+	EXPECT_FALSE(fs::exists(out / "checkpoint.bin")) << "a finished run keeps its checkpoint";
 }

@@ -18,6 +18,7 @@
 #include "avm/io/AtomicFile.h"
 #include "avm/io/RunFolder.h"
 #include "avm/maps/CDualOctoMap.h"
+#include "avm/maps/OcTreeFile.h"
 
 using namespace avm;
 
@@ -125,9 +126,8 @@ std::size_t CDualOctoMap::serializedBytes() const
 void CDualOctoMap::saveMetricMapRepresentationToFile(const std::string& prefix) const
 {
 	const auto files = io::MapFiles::ofPrefix(prefix);
-	writeAtomically(files.lowTree.string(), [&](const std::string& tmp) { return m_low->writeBinaryConst(tmp); });
-	writeAtomically(files.highTree.string(), [&](const std::string& tmp)
-		{ return m_high ? m_high->writeBinaryConst(tmp) : detail::makeTree(m_creation.high)->writeBinaryConst(tmp); });
+	writeBinaryTree(*m_low, files.lowTree);
+	writeBinaryTree(m_high ? *m_high : *detail::makeTree(m_creation.high), files.highTree);
 	writeAtomically(files.scene.string(),
 		[&](const std::string& tmp)
 		{

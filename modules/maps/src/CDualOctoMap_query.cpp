@@ -9,6 +9,7 @@
 #include "SurfaceSketch.h"
 #include "TreeOps.h"
 #include "avm/maps/CDualOctoMap.h"
+#include "avm/maps/OcTreeFile.h"
 
 using namespace avm;
 
@@ -108,9 +109,7 @@ CDualOctoMap::TTreeStats CDualOctoMap::statsOf(Resolution which) const
 	s.memoryBytes = t->memoryUsage();
 	// The sketch is the low tree's: where in its voxels the surface was.
 	if (which == Resolution::Low) s.memoryBytes += m_sketch->memoryBytes();
-	std::ostringstream bt;
-	t->writeBinaryConst(bt);
-	s.binaryBytes = bt.str().size();
+	s.binaryBytes = binaryTreeBytes(*t).size();
 	return s;
 }
 

@@ -28,7 +28,9 @@ CheckpointedRun readFile(const fs::path& outDir, Rest rest)
 {
 	const fs::path file = checkpointFile(outDir);
 	if (!fs::exists(file))
-		throw std::runtime_error(file.string() + ": no checkpoint (the run was stopped before its first frame, or " +
+		throw std::runtime_error(file.string() +
+								 ": no checkpoint (the run finished, which removes it, or was stopped before its "
+								 "first frame, or " +
 								 outDir.string() + " is not an avm-map output folder)");
 	try
 	{

@@ -52,16 +52,40 @@ bool FrameProcessor::process(const io::RgbdFrame& frame)
 	updatePersons();
 	m_trajectory.push_back({frame.timestamp(), *pose});
 	m_trackedPoses.push_back(m_options.poseSource == PoseSource::GroundTruth || m_lastEstimate.tracked);
-	if (m_view && m_view->due()) m_view->show(snapshot(frame, *pose));
+	if (m_view && m_view->due())
+	{
+		m_view->show(snapshot(frame, *pose));
+		m_intrinsics = frame.observation->cameraParamsIntensity;
+	}
 	insert(frame, *pose);
 	++m_counts.frames;
 	return true;
 }
 
+viewer::MapSnapshot FrameProcessor::mapSnapshot(const viewer::SnapshotOptions& options) const
+{
+	auto s = viewer::snapshotOf(m_adaptive, options);
+	for (const auto& p : m_trajectory) s.trajectory.push_back(p.pose);
+	s.status.stageMs = {{"odometry", m_stages.odometry.meanMs()}, {"detection", m_stages.detection.meanMs()},
+		{"map", m_stages.map.meanMs()}};
+	s.status.switchFrame = m_counts.switchFrame;
+	return s;
+}
+
+viewer::MapSnapshot FrameProcessor::finalSnapshot() const
+{
+	viewer::SnapshotOptions all;
+	all.freeSpace = true;  // taken once: 'f' can show it on the finished map
+	auto s = mapSnapshot(all);
+	if (!s.trajectory.empty()) s.camera = s.trajectory.back();
+	s.intrinsics = m_intrinsics;
+	s.status.frame = m_lastFrame;
+	return s;
+}
+
 viewer::MapSnapshot FrameProcessor::snapshot(const io::RgbdFrame& frame, const mrpt::poses::CPose3D& pose) const
 {
-	auto s = viewer::snapshotOf(m_adaptive, m_view->snapshotOptions());
-	for (const auto& p : m_trajectory) s.trajectory.push_back(p.pose);
+	auto s = mapSnapshot(m_view->snapshotOptions());
 	s.camera = pose;
 	s.intrinsics = frame.observation->cameraParamsIntensity;
 	if (frame.observation->hasIntensityImage) s.image = frame.observation->intensityImage;
@@ -79,9 +103,6 @@ viewer::MapSnapshot FrameProcessor::snapshot(const io::RgbdFrame& frame, const m
 		s.status.fps = double(m_counts.frames - m_framesWhenShown) / m_shownFor.Tac();
 	for (const auto& p : m_lastEstimate.features) s.features.emplace_back(p.x, p.y);
 	for (const auto& p : m_lastEstimate.maskedFeatures) s.maskedFeatures.emplace_back(p.x, p.y);
-	s.status.stageMs = {{"odometry", m_stages.odometry.meanMs()}, {"detection", m_stages.detection.meanMs()},
-		{"map", m_stages.map.meanMs()}};
-	s.status.switchFrame = m_counts.switchFrame;
 	return s;
 }
 

@@ -94,6 +94,9 @@ class FrameProcessor
 		m_framesWhenShown = m_counts.frames;
 		m_shownFor.Tic();
 	}
+	/** The finished map for the live view (after finish()): both trees with
+	 *  their free space, the trajectory, the camera at its last pose. */
+	viewer::MapSnapshot finalSnapshot() const;
 
 	// Checkpoints (src/Checkpoint.h) are taken between two frames.
 	/** Once the persons of every applied detection are in the map: after a
@@ -170,6 +173,8 @@ class FrameProcessor
 	void insert(const io::RgbdFrame& frame, const mrpt::poses::CPose3D& pose);
 	/** What the live view shows of this moment. */
 	viewer::MapSnapshot snapshot(const io::RgbdFrame& frame, const mrpt::poses::CPose3D& pose) const;
+	/** The map, trajectory and figures of a snapshot. */
+	viewer::MapSnapshot mapSnapshot(const viewer::SnapshotOptions& options) const;
 	void finishInsertion();
 
 	const TPipelineOptions& m_options;
@@ -192,8 +197,9 @@ class FrameProcessor
 	std::vector<DetectionResult> m_detectionsWithoutPersons;    // applied, persons not yet observed
 	MapWork m_personWork;  // person updates since the last insertion: counted in the next one
 	viewer::MapView* m_view = nullptr;
-	odometry::OdometryEstimate m_lastEstimate;  // its features, for the view
-	std::size_t m_framesWhenShown = 0;          // the view's fps: frames since showOn()
+	odometry::OdometryEstimate m_lastEstimate;       // its features, for the view
+	std::optional<mrpt::img::TCamera> m_intrinsics;  // of the last frame shown: the final view's frustum
+	std::size_t m_framesWhenShown = 0;               // the view's fps: frames since showOn()
 	mrpt::system::CTicTac m_shownFor;
 	std::optional<std::size_t> m_lastFrame;       // the last frame given to process()
 	std::set<std::size_t> m_detectionsToRestart;  // after loadState: frames whose detection was pending

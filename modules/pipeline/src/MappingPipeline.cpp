@@ -255,6 +255,19 @@ std::optional<RunSummary::MapRebuildCost> rebuildMap(const TPipelineOptions& opt
 		cost.cpuSeconds);
 	return cost;
 }
+/** The live view of a run (gui), or none; closing its window ends the run as
+ *  Ctrl-C does. */
+std::unique_ptr<viewer::MapView> openView(
+	const viewer::TViewerOptions& options, const fs::path& rawlog, detail::FrameProcessor& processor)
+{
+	if (!options.enabled) return nullptr;
+	auto o = options;
+	o.title = "avm-map " + rawlog.filename().string();
+	auto view = std::make_unique<viewer::MapView>(o);
+	processor.showOn(view.get());
+	return view;
+}
+
 /** Maps the frames until the rawlog ends, `maxFrames` are mapped (0: no
  *  limit) or `stop` is set; false when the view's window was closed instead.
  *  `betweenFrames` runs after each frame (the checkpoints). */
@@ -286,8 +299,9 @@ struct MappingPipeline::Impl
 	/** The maps of the last run; made (and checked) by the constructor for the first one. */
 	mrpt::maps::CMultiMetricMap::Ptr maps;
 	bool mapsUsed = false;
-	fs::path viewScreenshot;  //!< "" = none
-	std::string iniText;      //!< the configuration, for checkpoints
+	fs::path viewScreenshot;      //!< "" = none
+	bool viewWaitsAtEnd = false;  //!< the finished map stays on screen for the user
+	std::string iniText;          //!< the configuration, for checkpoints
 
 	/** Fresh maps for a run of `rawlog`. */
 	CAdaptiveOctoMap& startMaps(const fs::path& rawlog);
@@ -381,6 +395,7 @@ MappingPipeline::MappingPipeline(const mrpt::config::CConfigFileBase& ini, const
 MappingPipeline::~MappingPipeline() = default;
 
 void MappingPipeline::setViewScreenshot(const fs::path& png) { m_impl->viewScreenshot = png; }
+void MappingPipeline::setViewWaitsAtEnd(bool wait) { m_impl->viewWaitsAtEnd = wait; }
 
 void MappingPipeline::setPoseSource(PoseSource source) { m_impl->options.poseSource = source; }
 
@@ -444,16 +459,8 @@ RunSummary MappingPipeline::runFrames(const fs::path& rawlog, const fs::path& ou
 	if (checkpoints.enabled() && !resume) checkpoint(clock);
 	try
 	{
-		// The live view (gui): closing its window ends the run as Ctrl-C does.
-		std::optional<viewer::MapView> view;
-		if (opt.viewer.enabled)
-		{
-			auto v = opt.viewer;
-			v.title = "avm-map " + rawlog.filename().string();
-			view.emplace(v);
-			processor.showOn(&*view);
-		}
-		const bool viewClosed = !mapFrames(opt.maxFrames, frames, processor, view ? &*view : nullptr, stop, progress,
+		const auto view = openView(opt.viewer, rawlog, processor);
+		const bool viewClosed = !mapFrames(opt.maxFrames, frames, processor, view.get(), stop, progress,
 			[&]
 			{
 				if (checkpoints.due() && processor.readyForCheckpoint()) checkpoint(clock);
@@ -483,6 +490,14 @@ RunSummary MappingPipeline::runFrames(const fs::path& rawlog, const fs::path& ou
 			processor.trajectory(), processor.trackedPoses(), processor.personDetections(),
 			frames.peakMemoryPerReplay(), before.log + getLogAsString() + frames.log()};
 		detail::writeRunOutputs(outDir, summary, record, map);
+		// A finished run has nothing left to resume: its folder keeps what a
+		// user opens. An interrupted one keeps its checkpoint for --resume.
+		if (!interrupted) fs::remove(checkpointFile(outDir));
+		if (view && d.viewWaitsAtEnd && view->isOpen())
+		{
+			logStr(mrpt::system::LVL_INFO, "finished: the view stays open until it is closed or a key is pressed\n");
+			view->showFinished(processor.finalSnapshot(), stop);
+		}
 		return summary;
 	}
 	catch (...)

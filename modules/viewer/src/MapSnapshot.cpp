@@ -10,6 +10,7 @@
 #include "avm/io/RunFolder.h"
 #include "avm/io/Trajectory.h"
 #include "avm/plugin/CAdaptiveOctoMap.h"
+#include "avm/maps/OcTreeFile.h"
 #include "avm/maps/VisibleLeaves.h"
 #include "avm/persons/PersonsCsv.h"
 
@@ -96,15 +97,9 @@ MapSnapshot snapshotOfRun(const std::filesystem::path& outDir, const SnapshotOpt
 	const auto lowFile = run.map().lowTree, highFile = run.map().highTree;
 	if (!std::filesystem::exists(lowFile))
 		throw std::runtime_error(lowFile.string() + ": not found (not an avm-map output folder?)");
-	const auto load = [](const std::filesystem::path& f)
-	{
-		auto t = std::make_unique<octomap::OcTree>(0.1);
-		if (!t->readBinary(f.string())) throw std::runtime_error(f.string() + ": not an octomap .bt file");
-		return t;
-	};
-	const auto low = load(lowFile);
+	const auto low = readBinaryTree(lowFile);
 	std::unique_ptr<octomap::OcTree> high;
-	if (std::filesystem::exists(highFile)) high = load(highFile);
+	if (std::filesystem::exists(highFile)) high = readBinaryTree(highFile);
 	MapSnapshot s = snapshotOfTrees(*low, high.get(), options);
 
 	if (const auto f = run.trajectory(); std::filesystem::exists(f))

@@ -11,6 +11,7 @@
 #include <mrpt/opengl/CSphere.h>
 #include <mrpt/opengl/CText.h>
 #include <mrpt/opengl/stock_objects.h>
+#include <mrpt/system/CObserver.h>
 
 #include <algorithm>
 #include <cctype>
@@ -206,15 +207,22 @@ void writeStatusText(mrpt::opengl::COpenGLViewport& vp, const MapSnapshot& s, co
 	font.vfont_scale = 14;
 	font.draw_shadow = true;
 	font.shadow_color = mrpt::img::TColorf(1.0f, 1.0f, 1.0f);
+	// A message is added once and then only its text changes: adding it again
+	// drops its text object on this thread, which leaks its OpenGL buffers
+	// (see GlThreadRelease).
+	const auto put = [&](double x, double y, const std::string& text, std::size_t id)
+	{
+		if (!vp.updateTextMessage(id, text)) vp.addTextMessage(x, y, text, id, font);
+	};
 	const auto lines = statusLines(s);
-	vp.addTextMessage(8, 30, lines[0] + (isPaused ? "  [paused]" : ""), 0, font);
-	vp.addTextMessage(8, 8, lines[1], 1, font);
+	put(8, 30, lines[0] + (isPaused ? "  [paused]" : ""), 0);
+	put(8, 8, lines[1], 1);
 	font.vfont_scale = 12;
 	font.color = mrpt::img::TColorf(0.35f, 0.35f, 0.35f);
-	vp.addTextMessage(8, -22, kKeysHelp, 3, font);
+	put(8, -22, kKeysHelp, 3);
 	std::string shown = std::string("low ") + (t.lowTree ? "on" : "off") + "  high " + (t.highTree ? "on" : "off") +
 						"  free " + (t.freeSpace ? (s.hasFreeSpace ? "on" : "from the next snapshot") : "off");
-	vp.addTextMessage(8, -46, shown, 2, font);
+	put(8, -46, shown, 2);
 }
 
 /** Points the view at the middle of `box`, from the side the camera path
@@ -234,13 +242,43 @@ void frameBox(mrpt::gui::CDisplayWindow3D& win, const MapSnapshot& s, const mrpt
 	win.setCameraAzimuthDeg(float(azimuth));
 	win.setCameraElevationDeg(35.0f);
 }
+
+/** Lets the objects taken off the scene go on the GL thread, after a render.
+ *  MRPT 2.5.8 frees an object's OpenGL buffers only on the thread that made
+ *  them (the window's GL thread, at the object's first render) and silently
+ *  leaks them on any other (Buffer::RAII_Impl::destroy); a view that dropped
+ *  its old scene on its own thread leaked every redraw's voxels, so its
+ *  memory grew with the run. */
+class GlThreadRelease : public mrpt::system::CObserver
+{
+   public:
+	void add(mrpt::opengl::CRenderizable::Ptr object)
+	{
+		std::lock_guard lock(m_mutex);
+		m_objects.push_back(std::move(object));
+	}
+
+   protected:
+	void OnEvent(const mrpt::system::mrptEvent& e) override
+	{
+		if (!e.isOfType<mrpt::opengl::mrptEventGLPostRender>()) return;
+		std::vector<mrpt::opengl::CRenderizable::Ptr> released;
+		std::lock_guard lock(m_mutex);
+		released.swap(m_objects);
+	}  // destroyed here, on the GL thread
+
+   private:
+	std::mutex m_mutex;
+	std::vector<mrpt::opengl::CRenderizable::Ptr> m_objects;
+};
 }  // namespace
 
 struct MapView::Windows
 {
+	GlThreadRelease release;  //!< declared first: it outlives the window it observes
 	mrpt::gui::CDisplayWindow3D::Ptr view3D;
-	mrpt::gui::CDisplayWindow::Ptr image;      //!< opened with the first image
-	mrpt::opengl::COctoMapVoxels::Ptr voxels;  //!< of the snapshot on screen
+	mrpt::gui::CDisplayWindow::Ptr image;       //!< opened with the first image
+	mrpt::opengl::CSetOfObjects::Ptr onScreen;  //!< the scene's objects, replaced by each draw
 };
 
 MapView::MapView(const TViewerOptions& options) : m_options(options), m_windows(std::make_unique<Windows>())
@@ -255,6 +293,7 @@ MapView::MapView(const TViewerOptions& options) : m_options(options), m_windows(
 		mrpt::opengl::COpenGLScene::Ptr scene;
 		mrpt::gui::CDisplayWindow3DLocker lock(*m_windows->view3D, scene);
 		scene->getViewport()->setCustomBackgroundColor(kBackground);
+		m_windows->release.observeBegin(*scene->getViewport());
 	}
 	m_thread = std::thread([this] { loop(); });
 }
@@ -336,6 +375,20 @@ void MapView::waitUntilClosed()
 	m_changed.wait(lock, [&] { return m_closed; });
 }
 
+void MapView::showFinished(MapSnapshot final, const std::atomic<bool>* stop)
+{
+	final.status.note = "finished: a key (but f l h m r) or closing the window exits";
+	{
+		std::lock_guard lock(m_mutex);
+		m_finished = true;
+		m_paused = false;
+	}
+	m_windows->view3D->setWindowTitle(m_options.title + ": finished");
+	show(std::move(final));
+	std::unique_lock lock(m_mutex);
+	while (!m_closed && !m_endKey && !(stop && stop->load())) m_changed.wait_for(lock, std::chrono::milliseconds(100));
+}
+
 void MapView::close()
 {
 	{
@@ -353,8 +406,15 @@ void MapView::saveScreenshot(const std::filesystem::path& png, double settleSeco
 
 void MapView::handleKey(int key)
 {
-	// Under the mutex (called from loop()).
-	switch (std::tolower(key))
+	// Under the mutex (called from loop()). Once the run has finished, the
+	// keys that change what is shown still do; any other ends the view.
+	const int k = std::tolower(key);
+	if (m_finished && (k == 0 || std::string("flhmr").find(char(k)) == std::string::npos))
+	{
+		m_endKey = true;
+		return;
+	}
+	switch (k)
 	{
 		case ' ':
 			m_paused = !m_paused;
@@ -444,10 +504,16 @@ void MapView::draw(const MapSnapshot& s, bool resetCamera)
 	{
 		mrpt::opengl::COpenGLScene::Ptr scene;
 		mrpt::gui::CDisplayWindow3DLocker lock(win, scene);
-		scene->clear();
-		scene->insert(objects);
+		// The viewport stays (clearing the scene would drop it, its text
+		// included, on this thread); only the objects are replaced.
 		auto vp = scene->getViewport();
-		vp->setCustomBackgroundColor(kBackground);
+		if (m_windows->onScreen)
+		{
+			vp->removeObject(m_windows->onScreen);
+			m_windows->release.add(std::move(m_windows->onScreen));
+		}
+		vp->insert(objects);
+		m_windows->onScreen = objects;
 		writeStatusText(*vp, s, t, isPaused);
 	}
 	// The view frames the map as it grows (a live run starts with a few

@@ -15,6 +15,7 @@
 #include "avm/io/ThreadCpuTime.h"
 #include "avm/io/TimingSummary.h"
 #include "avm/plugin/CAdaptiveOctoMap.h"
+#include "avm/maps/OcTreeFile.h"
 
 namespace avm::maps
 {
@@ -40,9 +41,7 @@ void octreeSizes(const octomap::OcTree& t, MapBenchmarkRow& row)
 	for (auto it = t.begin_leafs(); it != t.end_leafs(); ++it)
 		(t.isNodeOccupied(*it) ? row.occupiedLeaves : row.freeLeaves)++;
 	row.memoryBytes = t.memoryUsage();
-	std::ostringstream bt;
-	t.writeBinaryConst(bt);
-	row.binaryBytes = bt.str().size();
+	row.binaryBytes = binaryTreeBytes(t).size();
 }
 
 Contender plainOctomap(double res, double maxRange, bool discretize)

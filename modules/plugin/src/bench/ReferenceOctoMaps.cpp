@@ -4,11 +4,11 @@
 #include <octomap/OcTree.h>
 
 #include <set>
-#include <sstream>
 #include <tuple>
 
 #include "avm/io/ThreadCpuTime.h"
 #include "avm/plugin/CAdaptiveOctoMap.h"
+#include "avm/maps/OcTreeFile.h"
 
 namespace avm
 {
@@ -61,9 +61,7 @@ TReferenceComparison::Tree sizesOf(const octomap::OcTree& t, double totalMs, std
 	s.resolution = t.getResolution();
 	for (auto it = t.begin_leafs(), end = t.end_leafs(); it != end; ++it) s.occupiedLeaves += t.isNodeOccupied(*it);
 	s.memoryBytes = t.memoryUsage();
-	std::ostringstream bt;
-	t.writeBinaryConst(bt);
-	s.binaryBytes = bt.str().size();
+	s.binaryBytes = binaryTreeBytes(t).size();
 	s.meanInsertMs = frames ? totalMs / double(frames) : 0;
 	return s;
 }

@@ -163,6 +163,11 @@ class MappingPipeline : public mrpt::system::COutputLogger
 	 *  of the view to this PNG (a run with a scripted end, for tests and
 	 *  documentation); "" = none. */
 	void setViewScreenshot(const std::filesystem::path& png);
+	/** With the live view: once the outputs are written, keep showing the
+	 *  finished map until the user closes the window or presses a key (or
+	 *  `stop` is set), as MRPT's apps do; off by default, so that a program
+	 *  that maps never blocks on a user unless it asks to. */
+	void setViewWaitsAtEnd(bool wait);
 
 	/** The OpenCV worker threads [detection] threads asks for (0 = OpenCV's
 	 *  default). OpenCV's thread count is process-wide, so the program sets

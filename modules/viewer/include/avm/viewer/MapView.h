@@ -70,6 +70,11 @@ class MapView
 	bool waitUntilDrawn(double timeoutSeconds);
 	/** Blocks until the user closes the window. */
 	void waitUntilClosed();
+	/** The run is over: shows `final` with "finished" in the status line and
+	 *  the window title, then blocks until the user closes the window, presses
+	 *  a key other than the view's own (f l h m r still change what is shown),
+	 *  or `*stop` becomes true (Ctrl-C), as MRPT's apps wait at their end. */
+	void showFinished(MapSnapshot final, const std::atomic<bool>* stop);
 	void close();
 
 	/** Saves what the X server shows of the view's windows (found by their
@@ -98,7 +103,8 @@ class MapView
 	std::chrono::steady_clock::time_point m_lastDraw{}, m_lastShown{};
 	ViewToggles m_toggles;
 	bool m_redraw = false, m_resetCamera = true, m_paused = false, m_closed = false;
-	double m_framedExtent = 0;  //!< [m] diagonal of the map the camera last framed (view thread only)
+	bool m_finished = false, m_endKey = false;  //!< showFinished() called; a key ended it
+	double m_framedExtent = 0;                  //!< [m] diagonal of the map the camera last framed (view thread only)
 	int m_steps = 0;
 	std::atomic<bool> m_stop{false};
 	std::thread m_thread;
