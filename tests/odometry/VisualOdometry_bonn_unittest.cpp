@@ -89,8 +89,8 @@ struct WrongLoop
 		if (!start) start = f.groundTruth.value();
 		if (outcome || !e.keyframe || n < from) return;
 		const auto truth = f.groundTruth.value() - *start;
-		outcome = vo.offerLoop(0, mrpt::poses::CPose3D(truth.x() + offset, truth.y(), truth.z(), truth.yaw(),
-									  truth.pitch(), truth.roll()));
+		outcome = vo.offerLoop(0,
+			mrpt::poses::CPose3D(truth.x() + offset, truth.y(), truth.z(), truth.yaw(), truth.pitch(), truth.roll()));
 	}
 	/** Asserts the loop was offered and refused. */
 	void expectRefused() const

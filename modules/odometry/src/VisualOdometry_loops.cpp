@@ -57,8 +57,9 @@ VisualOdometry::LoopOutcome VisualOdometry::Impl::considerLoop(const LoopMeasure
 
 VisualOdometry::LoopOutcome VisualOdometry::Impl::offerLoop(std::size_t oldFrame, const mrpt::poses::CPose3D& measured)
 {
-	const auto madeKeyframe = [&](std::size_t i)
-	{ return i < frames.size() && frames[i].keyframe >= 0 && (i == 0 || frames[i - 1].keyframe != frames[i].keyframe); };
+	const auto madeKeyframe = [&](std::size_t i) {
+		return i < frames.size() && frames[i].keyframe >= 0 && (i == 0 || frames[i - 1].keyframe != frames[i].keyframe);
+	};
 	if (window.empty() || frames.empty() || !madeKeyframe(frames.size() - 1) ||
 		frames.back().keyframe != window.back().id)
 		throw std::logic_error("offerLoop: the last frame processed did not make a keyframe");

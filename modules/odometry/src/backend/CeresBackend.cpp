@@ -54,8 +54,8 @@ void CeresBackend::refinePose(Eigen::Isometry3d& T_cw, const std::vector<Observa
 	ceres::Problem problem(po);
 	ceres::HuberLoss loss(m_options.huber_delta);
 	for (const auto& o : observations)
-		problem.AddResidualBlock(ReprojectionDepthCost::createFixedPoint(
-									 o, landmarks.at(o.landmark).position, K, m_options.depth_weight),
+		problem.AddResidualBlock(
+			ReprojectionDepthCost::createFixedPoint(o, landmarks.at(o.landmark).position, K, m_options.depth_weight),
 			&loss, pose.data());
 	if (prior)
 		problem.AddResidualBlock(

@@ -112,8 +112,8 @@ LoopJudgement judgeLoop(const LoopMeasurement& loop, int newestId, const std::ve
 	const Eigen::Vector3d drift = (shift + shiftBefore) / 2;
 	std::snprintf(why + std::strlen(why), sizeof(why) - std::strlen(why), ", %.3f m with the keyframe before's loop",
 		drift.norm());
-	return {drift.squaredNorm() > kChiSquare * loopVariance / 2 ? LoopVerdict::Close : LoopVerdict::WithinOwnError,
-		why};
+	return {
+		drift.squaredNorm() > kChiSquare * loopVariance / 2 ? LoopVerdict::Close : LoopVerdict::WithinOwnError, why};
 }
 
 PoseGraphEdge loopEdge(
