@@ -73,9 +73,7 @@ std::optional<LoopMeasurement> measureLoop(const FrameFeatures& f, const Eigen::
 
 LoopMeasurement measuredFrom(LoopMeasurement loop, const Eigen::Isometry3d& T_cw)
 {
-	const Eigen::Isometry3d& T = loop.T_cw;
-	loop.translation = (cameraCentre(T) - cameraCentre(T_cw)).norm();
-	loop.rotation = mrpt::RAD2DEG(Eigen::AngleAxisd(T.rotation() * T_cw.rotation().transpose()).angle());
+	loop.rotation = mrpt::RAD2DEG(Eigen::AngleAxisd(loop.T_cw.rotation() * T_cw.rotation().transpose()).angle());
 	return loop;
 }
 

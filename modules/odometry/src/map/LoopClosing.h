@@ -34,8 +34,7 @@ struct LoopMeasurement
 	int candidate = -1;       //!< the old keyframe whose place was seen again
 	Eigen::Isometry3d T_cw;   //!< the new keyframe's pose measured against the old place
 	std::size_t inliers = 0;  //!< matches within ransac_reprojection at T_cw
-	double translation = 0;   //!< [m] how far T_cw's camera centre is from the tracked one
-	double rotation = 0;      //!< [deg] and its rotation from the tracked one
+	double rotation = 0;      //!< [deg] T_cw's rotation from the tracked one (judgeLoop weighs the centre's shift)
 	/** The inliers: the new keyframe's features and the place's points
 	 *  (numbered as placeAround numbers them). */
 	std::vector<Match> inlierMatches;
@@ -90,7 +89,7 @@ struct LoopJudgement
 LoopJudgement judgeLoop(const LoopMeasurement& loop, int newestId, const std::vector<PoseGraphEdge>& loops,
 	const KeyframeMap& map, const TOdometryOptions& options);
 
-/** `loop` with its shift from the tracked pose T_cw (translation, rotation). */
+/** `loop` with its rotation from the tracked pose T_cw. */
 LoopMeasurement measuredFrom(LoopMeasurement loop, const Eigen::Isometry3d& T_cw);
 
 /** The loop constraint of a measurement made at keyframe `keyframe`. */
