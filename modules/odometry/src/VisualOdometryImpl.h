@@ -127,6 +127,8 @@ struct VisualOdometry::Impl
 	 *  and the pose graph when it says close. */
 	VisualOdometry::LoopOutcome considerLoop(const LoopMeasurement& loop);
 	VisualOdometry::LoopOutcome offerLoop(std::size_t oldFrame, const mrpt::poses::CPose3D& measured);
+	/** The index in `frames` of the frame that made keyframe `keyframe`; frames.size() when none did. */
+	std::size_t frameThatMade(int keyframe) const;
 	/** Moves the map keyframes to `poses` (T_cw by id), the local map rigidly
 	 *  with the current frame to `newestPose`, and every frame with its
 	 *  keyframe. */

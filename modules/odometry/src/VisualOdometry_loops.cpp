@@ -18,10 +18,7 @@ void VisualOdometry::Impl::closeLoop(const FrameFeatures& f, OdometryEstimate& e
 		measureLoop(f, T_cw, newest.id - options.loop_min_separation, keyframeMap, frontend, backend, options);
 	if (!loop) return;
 	const Eigen::Isometry3d T_candidate = keyframeMap.find(loop->candidate)->T_cw;
-	// The frame that made a keyframe is the first tracked against it.
-	const auto made =
-		std::find_if(frames.begin(), frames.end(), [&](const FramePose& p) { return p.keyframe == loop->candidate; });
-	e.loop = LoopReport{std::size_t(made - frames.begin()), loop->inliers, toPose(T_candidate * loop->T_cw.inverse()),
+	e.loop = LoopReport{frameThatMade(loop->candidate), loop->inliers, toPose(T_candidate * loop->T_cw.inverse()),
 		toPose(T_candidate * T_cw.inverse())};
 	char said[120];
 	std::snprintf(said, sizeof(said), "; loop with keyframe %d (%zu inliers, %.2f deg): ", loop->candidate,
@@ -55,15 +52,20 @@ VisualOdometry::LoopOutcome VisualOdometry::Impl::considerLoop(const LoopMeasure
 	return {true, "closed, poses corrected (" + judged.why + ")"};
 }
 
+std::size_t VisualOdometry::Impl::frameThatMade(int keyframe) const
+{
+	// The frame that made a keyframe is the first tracked against it.
+	return std::size_t(
+		std::find_if(frames.begin(), frames.end(), [&](const FramePose& p) { return p.keyframe == keyframe; }) -
+		frames.begin());
+}
+
 VisualOdometry::LoopOutcome VisualOdometry::Impl::offerLoop(std::size_t oldFrame, const mrpt::poses::CPose3D& measured)
 {
-	const auto madeKeyframe = [&](std::size_t i) {
-		return i < frames.size() && frames[i].keyframe >= 0 && (i == 0 || frames[i - 1].keyframe != frames[i].keyframe);
-	};
-	if (window.empty() || frames.empty() || !madeKeyframe(frames.size() - 1) ||
-		frames.back().keyframe != window.back().id)
+	if (window.empty() || frameThatMade(window.back().id) + 1 != frames.size())
 		throw std::logic_error("offerLoop: the last frame processed did not make a keyframe");
-	if (!madeKeyframe(oldFrame) || !keyframeMap.find(frames[oldFrame].keyframe))
+	if (oldFrame >= frames.size() || frameThatMade(frames[oldFrame].keyframe) != oldFrame ||
+		!keyframeMap.find(frames[oldFrame].keyframe))
 		throw std::invalid_argument(
 			"offerLoop: frame " + std::to_string(oldFrame) + " made no keyframe that the keyframe map still holds");
 	if (!io::isFinite(measured)) throw std::invalid_argument("offerLoop: the measured pose is not finite");
