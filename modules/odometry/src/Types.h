@@ -5,7 +5,6 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
-#include <opencv2/core/hal/hal.hpp>
 
 #include <array>
 #include <cstdint>
@@ -30,9 +29,25 @@ inline double reprojectionError(
 /** 256 bits, as ORB computes them. */
 using OrbDescriptor = std::array<std::uint8_t, 32>;
 
+/** Bits in which two descriptors differ: the same count as
+ *  cv::hal::normHamming, without its per-call trace region (in the projection
+ *  search's profile that cost as much as the count) and portable to builds
+ *  without a popcount instruction (the word's bits summed in parallel). */
 inline int hamming(const std::uint8_t* a, const std::uint8_t* b)
 {
-	return cv::hal::normHamming(a, b, int(OrbDescriptor().size()));
+	int bits = 0;
+	for (std::size_t i = 0; i < OrbDescriptor().size(); i += sizeof(std::uint64_t))
+	{
+		std::uint64_t x, y;
+		std::memcpy(&x, a + i, sizeof x);
+		std::memcpy(&y, b + i, sizeof y);
+		x ^= y;
+		x -= (x >> 1) & 0x5555555555555555ULL;
+		x = (x & 0x3333333333333333ULL) + ((x >> 2) & 0x3333333333333333ULL);
+		x = (x + (x >> 4)) & 0x0F0F0F0F0F0F0F0FULL;
+		bits += int((x * 0x0101010101010101ULL) >> 56);
+	}
+	return bits;
 }
 
 /** Row `row` of a descriptor matrix (CV_8U, 32 bytes a row). */

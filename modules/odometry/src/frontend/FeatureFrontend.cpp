@@ -141,21 +141,36 @@ std::vector<Match> FeatureFrontend::matchByProjection(
 	const FrameFeatures& frame, const LandmarkMap& landmarks, const Eigen::Isometry3d& T_cw) const
 {
 	const auto& o = m_options;
+	// The features bucketed by cells of the search radius, in one array (a
+	// counting sort, feature order kept within a cell): a landmark's search
+	// reads the few cells its window overlaps, with their pixels at hand.
 	const double cellSize = o.search_radius;
 	const int cols = int(std::ceil(frame.imageSize.width / cellSize)) + 1;
 	const int rows = int(std::ceil(frame.imageSize.height / cellSize)) + 1;
-	std::vector<std::vector<int>> grid(cols * rows);
-	for (int i = 0; i < int(frame.keypoints.size()); ++i)
+	const auto cellOf = [&](const cv::Point2f& p) { return int(p.y / cellSize) * cols + int(p.x / cellSize); };
+	std::vector<int> cellStart(std::size_t(cols * rows) + 1, 0);
+	for (const auto& kp : frame.keypoints) ++cellStart[std::size_t(cellOf(kp.pt)) + 1];
+	for (std::size_t c = 1; c < cellStart.size(); ++c) cellStart[c] += cellStart[c - 1];
+	struct CellFeature
 	{
-		const auto& p = frame.keypoints[i].pt;
-		grid[int(p.y / cellSize) * cols + int(p.x / cellSize)].push_back(i);
+		float x, y;
+		int index;
+	};
+	std::vector<CellFeature> cellFeatures(frame.keypoints.size());
+	{
+		std::vector<int> next(cellStart.begin(), cellStart.end() - 1);
+		for (int i = 0; i < int(frame.keypoints.size()); ++i)
+		{
+			const auto& p = frame.keypoints[i].pt;
+			cellFeatures[std::size_t(next[std::size_t(cellOf(p))]++)] = {p.x, p.y, i};
+		}
 	}
 
 	// best[feature] = (distance, landmark): one landmark per feature, the closest;
 	// of equally close ones the newest (largest id), so that the result does
 	// not depend on the map's iteration order (which a reloaded map does not keep).
 	std::vector<std::pair<int, int>> best(frame.keypoints.size(), {INT32_MAX, -1});
-	const double r2 = o.search_radius * o.search_radius;
+	const double r = o.search_radius, r2 = r * r;
 	for (const auto& [id, lm] : landmarks)
 	{
 		const Eigen::Vector3d pc = T_cw * lm.position;
@@ -164,23 +179,27 @@ std::vector<Match> FeatureFrontend::matchByProjection(
 		const double u = px.x(), v = px.y();
 		if (u < 0 || v < 0 || u >= frame.imageSize.width || v >= frame.imageSize.height) continue;
 		int d1 = INT32_MAX, d2 = INT32_MAX, bestFeature = -1;
-		const int cu = int(u / cellSize), cv_ = int(v / cellSize);
-		for (int gy = std::max(0, cv_ - 1); gy <= std::min(rows - 1, cv_ + 1); ++gy)
-			for (int gx = std::max(0, cu - 1); gx <= std::min(cols - 1, cu + 1); ++gx)
-				for (int i : grid[gy * cols + gx])
+		// The cells the window [u - r, u + r] x [v - r, v + r] overlaps, rows
+		// first: no feature within r lies elsewhere.
+		const int gx0 = std::max(0, int(std::floor((u - r) / cellSize)));
+		const int gx1 = std::min(cols - 1, int((u + r) / cellSize));
+		const int gy0 = std::max(0, int(std::floor((v - r) / cellSize)));
+		const int gy1 = std::min(rows - 1, int((v + r) / cellSize));
+		for (int gy = gy0; gy <= gy1; ++gy)
+			for (int k = cellStart[std::size_t(gy * cols + gx0)]; k < cellStart[std::size_t(gy * cols + gx1 + 1)]; ++k)
+			{
+				const CellFeature& c = cellFeatures[std::size_t(k)];
+				if ((c.x - u) * (c.x - u) + (c.y - v) * (c.y - v) > r2) continue;
+				const int d = hamming(frame.descriptorData(c.index), lm.descriptor.data());
+				if (d < d1)
 				{
-					const auto& p = frame.keypoints[i].pt;
-					if ((p.x - u) * (p.x - u) + (p.y - v) * (p.y - v) > r2) continue;
-					const int d = hamming(frame.descriptorData(i), lm.descriptor.data());
-					if (d < d1)
-					{
-						d2 = d1;
-						d1 = d;
-						bestFeature = i;
-					}
-					else if (d < d2)
-						d2 = d;
+					d2 = d1;
+					d1 = d;
+					bestFeature = c.index;
 				}
+				else if (d < d2)
+					d2 = d;
+			}
 		if (bestFeature < 0 || d1 > o.max_hamming || (d2 != INT32_MAX && d1 > o.match_ratio * d2)) continue;
 		auto& b = best[bestFeature];
 		if (d1 < b.first || (d1 == b.first && id > b.second)) b = {d1, id};
