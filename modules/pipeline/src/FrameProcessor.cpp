@@ -45,21 +45,26 @@ bool FrameProcessor::process(const io::RgbdFrame& frame)
 		++m_counts.skippedFrames;
 		return false;
 	}
-	m_recentPoses[frame.index] = *pose;
-	while (m_recentPoses.size() > kRecentPoses) m_recentPoses.erase(m_recentPoses.begin());
 	if (frame.groundTruth) m_groundTruth.push_back({frame.timestamp(), *frame.groundTruth});
-	finishInsertion();
-	updatePersons();
 	m_trajectory.push_back({frame.timestamp(), *pose});
 	m_trackedPoses.push_back(m_options.poseSource == PoseSource::GroundTruth || m_lastEstimate.tracked);
-	if (m_view && m_view->due())
-	{
-		m_view->show(snapshot(frame, *pose));
-		m_intrinsics = frame.observation->cameraParamsIntensity;
-	}
-	insert(frame, *pose);
+	mapFrame(frame, *pose, true);
 	++m_counts.frames;
 	return true;
+}
+
+void FrameProcessor::mapFrame(const io::RgbdFrame& frame, const CPose3D& pose, bool shown)
+{
+	m_recentPoses[frame.index] = pose;
+	while (m_recentPoses.size() > kRecentPoses) m_recentPoses.erase(m_recentPoses.begin());
+	finishInsertion();
+	updatePersons();
+	if (shown && m_view && m_view->due())
+	{
+		m_view->show(snapshot(frame, pose));
+		m_intrinsics = frame.observation->cameraParamsIntensity;
+	}
+	insert(frame, pose);
 }
 
 viewer::MapSnapshot FrameProcessor::mapSnapshot(const viewer::SnapshotOptions& options) const

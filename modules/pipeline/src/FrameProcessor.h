@@ -169,6 +169,10 @@ class FrameProcessor
 	/** One detection's persons into the map, seen from `pose`: what it made of each. */
 	std::vector<persons::PersonObservation> seePersons(const mrpt::obs::CObservation3DRangeScan& obs,
 		const mrpt::poses::CPose3D& pose, const std::vector<detection::Detection>& persons, std::size_t frameIndex);
+	/** Steps 3-4, the run's and the map rebuild's: the persons of the
+	 *  detections due, seen from their frames' poses, then the frame inserted
+	 *  at `pose`; `shown`: the live view may take this moment. */
+	void mapFrame(const io::RgbdFrame& frame, const mrpt::poses::CPose3D& pose, bool shown);
 	// 4. The map.
 	void insert(const io::RgbdFrame& frame, const mrpt::poses::CPose3D& pose);
 	/** What the live view shows of this moment. */
