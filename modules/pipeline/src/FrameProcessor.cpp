@@ -59,10 +59,11 @@ void FrameProcessor::mapFrame(const io::RgbdFrame& frame, const CPose3D& pose, b
 	while (m_recentPoses.size() > kRecentPoses) m_recentPoses.erase(m_recentPoses.begin());
 	finishInsertion();
 	updatePersons();
-	if (shown && m_view && m_view->due())
+	if (shown && !m_observers.empty())
 	{
-		m_view->show(snapshot(frame, pose));
-		m_intrinsics = frame.observation->cameraParamsIntensity;
+		const MappedFrame mapped{frame, pose, m_counts.frames,
+			[&](const viewer::SnapshotOptions& options) { return snapshot(frame, pose, options); }};
+		for (auto* o : m_observers) o->onFrameMapped(mapped);
 	}
 	insert(frame, pose);
 }
@@ -83,14 +84,21 @@ viewer::MapSnapshot FrameProcessor::finalSnapshot() const
 	all.freeSpace = true;  // taken once: 'f' can show it on the finished map
 	auto s = mapSnapshot(all);
 	if (!s.trajectory.empty()) s.camera = s.trajectory.back();
-	s.intrinsics = m_intrinsics;
 	s.status.frame = m_lastFrame;
 	return s;
 }
 
-viewer::MapSnapshot FrameProcessor::snapshot(const io::RgbdFrame& frame, const mrpt::poses::CPose3D& pose) const
+void FrameProcessor::watchedBy(const std::vector<FrameObserver*>& observers)
 {
-	auto s = mapSnapshot(m_view->snapshotOptions());
+	m_observers = observers;
+	m_showsFeatures = false;
+	for (const auto* o : observers) m_showsFeatures = m_showsFeatures || o->showsFeatures();
+}
+
+viewer::MapSnapshot FrameProcessor::snapshot(
+	const io::RgbdFrame& frame, const mrpt::poses::CPose3D& pose, const viewer::SnapshotOptions& options) const
+{
+	auto s = mapSnapshot(options);
 	s.camera = pose;
 	s.intrinsics = frame.observation->cameraParamsIntensity;
 	if (frame.observation->hasIntensityImage) s.image = frame.observation->intensityImage;
@@ -104,8 +112,6 @@ viewer::MapSnapshot FrameProcessor::snapshot(const io::RgbdFrame& frame, const m
 			{b.x, b.y, b.x + b.width, b.y + b.height, it->seen ? it->seen->personId : 0u, it->person.score});
 	}
 	s.status.frame = frame.index;
-	if (m_counts.frames > m_framesWhenShown)
-		s.status.fps = double(m_counts.frames - m_framesWhenShown) / m_shownFor.Tac();
 	for (const auto& p : m_lastEstimate.features) s.features.emplace_back(p.x, p.y);
 	for (const auto& p : m_lastEstimate.maskedFeatures) s.maskedFeatures.emplace_back(p.x, p.y);
 	return s;
@@ -172,7 +178,7 @@ std::optional<CPose3D> FrameProcessor::estimatePose(const io::RgbdFrame& frame)
 			m_odometry.emplace(m_odometryOptions, m_options.startAtGroundTruth && frame.groundTruth
 													  ? *frame.groundTruth
 													  : io::opticalToSensorPose().getOppositeScalar());
-		m_odometry->reportFeatures(m_view != nullptr);
+		m_odometry->reportFeatures(m_showsFeatures);
 		mrpt::system::CTicTac timer;
 		m_lastEstimate = m_odometry->process(*frame.observation, m_latestPersonBoxes);
 		m_stages.odometry.add(timer.Tac() * 1e3);
