@@ -33,7 +33,7 @@ class LiveView : public FrameObserver
 	 *  user unless it asks to. */
 	void setWaitsAtEnd(bool wait) { m_waitsAtEnd = wait; }
 
-	bool betweenFrames(RunState& run) override { return m_view.waitWhilePaused(); }
+	bool betweenFrames(RunState& /*run*/) override { return m_view.waitWhilePaused(); }
 	void onFrameMapped(const MappedFrame& frame) override;
 	void onRunFinished(const FinishedRun& run) override;
 	bool showsFeatures() const override { return true; }

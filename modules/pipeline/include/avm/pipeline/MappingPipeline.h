@@ -145,7 +145,7 @@ struct CheckpointedRun
 	std::filesystem::path rawlog;  //!< absolute
 	PoseSource poseSource = PoseSource::VisualOdometry;
 };
-/** OUTDIR/checkpoint.bin, written by run() every checkpoint_interval_s. */
+/** OUTDIR/checkpoint.bin, written by a connected CheckpointWriter every checkpoint_interval_s. */
 std::filesystem::path checkpointFile(const std::filesystem::path& outDir);
 /** The run of outDir's checkpoint. Throws std::runtime_error naming the file
  *  when there is none or it is not a complete checkpoint. */
