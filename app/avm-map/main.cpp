@@ -9,6 +9,7 @@
 #include <csignal>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -16,6 +17,8 @@
 #include <vector>
 
 #include "avm/io/ProgramMain.h"
+#include "avm/pipeline/CheckpointWriter.h"
+#include "avm/pipeline/LiveView.h"
 #include "avm/pipeline/MappingPipeline.h"
 #include "avm/viewer/MapView.h"
 
@@ -137,6 +140,43 @@ std::unique_ptr<avm::pipeline::MappingPipeline> loadPipeline(
 	return nullptr;  // not reached: rethrowNamingIniSource throws
 }
 
+/** What watches the run: its checkpoints, and with --gui the live view. */
+struct RunObservers
+{
+	explicit RunObservers(double checkpointIntervalSeconds) : checkpoints(checkpointIntervalSeconds) {}
+	void connect(avm::pipeline::MappingPipeline& pipeline, Arguments& args, const std::filesystem::path& rawlog)
+	{
+		pipeline.addObserver(checkpoints);
+		if (!pipeline.options().viewer.enabled) return;
+		view.emplace(pipeline.options().viewer, "avm-map " + rawlog.filename().string(), &stopRequested);
+		if (args.guiShot.isSet()) view->setScreenshot(args.guiShot.getValue());
+		view->setWaitsAtEnd(!args.guiShot.isSet() && !args.guiNoWait.getValue());
+		pipeline.addObserver(*view);
+	}
+	avm::pipeline::CheckpointWriter checkpoints;
+	std::optional<avm::pipeline::LiveView> view;
+};
+
+using Progress = std::function<void(double, std::size_t)>;
+
+/** `run` given a progress callback that draws the bar (none with --quiet). */
+avm::pipeline::RunSummary withProgressBar(
+	bool quiet, const std::function<avm::pipeline::RunSummary(const Progress&)>& run)
+{
+	avm::io::ProgressBar bar(quiet);
+	const auto start = std::chrono::steady_clock::now();
+	return run(
+		[&](double fraction, std::size_t frames)
+		{
+			const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+			const double left = fraction > 0 ? s * (1 - fraction) / fraction : 0;
+			char text[96];
+			std::snprintf(
+				text, sizeof(text), "%zu frames, %.1f fps, %.0f s left ", frames, frames / std::max(s, 1e-9), left);
+			bar.show(fraction, text);
+		});
+}
+
 /** What the run did, on stdout. */
 void printSummary(const avm::pipeline::RunSummary& summary, const std::string& outDir)
 {
@@ -187,7 +227,9 @@ int main(int argc, char** argv)
 			const std::string iniSource =
 				resume ? avm::pipeline::checkpointFile(args.resume.getValue()).string() : args.config.getValue();
 			const std::string outDir = resume ? args.resume.getValue() : args.out.getValue();
-			avm::io::useImagesFolderOf(resume ? checkpointed->rawlog : std::filesystem::path(args.rawlog.getValue()));
+			const std::filesystem::path rawlog =
+				resume ? checkpointed->rawlog : std::filesystem::path(args.rawlog.getValue());
+			avm::io::useImagesFolderOf(rawlog);
 
 			mrpt::config::CConfigFileMemory ini(resume ? checkpointed->ini : readIni(args.config.getValue()));
 			std::vector<Override> overrides;
@@ -195,32 +237,23 @@ int main(int argc, char** argv)
 			if (args.gui.getValue()) overrides.push_back(parseOverride("pipeline:gui=true"));
 			const auto loaded = loadPipeline(ini, iniSource, overrides);
 			auto& pipeline = *loaded;
-			viewOpened = pipeline.opensView();
 			// Process-wide: the ini's OpenCV threads apply to the whole run.
 			if (pipeline.openCvThreads() > 0) cv::setNumThreads(pipeline.openCvThreads());
 			pipeline.setMinLoggingLevel(mrpt::system::LVL_INFO);
 			if (args.poses.isSet()) pipeline.setPoseSource(avm::pipeline::poseSourceFromString(args.poses.getValue()));
-			if (args.guiShot.isSet()) pipeline.setViewScreenshot(args.guiShot.getValue());
-			pipeline.setViewWaitsAtEnd(!args.guiShot.isSet() && !args.guiNoWait.getValue());
+
+			RunObservers observers(pipeline.options().checkpointIntervalSeconds);
+			observers.connect(pipeline, args, rawlog);
+			viewOpened = observers.view.has_value();
 
 			std::signal(SIGINT, onSignal);
 			std::signal(SIGTERM, onSignal);
-			const auto summary = [&]
-			{
-				avm::io::ProgressBar bar(args.quiet.getValue());
-				const auto start = std::chrono::steady_clock::now();
-				const auto showProgress = [&](double fraction, std::size_t frames)
+			const auto summary = withProgressBar(args.quiet.getValue(),
+				[&](const Progress& progress)
 				{
-					const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-					const double left = fraction > 0 ? s * (1 - fraction) / fraction : 0;
-					char text[96];
-					std::snprintf(text, sizeof(text), "%zu frames, %.1f fps, %.0f s left ", frames,
-						frames / std::max(s, 1e-9), left);
-					bar.show(fraction, text);
-				};
-				return resume ? pipeline.resume(outDir, &stopRequested, showProgress)
-							  : pipeline.run(args.rawlog.getValue(), outDir, &stopRequested, showProgress);
-			}();
+					return resume ? pipeline.resume(outDir, &stopRequested, progress)
+								  : pipeline.run(rawlog, outDir, &stopRequested, progress);
+				});
 			printSummary(summary, outDir);
 			return summary.interrupted ? 130 : 0;
 		});

@@ -11,12 +11,14 @@
 
 #include <atomic>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <optional>
 
 #include "DefaultIni.h"
 #include "TestData.h"
 #include "avm/plugin/CAdaptiveOctoMap.h"
+#include "avm/pipeline/CheckpointWriter.h"
 #include "avm/pipeline/MappingPipeline.h"
 
 using namespace avm;
@@ -31,6 +33,18 @@ mrpt::config::CConfigFileMemory defaultIni()
 	ini.write("pipeline", "max_frames", "150");
 	ini.write("pipeline", "picture_size", "0");
 	return ini;
+}
+
+using Progress = std::function<void(double, std::size_t)>;
+
+/** A run as avm-map makes it: with the checkpoints of its ini connected. */
+pipeline::RunSummary runWithCheckpoints(const mrpt::config::CConfigFileBase& ini, const fs::path& out,
+	const std::atomic<bool>* stop = nullptr, const Progress& progress = {})
+{
+	pipeline::MappingPipeline p(ini, AVM_SOURCE_DIR);
+	pipeline::CheckpointWriter checkpoints(p.options().checkpointIntervalSeconds);
+	p.addObserver(checkpoints);
+	return p.run(test::bonnRawlog(), out, stop, progress);
 }
 
 const char* const kRunFiles[] = {
@@ -63,12 +77,11 @@ TEST(PipelineCheckpoint, AResumedRunEndsLikeARunThatWasNeverStopped)
 	ini.write("pipeline", "checkpoint_interval_s", "0.2");
 	const auto stopped = dir / "stopped";
 	std::atomic<bool> stop{false};
-	const auto first = pipeline::MappingPipeline(ini, AVM_SOURCE_DIR)
-						   .run(test::bonnRawlog(), stopped, &stop,
-							   [&](double, std::size_t frames)
-							   {
-								   if (frames == 100) stop = true;
-							   });
+	const auto first = runWithCheckpoints(ini, stopped, &stop,
+		[&](double, std::size_t frames)
+		{
+			if (frames == 100) stop = true;
+		});
 	ASSERT_TRUE(first.interrupted);
 	EXPECT_TRUE(fs::exists(pipeline::checkpointFile(stopped))) << "an interrupted run removed its checkpoint";
 	EXPECT_EQ(first.frames, 100u);
@@ -117,8 +130,7 @@ TEST(PipelineCheckpoint, AMissingOrDamagedCheckpointIsNamedAndNothingIsWritten)
 	ini.write("pipeline", "detect_every_n", "0");
 	const auto run = dir / "run";
 	std::atomic<bool> stop{false};
-	pipeline::MappingPipeline(ini, AVM_SOURCE_DIR)
-		.run(test::bonnRawlog(), run, &stop, [&](double, std::size_t frames) { stop = frames >= 10; });
+	runWithCheckpoints(ini, run, &stop, [&](double, std::size_t frames) { stop = frames >= 10; });
 	const auto file = pipeline::checkpointFile(run);
 	const std::string whole = test::fileBytes(file);
 	ASSERT_GT(whole.size(), 1000u);
@@ -169,12 +181,11 @@ TEST(PipelineCheckpoint, AResumedMapIsTheUninterruptedMapAfterEveryFrame)
 	ini.write("pipeline", "checkpoint_interval_s", "1000");  // one before the first frame, one after the last
 	const auto stopped = dir / "stopped";
 	std::atomic<bool> stop{false};
-	pipeline::MappingPipeline(ini, AVM_SOURCE_DIR)
-		.run(test::bonnRawlog(), stopped, &stop,
-			[&](double, std::size_t frames)
-			{
-				if (frames == kStopAfter) stop = true;
-			});
+	runWithCheckpoints(ini, stopped, &stop,
+		[&](double, std::size_t frames)
+		{
+			if (frames == kStopAfter) stop = true;
+		});
 
 	pipeline::MappingPipeline resumedPipeline(ini, AVM_SOURCE_DIR);
 	std::size_t compared = 0;

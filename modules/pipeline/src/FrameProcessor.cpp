@@ -45,21 +45,27 @@ bool FrameProcessor::process(const io::RgbdFrame& frame)
 		++m_counts.skippedFrames;
 		return false;
 	}
-	m_recentPoses[frame.index] = *pose;
-	while (m_recentPoses.size() > kRecentPoses) m_recentPoses.erase(m_recentPoses.begin());
 	if (frame.groundTruth) m_groundTruth.push_back({frame.timestamp(), *frame.groundTruth});
-	finishInsertion();
-	updatePersons();
 	m_trajectory.push_back({frame.timestamp(), *pose});
 	m_trackedPoses.push_back(m_options.poseSource == PoseSource::GroundTruth || m_lastEstimate.tracked);
-	if (m_view && m_view->due())
-	{
-		m_view->show(snapshot(frame, *pose));
-		m_intrinsics = frame.observation->cameraParamsIntensity;
-	}
-	insert(frame, *pose);
+	mapFrame(frame, *pose, true);
 	++m_counts.frames;
 	return true;
+}
+
+void FrameProcessor::mapFrame(const io::RgbdFrame& frame, const CPose3D& pose, bool shown)
+{
+	m_recentPoses[frame.index] = pose;
+	while (m_recentPoses.size() > kRecentPoses) m_recentPoses.erase(m_recentPoses.begin());
+	finishInsertion();
+	updatePersons();
+	if (shown && !m_observers.empty())
+	{
+		const MappedFrame mapped{frame, pose, m_counts.frames,
+			[&](const viewer::SnapshotOptions& options) { return snapshot(frame, pose, options); }};
+		for (auto* o : m_observers) o->onFrameMapped(mapped);
+	}
+	insert(frame, pose);
 }
 
 viewer::MapSnapshot FrameProcessor::mapSnapshot(const viewer::SnapshotOptions& options) const
@@ -78,14 +84,21 @@ viewer::MapSnapshot FrameProcessor::finalSnapshot() const
 	all.freeSpace = true;  // taken once: 'f' can show it on the finished map
 	auto s = mapSnapshot(all);
 	if (!s.trajectory.empty()) s.camera = s.trajectory.back();
-	s.intrinsics = m_intrinsics;
 	s.status.frame = m_lastFrame;
 	return s;
 }
 
-viewer::MapSnapshot FrameProcessor::snapshot(const io::RgbdFrame& frame, const mrpt::poses::CPose3D& pose) const
+void FrameProcessor::watchedBy(const std::vector<FrameObserver*>& observers)
 {
-	auto s = mapSnapshot(m_view->snapshotOptions());
+	m_observers = observers;
+	m_showsFeatures = false;
+	for (const auto* o : observers) m_showsFeatures = m_showsFeatures || o->showsFeatures();
+}
+
+viewer::MapSnapshot FrameProcessor::snapshot(
+	const io::RgbdFrame& frame, const mrpt::poses::CPose3D& pose, const viewer::SnapshotOptions& options) const
+{
+	auto s = mapSnapshot(options);
 	s.camera = pose;
 	s.intrinsics = frame.observation->cameraParamsIntensity;
 	if (frame.observation->hasIntensityImage) s.image = frame.observation->intensityImage;
@@ -99,8 +112,6 @@ viewer::MapSnapshot FrameProcessor::snapshot(const io::RgbdFrame& frame, const m
 			{b.x, b.y, b.x + b.width, b.y + b.height, it->seen ? it->seen->personId : 0u, it->person.score});
 	}
 	s.status.frame = frame.index;
-	if (m_counts.frames > m_framesWhenShown)
-		s.status.fps = double(m_counts.frames - m_framesWhenShown) / m_shownFor.Tac();
 	for (const auto& p : m_lastEstimate.features) s.features.emplace_back(p.x, p.y);
 	for (const auto& p : m_lastEstimate.maskedFeatures) s.maskedFeatures.emplace_back(p.x, p.y);
 	return s;
@@ -167,7 +178,7 @@ std::optional<CPose3D> FrameProcessor::estimatePose(const io::RgbdFrame& frame)
 			m_odometry.emplace(m_odometryOptions, m_options.startAtGroundTruth && frame.groundTruth
 													  ? *frame.groundTruth
 													  : io::opticalToSensorPose().getOppositeScalar());
-		m_odometry->reportFeatures(m_view != nullptr);
+		m_odometry->reportFeatures(m_showsFeatures);
 		mrpt::system::CTicTac timer;
 		m_lastEstimate = m_odometry->process(*frame.observation, m_latestPersonBoxes);
 		m_stages.odometry.add(timer.Tac() * 1e3);

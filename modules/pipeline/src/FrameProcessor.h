@@ -36,8 +36,8 @@
 #include "avm/plugin/CAdaptiveOctoMap.h"
 #include "avm/plugin/ReferenceOctoMaps.h"
 #include "avm/odometry/VisualOdometry.h"
+#include "avm/pipeline/FrameObserver.h"
 #include "avm/pipeline/MappingPipeline.h"
-#include "avm/viewer/MapView.h"
 
 namespace avm::pipeline::detail
 {
@@ -84,18 +84,11 @@ class FrameProcessor
 	 *  personDetections(), regions and switchFrame. Throws std::runtime_error
 	 *  when the frames end before the trajectory's last. */
 	RunSummary::MapRebuildCost rebuildMap(const std::function<std::optional<io::RgbdFrame>()>& nextFrame);
-	/** Live view: a snapshot of the map goes to `view` whenever it is due,
-	 *  taken between two insertions (none is in flight then). After
-	 *  loadState(): the view's fps counts the frames from here on, as a
-	 *  resumed run's counts start at its checkpoint. */
-	void showOn(viewer::MapView* view)
-	{
-		m_view = view;
-		m_framesWhenShown = m_counts.frames;
-		m_shownFor.Tic();
-	}
-	/** The finished map for the live view (after finish()): both trees with
-	 *  their free space, the trajectory, the camera at its last pose. */
+	/** The observers told of each frame before its insertion
+	 *  (FrameObserver::onFrameMapped); they must outlive the processor. */
+	void watchedBy(const std::vector<FrameObserver*>& observers);
+	/** The finished map (after finish()): both trees with their free space,
+	 *  the trajectory, the camera at its last pose. */
 	viewer::MapSnapshot finalSnapshot() const;
 
 	// Checkpoints (src/Checkpoint.h) are taken between two frames.
@@ -169,10 +162,15 @@ class FrameProcessor
 	/** One detection's persons into the map, seen from `pose`: what it made of each. */
 	std::vector<persons::PersonObservation> seePersons(const mrpt::obs::CObservation3DRangeScan& obs,
 		const mrpt::poses::CPose3D& pose, const std::vector<detection::Detection>& persons, std::size_t frameIndex);
+	/** Steps 3-4, the run's and the map rebuild's: the persons of the
+	 *  detections due, seen from their frames' poses, then the frame inserted
+	 *  at `pose`; `shown`: the observers are told of it. */
+	void mapFrame(const io::RgbdFrame& frame, const mrpt::poses::CPose3D& pose, bool shown);
 	// 4. The map.
 	void insert(const io::RgbdFrame& frame, const mrpt::poses::CPose3D& pose);
 	/** What the live view shows of this moment. */
-	viewer::MapSnapshot snapshot(const io::RgbdFrame& frame, const mrpt::poses::CPose3D& pose) const;
+	viewer::MapSnapshot snapshot(
+		const io::RgbdFrame& frame, const mrpt::poses::CPose3D& pose, const viewer::SnapshotOptions& options) const;
 	/** The map, trajectory and figures of a snapshot. */
 	viewer::MapSnapshot mapSnapshot(const viewer::SnapshotOptions& options) const;
 	void finishInsertion();
@@ -196,11 +194,9 @@ class FrameProcessor
 	std::vector<cv::Rect> m_latestPersonBoxes;                  // the odometry's mask
 	std::vector<DetectionResult> m_detectionsWithoutPersons;    // applied, persons not yet observed
 	MapWork m_personWork;  // person updates since the last insertion: counted in the next one
-	viewer::MapView* m_view = nullptr;
-	odometry::OdometryEstimate m_lastEstimate;       // its features, for the view
-	std::optional<mrpt::img::TCamera> m_intrinsics;  // of the last frame shown: the final view's frustum
-	std::size_t m_framesWhenShown = 0;               // the view's fps: frames since showOn()
-	mrpt::system::CTicTac m_shownFor;
+	std::vector<FrameObserver*> m_observers;
+	bool m_showsFeatures = false;                 // an observer shows the odometry's features
+	odometry::OdometryEstimate m_lastEstimate;    // its features, for the observers
 	std::optional<std::size_t> m_lastFrame;       // the last frame given to process()
 	std::set<std::size_t> m_detectionsToRestart;  // after loadState: frames whose detection was pending
 

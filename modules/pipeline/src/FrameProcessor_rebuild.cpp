@@ -2,15 +2,16 @@
 // loop closure the map holds each frame where it was inserted, at the drifted
 // pose of its time; the trajectory has moved. The frames are read again from
 // the rawlog (not kept: the run's memory stays bounded) and go through the
-// map's calls of the run in the run's order: a detection's persons before the
-// insertion of the first mapped frame at or after its frame + lag, the rest
-// at the end. Only the poses differ, so the map, regions and persons follow
-// the corrected trajectory, and at unchanged poses nothing differs at all.
+// run's own per-frame path (applyDueDetections, mapFrame, finish) with two
+// other sources: the poses are the trajectory's, and each detection is the
+// run's boxes of its frame, replayed instead of detected. Only the poses
+// differ, so the map, regions and persons follow the corrected trajectory,
+// and at unchanged poses nothing differs at all.
 #include <mrpt/system/CTicTac.h>
 
-#include <limits>
 #include <map>
 #include <stdexcept>
+#include <utility>
 
 #include "FrameProcessor.h"
 #include "ProcessUsage.h"
@@ -22,46 +23,31 @@ RunSummary::MapRebuildCost FrameProcessor::rebuildMap(const std::function<std::o
 	finishInsertion();
 	mrpt::system::CTicTac timer;
 	const double cpuAtStart = processCpuSeconds();
+	// The rebuild changes the map and what is made of it, not the run's
+	// figures: detections, frames and stage times stay the run's.
+	const RunSummary runCounts = m_counts;
+	const StageSamples runStages = m_stages;
 	m_maps.clear();
 	if (m_reference) m_reference->clear();
 	m_counts.regions = 0;
 	m_counts.switchFrame.reset();
 
-	// A detection's records are consecutive, one per person, in the order
-	// its persons were observed.
-	struct Detection
-	{
-		std::vector<PersonDetectionRecord*> records;
-		std::vector<detection::Detection> persons;
-		mrpt::obs::CObservation3DRangeScan::Ptr observation;  // once its frame is read again
-	};
-	std::map<std::size_t, Detection> detections;
-	for (auto& r : m_personDetections)
+	// The run's detections with persons, by frame: a detection's records are
+	// consecutive, one per person, in the order its persons were observed.
+	std::map<std::size_t, DetectionResult> detections;
+	for (const auto& r : m_personDetections)
 	{
 		auto& d = detections[r.frameIndex];
-		d.records.push_back(&r);
+		d.frameIndex = r.frameIndex;
+		d.timestamp = r.timestamp;
 		d.persons.push_back(r.person);
 	}
-	std::map<std::size_t, mrpt::poses::CPose3D> mappedPoses;  // frame index -> its final pose
-	const auto observeDetectionsDue = [&](std::size_t frameIndex)
+	m_personDetections.clear();
+	m_recentPoses.clear();
+	const auto replay = [this](DetectionResult d)
 	{
-		for (auto it = detections.begin();
-			 it != detections.end() && it->first + m_options.detectionLagFrames <= frameIndex;
-			 it = detections.erase(it))
-		{
-			auto& d = it->second;
-			const auto pose = mappedPoses.find(it->first);
-			std::vector<persons::PersonObservation> seen;
-			if (pose != mappedPoses.end() && d.observation)
-				seen = seePersons(*d.observation, pose->second, d.persons, it->first);
-			for (std::size_t i = 0; i < d.records.size(); ++i)
-			{
-				d.records[i]->seen.reset();
-				if (seen.empty()) continue;
-				d.records[i]->seen = seen[i];
-				if (seen[i].regionBox) ++m_counts.regions;
-			}
-		}
+		const std::size_t applyAt = d.frameIndex + m_options.detectionLagFrames;
+		m_pendingDetections.push_back({applyAt, std::async(std::launch::deferred, [d = std::move(d)] { return d; })});
 	};
 
 	std::size_t mapped = 0;
@@ -72,18 +58,28 @@ RunSummary::MapRebuildCost FrameProcessor::rebuildMap(const std::function<std::o
 			throw std::runtime_error("rebuilding the map: the rawlog ended before the frame of time " +
 									 std::to_string(m_trajectory[mapped].timestamp) + ", which the run mapped");
 		if (const auto d = detections.find(frame->index); d != detections.end())
+		{
 			d->second.observation = frame->observation;
+			replay(std::move(d->second));
+			detections.erase(d);
+		}
+		applyDueDetections(frame->index);
 		// The trajectory has the frames that were mapped, in order, with the
 		// timestamps the same reader gave them.
 		if (frame->timestamp() != m_trajectory[mapped].timestamp) continue;
-		const auto& pose = m_trajectory[mapped++].pose;
-		mappedPoses[frame->index] = pose;
-		observeDetectionsDue(frame->index);
-		m_maps.insertObservation(*frame->observation, pose);
-		if (m_reference) m_reference->insert(*frame->observation, pose);
-		if (!m_counts.switchFrame && m_adaptive.hasSwitched()) m_counts.switchFrame = frame->index;
+		mapFrame(*frame, m_trajectory[mapped++].pose, false);
 	}
-	observeDetectionsDue(std::numeric_limits<std::size_t>::max());
+	// The detections of frames after the last mapped one: no pose sees them,
+	// as in the run.
+	for (auto& d : detections) replay(std::move(d.second));
+	finish();
+
+	const auto regions = m_counts.regions;
+	const auto switchFrame = m_counts.switchFrame;
+	m_counts = runCounts;
+	m_counts.regions = regions;
+	m_counts.switchFrame = switchFrame;
+	m_stages = runStages;
 	return {mapped, timer.Tac(), processCpuSeconds() - cpuAtStart};
 }
 }  // namespace avm::pipeline::detail

@@ -17,7 +17,9 @@ namespace
 {
 cv::Scalar bgr(const mrpt::img::TColor& c) { return cv::Scalar(c.B, c.G, c.R); }
 
-const cv::Scalar kBackground(255, 255, 255), kRegion(0, 0, 200), kText(30, 30, 30);
+// The map's own colours (avm/maps/MapColours.h), as in map.3Dscene and the live view.
+const cv::Scalar kBackground(255, 255, 255), kText(30, 30, 30);
+const cv::Scalar kLow = bgr(maps::kLowColour), kHigh = bgr(maps::kHighColour), kRegion = bgr(maps::kRegionColour);
 const cv::Scalar kTrajectory = bgr(maps::kTrajectoryColour), kPerson = bgr(maps::kPersonColour);
 
 /** A person's marker: a dot and the id beside it. */
@@ -29,14 +31,12 @@ void drawPerson(cv::Mat& img, const cv::Point2d& at, std::uint32_t id)
 		img, std::to_string(id), at + cv::Point2d(9, -6), cv::FONT_HERSHEY_SIMPLEX, 0.6, kPerson, 2, cv::LINE_AA);
 }
 
-/** Colour of a voxel: blues for low resolution, oranges for high, lighter with
- *  height so the structure reads in a flat picture. */
+/** Colour of a voxel: its tree's colour, darker low down and full at the top,
+ *  so the structure reads in a flat picture. */
 cv::Scalar voxelColour(const PictureVoxel& v, float zMin, float zMax)
 {
 	const double t = zMax > zMin ? std::clamp((v.centre.z - zMin) / (zMax - zMin), 0.f, 1.f) : 0.5;
-	const double shade = 0.45 + 0.55 * t;
-	return v.highResolution ? cv::Scalar(40 * shade, 120 * shade, 255 * shade)
-							: cv::Scalar(230 * shade, 150 * shade, 60 * shade);
+	return (v.highResolution ? kHigh : kLow) * (0.45 + 0.55 * t);
 }
 
 void save(const cv::Mat& img, const std::filesystem::path& png)
@@ -58,9 +58,9 @@ void drawLegend(cv::Mat& img, const MapPictureContent& c, const std::string& tit
 	char buf[128];
 	line(0, title, kText);
 	std::snprintf(buf, sizeof(buf), "low %.2f m: %zu occupied voxels", c.lowResolution, low);
-	line(1, buf, cv::Scalar(200, 120, 40));
+	line(1, buf, kLow);
 	std::snprintf(buf, sizeof(buf), "high %.2f m: %zu occupied voxels", c.highResolution, high);
-	line(2, buf, cv::Scalar(30, 100, 230));
+	line(2, buf, kHigh);
 	line(3, "camera trajectory", kTrajectory);
 	if (!c.regions.empty()) line(4, "high-resolution regions", kRegion);
 	if (!c.persons.empty()) line(5, "persons: id at the last position", kPerson);

@@ -198,39 +198,47 @@ std::string iniText(const mrpt::config::CConfigFileBase& ini)
 	return text;
 }
 
-/** A run's checkpoints: before its first frame, every checkpoint_interval_s
- *  of run time, and after its last frame. */
-class Checkpoints
+/** The run between two frames, as its observers see it; it writes the
+ *  checkpoints they ask for. */
+class RunBetweenFrames : public RunState
 {
    public:
-	Checkpoints(fs::path outDir, CheckpointedRun run, double intervalSeconds)
-		: m_outDir(std::move(outDir)), m_run(std::move(run)), m_interval(intervalSeconds)
-	{
-	}
-	bool enabled() const { return m_interval > 0; }
-	bool due() const { return enabled() && m_sinceLast.Tac() >= m_interval; }
-	void write(const detail::CheckpointProgress& progress, const mrpt::maps::CMultiMetricMap& maps,
+	RunBetweenFrames(fs::path outDir, CheckpointedRun run, bool resumed, const RunClock& clock, std::string logBefore,
+		const mrpt::system::COutputLogger& log, const mrpt::maps::CMultiMetricMap& maps,
 		detail::FrameProcessor& processor)
+		: m_outDir(std::move(outDir)),
+		  m_run(std::move(run)),
+		  m_resumed(resumed),
+		  m_clock(clock),
+		  m_logBefore(std::move(logBefore)),
+		  m_log(log),
+		  m_maps(maps),
+		  m_processor(processor)
 	{
-		mrpt::system::CTicTac timer;
-		detail::writeCheckpoint(m_outDir, m_run, progress, maps, processor);
-		m_times.add(timer.Tac() * 1e3);
-		m_sinceLast.Tic();
-		m_written = true;
-		m_writtenAfter = processor.lastFrame();
 	}
-	/** Whether this run's last checkpoint already holds the state after `frame`. */
-	bool holds(std::optional<std::size_t> frame) const { return m_written && m_writtenAfter == frame; }
-	const io::TimingSamples& times() const { return m_times; }
+	bool resumed() const override { return m_resumed; }
+	std::optional<std::size_t> lastFrame() const override { return m_processor.lastFrame(); }
+	bool canCheckpoint() const override { return m_processor.readyForCheckpoint(); }
+	void writeCheckpoint() override
+	{
+		const RunCost cost = m_clock.read();
+		mrpt::system::CTicTac timer;
+		detail::writeCheckpoint(m_outDir, m_run, {cost.seconds, cost.cpuSeconds, m_logBefore + m_log.getLogAsString()},
+			m_maps, m_processor);
+		m_times.add(timer.Tac() * 1e3);
+	}
+	const io::TimingSamples& checkpointTimes() const { return m_times; }
 
    private:
 	fs::path m_outDir;
 	CheckpointedRun m_run;
-	double m_interval;
-	mrpt::system::CTicTac m_sinceLast;
+	bool m_resumed;
+	const RunClock& m_clock;
+	std::string m_logBefore;  // a resumed run's log before its checkpoint
+	const mrpt::system::COutputLogger& m_log;
+	const mrpt::maps::CMultiMetricMap& m_maps;
+	detail::FrameProcessor& m_processor;
 	io::TimingSamples m_times;
-	bool m_written = false;
-	std::optional<std::size_t> m_writtenAfter;  // the last frame of the last checkpoint
 };
 
 /** [pipeline] rebuild_map, at the end of a run: what it cost, or nothing when
@@ -255,35 +263,28 @@ std::optional<RunSummary::MapRebuildCost> rebuildMap(const TPipelineOptions& opt
 		cost.cpuSeconds);
 	return cost;
 }
-/** The live view of a run (gui), or none; closing its window ends the run as
- *  Ctrl-C does. */
-std::unique_ptr<viewer::MapView> openView(
-	const viewer::TViewerOptions& options, const fs::path& rawlog, detail::FrameProcessor& processor)
-{
-	if (!options.enabled) return nullptr;
-	auto o = options;
-	o.title = "avm-map " + rawlog.filename().string();
-	auto view = std::make_unique<viewer::MapView>(o);
-	processor.showOn(view.get());
-	return view;
-}
-
 /** Maps the frames until the rawlog ends, `maxFrames` are mapped (0: no
- *  limit) or `stop` is set; false when the view's window was closed instead.
- *  `betweenFrames` runs after each frame (the checkpoints). */
+ *  limit) or `stop` is set; false when an observer ended the run instead
+ *  (the view's window was closed). */
 bool mapFrames(std::size_t maxFrames, detail::FrameSequence& frames, detail::FrameProcessor& processor,
-	viewer::MapView* view, const std::atomic<bool>* stop, const std::function<void(double, std::size_t)>& progress,
-	const std::function<void()>& betweenFrames)
+	const std::vector<FrameObserver*>& observers, RunState& run, const std::atomic<bool>* stop,
+	const std::function<void(double, std::size_t)>& progress)
 {
+	const auto betweenFrames = [&]
+	{
+		bool goOn = true;
+		for (auto* o : observers) goOn = o->betweenFrames(run) && goOn;
+		return goOn;
+	};
+	if (!betweenFrames()) return false;
 	while (!(stop && stop->load()))
 	{
-		if (view && !view->waitWhilePaused()) return false;
 		if (maxFrames && processor.counts().frames >= maxFrames) break;
 		const auto frame = frames.next();
 		if (!frame) break;
 		if (processor.resumeThrough(*frame)) continue;
 		if (processor.process(*frame) && progress) progress(frames.progress(), processor.counts().frames);
-		betweenFrames();
+		if (!betweenFrames()) return false;
 	}
 	return true;
 }
@@ -299,9 +300,8 @@ struct MappingPipeline::Impl
 	/** The maps of the last run; made (and checked) by the constructor for the first one. */
 	mrpt::maps::CMultiMetricMap::Ptr maps;
 	bool mapsUsed = false;
-	fs::path viewScreenshot;      //!< "" = none
-	bool viewWaitsAtEnd = false;  //!< the finished map stays on screen for the user
-	std::string iniText;          //!< the configuration, for checkpoints
+	std::string iniText;                    //!< the configuration, for checkpoints
+	std::vector<FrameObserver*> observers;  //!< addObserver(), in its order
 
 	/** Fresh maps for a run of `rawlog`. */
 	CAdaptiveOctoMap& startMaps(const fs::path& rawlog);
@@ -394,14 +394,13 @@ MappingPipeline::MappingPipeline(const mrpt::config::CConfigFileBase& ini, const
 
 MappingPipeline::~MappingPipeline() = default;
 
-void MappingPipeline::setViewScreenshot(const fs::path& png) { m_impl->viewScreenshot = png; }
-void MappingPipeline::setViewWaitsAtEnd(bool wait) { m_impl->viewWaitsAtEnd = wait; }
+void MappingPipeline::addObserver(FrameObserver& observer) { m_impl->observers.push_back(&observer); }
 
 void MappingPipeline::setPoseSource(PoseSource source) { m_impl->options.poseSource = source; }
 
 int MappingPipeline::openCvThreads() const { return m_impl->detectorOptions.threads; }
 
-bool MappingPipeline::opensView() const { return m_impl->options.viewer.enabled; }
+const TPipelineOptions& MappingPipeline::options() const { return m_impl->options; }
 
 const CAdaptiveOctoMap& MappingPipeline::map() const { return *m_impl->maps->mapByClass<CAdaptiveOctoMap>(); }
 
@@ -446,42 +445,27 @@ RunSummary MappingPipeline::runFrames(const fs::path& rawlog, const fs::path& ou
 		logFmt(mrpt::system::LVL_INFO, "resumed from %s: %zu frames mapped before\n", checkpointFile(outDir).c_str(),
 			processor.counts().frames);
 	}
-	Checkpoints checkpoints(outDir, {d.iniText, fs::absolute(rawlog), opt.poseSource}, opt.checkpointIntervalSeconds);
-	const auto checkpoint = [&](const RunClock& clock)
-	{
-		const RunCost cost = clock.read();
-		checkpoints.write({cost.seconds, cost.cpuSeconds, before.log + getLogAsString()}, *d.maps, processor);
-	};
-
+	processor.watchedBy(d.observers);
 	// The clock starts before the reader thread does: reading is part of the run.
 	const RunClock clock(before);
+	RunBetweenFrames state(outDir, {d.iniText, fs::absolute(rawlog), opt.poseSource}, resume, clock, before.log, *this,
+		*d.maps, processor);
 	detail::FrameSequence frames(rawlog, opt.repeat, opt.readAheadFrames);  // a missing rawlog fails here
-	if (checkpoints.enabled() && !resume) checkpoint(clock);
 	try
 	{
-		const auto view = openView(opt.viewer, rawlog, processor);
-		const bool viewClosed = !mapFrames(opt.maxFrames, frames, processor, view.get(), stop, progress,
-			[&]
-			{
-				if (checkpoints.due() && processor.readyForCheckpoint()) checkpoint(clock);
-			});
-		// Before finish(): a resumed run applies the detections still due itself.
-		if (checkpoints.enabled() && processor.readyForCheckpoint() && !checkpoints.holds(processor.lastFrame()))
-			checkpoint(clock);
+		const bool endedByObserver = !mapFrames(opt.maxFrames, frames, processor, d.observers, state, stop, progress);
+		for (auto* o : d.observers) o->onFramesEnded(state);
 		processor.finish();
 		frames.close();
 		if (processor.counts().frames == 0)
 			throw std::runtime_error(rawlog.string() + ": no frame could be mapped" +
 									 (frames.skipped().empty() ? "" : " (" + frames.skipped().front() + ")"));
-		const bool interrupted = (stop && stop->load()) || viewClosed;
+		const bool interrupted = (stop && stop->load()) || endedByObserver;
 		const auto rebuild = rebuildMap(opt, rawlog, processor, interrupted, *this);
-		const RunCost cost = clock.read();
-		if (view && !d.viewScreenshot.empty() && view->waitUntilDrawn(30)) view->saveScreenshot(d.viewScreenshot);
-
-		RunSummary summary = d.summarise(processor, frames, cost);
+		RunSummary summary = d.summarise(processor, frames, clock.read());
 		summary.interrupted = interrupted;
 		summary.mapRebuild = rebuild;
-		summary.checkpoint = checkpoints.times().summary();
+		summary.checkpoint = state.checkpointTimes().summary();
 		summary.resumedAfterFrame = resumedAfter;
 		if (reference) summary.reference = reference->compare(map);
 		logFmt(mrpt::system::LVL_INFO, "%zu frames in %.2f s (%.1f fps, real-time factor %.2f)%s\n", summary.frames,
@@ -493,11 +477,8 @@ RunSummary MappingPipeline::runFrames(const fs::path& rawlog, const fs::path& ou
 		// A finished run has nothing left to resume: its folder keeps what a
 		// user opens. An interrupted one keeps its checkpoint for --resume.
 		if (!interrupted) fs::remove(checkpointFile(outDir));
-		if (view && d.viewWaitsAtEnd && view->isOpen())
-		{
-			logStr(mrpt::system::LVL_INFO, "finished: the view stays open until it is closed or a key is pressed\n");
-			view->showFinished(processor.finalSnapshot(), stop);
-		}
+		const FinishedRun finished{summary, [&processor] { return processor.finalSnapshot(); }};
+		for (auto* o : d.observers) o->onRunFinished(finished);
 		return summary;
 	}
 	catch (...)

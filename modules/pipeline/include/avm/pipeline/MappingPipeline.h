@@ -8,6 +8,8 @@
 //     -> persons        (a box + its frame's depth and pose -> person track, region)
 //     -> map            (CAdaptiveOctoMap, inside MRPT's CMultiMetricMap from [map])
 //   one frame's steps: src/FrameProcessor.h; the files at the end: src/RunOutputs.h
+// The loop only runs frames: what watches a run (the live view, the
+// checkpoints) is an observer the program connects (avm/pipeline/FrameObserver.h).
 #pragma once
 
 #include <mrpt/config/CConfigFileBase.h>
@@ -22,6 +24,7 @@
 
 #include "avm/io/IniKeyOptions.h"
 #include "avm/io/TimingSummary.h"
+#include "avm/pipeline/FrameObserver.h"
 #include "avm/plugin/ReferenceOctoMaps.h"
 #include "avm/viewer/TViewerOptions.h"
 
@@ -77,14 +80,16 @@ struct TPipelineOptions : public io::CIniKeyOptions<TPipelineOptions>
 	bool referenceMaps = false;
 	/** [s] of run time between two checkpoints (OUTDIR/checkpoint.bin, what
 	 *  avm-map --resume continues from); 0 = none. One is also written before
-	 *  the first frame and after the last. */
+	 *  the first frame and after the last. Written by the CheckpointWriter
+	 *  the program connects (avm/pipeline/CheckpointWriter.h). */
 	double checkpointIntervalSeconds = 5;
 	/** After a loop closure the map holds frames inserted at the drifted
 	 *  poses of their time: at the end of the run, the map is cleared and
 	 *  every mapped frame inserted again from the rawlog at its corrected
 	 *  pose, persons and regions with it, in the run's order. */
 	MapRebuild rebuildMap = MapRebuild::AfterLoops;
-	/** `gui`, `gui_fps`: the live view of the run. */
+	/** `gui`, `gui_fps`: the live view of the run (avm/pipeline/LiveView.h,
+	 *  which the program connects). */
 	viewer::TViewerOptions viewer;
 	std::string mapSection = "map";  //!< section with MRPT's map definition
 
@@ -140,7 +145,7 @@ struct CheckpointedRun
 	std::filesystem::path rawlog;  //!< absolute
 	PoseSource poseSource = PoseSource::VisualOdometry;
 };
-/** OUTDIR/checkpoint.bin, written by run() every checkpoint_interval_s. */
+/** OUTDIR/checkpoint.bin, written by a connected CheckpointWriter every checkpoint_interval_s. */
 std::filesystem::path checkpointFile(const std::filesystem::path& outDir);
 /** The run of outDir's checkpoint. Throws std::runtime_error naming the file
  *  when there is none or it is not a complete checkpoint. */
@@ -159,22 +164,19 @@ class MappingPipeline : public mrpt::system::COutputLogger
 	MappingPipeline& operator=(const MappingPipeline&) = delete;
 
 	void setPoseSource(PoseSource source);
-	/** With the live view: after the last frame, save the X server's picture
-	 *  of the view to this PNG (a run with a scripted end, for tests and
-	 *  documentation); "" = none. */
-	void setViewScreenshot(const std::filesystem::path& png);
-	/** With the live view: once the outputs are written, keep showing the
-	 *  finished map until the user closes the window or presses a key (or
-	 *  `stop` is set), as MRPT's apps do; off by default, so that a program
-	 *  that maps never blocks on a user unless it asks to. */
-	void setViewWaitsAtEnd(bool wait);
+	/** `observer` is told of every run from now on (avm/pipeline/FrameObserver.h:
+	 *  the live view, the checkpoints), after the ones connected before it;
+	 *  it must outlive the runs. Without observers a run writes no
+	 *  checkpoint and shows nothing. */
+	void addObserver(FrameObserver& observer);
 
 	/** The OpenCV worker threads [detection] threads asks for (0 = OpenCV's
 	 *  default). OpenCV's thread count is process-wide, so the program sets
 	 *  it (cv::setNumThreads), not the library. */
 	int openCvThreads() const;
-	/** Whether a run opens the live view ([pipeline] gui). */
-	bool opensView() const;
+	/** [pipeline] as read: what the program's observers are made from
+	 *  (gui, checkpoint_interval_s). */
+	const TPipelineOptions& options() const;
 
 	/** Maps the rawlog and writes every output into outDir (created if
 	 *  needed; checked for writing first). `stop` is polled once per frame:
