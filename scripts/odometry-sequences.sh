@@ -83,22 +83,17 @@ sequence every2nd bonn every 2 0
 sequence every2nd-odd bonn every 2 1
 sequence every3rd bonn every 3 0
 sequence forward-backward none forward_backward
-# The whole sequence: its first frame is before the ground truth starts.
-whole=$root/datasets/rgbd_bonn_crowd
-if [ -f "$whole/rgb.txt" ] && [ ! -f "$whole.rawlog" ]; then
-  "$build/bin/avm-tum2rawlog" -q --camera bonn --gt-body bonn --embed-images --compression 0 --trim-to-ground-truth \
-    "$whole" "$whole.rawlog" >&2
-fi
+whole=$(avm_whole_sequence "$build") || whole=
 
 cd "$root"
 header="| ini |" rule="|---|"
 rawlogs=(datasets/bonn_crowd_sub300.rawlog)
 for s in every2nd every2nd-odd every3rd forward-backward; do rawlogs+=("$out/$s.rawlog"); done
-[ -f "$whole.rawlog" ] && rawlogs+=(datasets/rgbd_bonn_crowd.rawlog)
+[ -z "$whole" ] || rawlogs+=(datasets/rgbd_bonn_crowd.rawlog)
 for r in "${rawlogs[@]}"; do header+=" $(basename "$r" .rawlog) |"; rule+="---|"; done
 header+=" forward-backward end | bonn_crowd_sub300 frame to frame | bonn_crowd_sub300 acceleration |"
 rule+="---|---|---|"
-if [ -f "$whole.rawlog" ]; then header+=" rgbd_bonn_crowd largest step |"; rule+="---|"; fi
+if [ -n "$whole" ]; then header+=" rgbd_bonn_crowd largest step |"; rule+="---|"; fi
 rows=() commands=()
 bin=${build#"$root/"}/bin
 # The true camera's acceleration, for the caption: the ground truth against itself.

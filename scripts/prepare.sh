@@ -28,3 +28,18 @@ avm_prepare() {
       "$root/datasets/bonn_crowd_sub300" "$rawlog"
   fi
 }
+
+# avm_whole_sequence BUILD_DIR: where the whole rgbd_bonn_crowd is in datasets/
+# (scripts/get-data.sh --whole-sequence), makes datasets/rgbd_bonn_crowd.rawlog
+# from it once (its first frame is before the ground truth starts: trimmed)
+# and prints that path; fails where the sequence is not there.
+avm_whole_sequence() {
+  local build=$1 root whole
+  root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+  whole=$root/datasets/rgbd_bonn_crowd
+  if [ -f "$whole/rgb.txt" ] && [ ! -f "$whole.rawlog" ]; then
+    "$build/bin/avm-tum2rawlog" -q --camera bonn --gt-body bonn --embed-images --compression 0 \
+      --trim-to-ground-truth "$whole" "$whole.rawlog" >&2
+  fi
+  [ -f "$whole.rawlog" ] && echo "$whole.rawlog"
+}

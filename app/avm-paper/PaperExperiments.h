@@ -31,7 +31,11 @@ struct PaperExperimentSettings
 	std::filesystem::path workDir;      //!< one folder per run
 	std::filesystem::path results;      //!< doc/results.md (pictures beside it in results/)
 	std::string command;                //!< the command line, quoted in the results
-	bool withOdometry = true;           //!< also every run with odometry poses
+	/** The section of `results` this run writes, titled so (e.g. "The whole
+	 *  sequence"); empty: the whole document. Either way the sections other
+	 *  runs wrote into `results` are kept. */
+	std::string section;
+	bool withOdometry = true;  //!< also every run with odometry poses
 };
 
 /** Runs every experiment and writes the results. Throws on any failed run. */

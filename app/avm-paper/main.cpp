@@ -23,6 +23,10 @@ int main(int argc, char** argv)
 				"markdown to write (pictures beside it in results/)", false,
 				std::string(AVM_PROJECT_ROOT) + "/doc/results.md", "FILE", cmd);
 			TCLAP::SwitchArg argNoVo("", "no-odometry", "ground-truth poses only", cmd);
+			TCLAP::ValueArg<std::string> argSection("", "section",
+				"write the results as this titled section of the results file (e.g. \"The whole sequence\"), "
+				"keeping the rest of it; without it the whole file is written (the sections other runs wrote are kept)",
+				false, "", "TITLE", cmd);
 			cmd.parse(argc, argv);
 
 			avm::apps::paper::PaperExperimentSettings s;
@@ -33,7 +37,8 @@ int main(int argc, char** argv)
 			s.workDir = argWork.getValue();
 			s.results = argResults.getValue();
 			s.withOdometry = !argNoVo.getValue();
-			s.command = "scripts/reproduce-paper.sh";
+			s.section = argSection.getValue();
+			s.command = "scripts/reproduce-paper.sh " + s.rawlog.stem().string();
 			// OpenCV's thread count is process-wide: one, as ini/default.ini's
 			// [detection] threads, so the runs measure what avm-map does.
 			cv::setNumThreads(1);
