@@ -1,5 +1,9 @@
 #include "avm/persons/PersonLayer.h"
 
+#include <algorithm>
+#include <cmath>
+
+#include "avm/io/DepthCamera.h"
 #include "avm/io/IniKeys.h"
 
 namespace avm::persons
@@ -36,6 +40,75 @@ std::vector<PersonObservation> PersonLayer::observe(const mrpt::obs::CObservatio
 	return out;
 }
 
+namespace
+{
+/** Pixels [u0, u1] x [v0, v1] (inclusive, clipped to the image) whose rays
+ *  can reach `box`: its corners' projection grown by a pixel, the whole image
+ *  when a corner is behind the camera; empty (u0 > u1) when it is off the image. */
+struct PixelRect
+{
+	int u0, u1, v0, v1;
+};
+PixelRect pixelRectOf(
+	const mrpt::math::TBoundingBox& box, const mrpt::poses::CPose3D& sensorPose, const io::DepthCamera& camera)
+{
+	PixelRect r{camera.width, -1, camera.height, -1};
+	for (int corner = 0; corner < 8; corner++)
+	{
+		const mrpt::math::TPoint3D w(
+			corner & 1 ? box.max.x : box.min.x, corner & 2 ? box.max.y : box.min.y, corner & 4 ? box.max.z : box.min.z);
+		const auto s = sensorPose.inverseComposePoint(w);
+		if (s.x <= 1e-3) return {0, camera.width - 1, 0, camera.height - 1};
+		const auto p = camera.pixelOf(s);
+		r.u0 = std::min(r.u0, static_cast<int>(std::floor(p.x)) - 1);
+		r.u1 = std::max(r.u1, static_cast<int>(std::ceil(p.x)) + 1);
+		r.v0 = std::min(r.v0, static_cast<int>(std::floor(p.y)) - 1);
+		r.v1 = std::max(r.v1, static_cast<int>(std::ceil(p.y)) + 1);
+	}
+	return {std::max(r.u0, 0), std::min(r.u1, camera.width - 1), std::max(r.v0, 0), std::min(r.v1, camera.height - 1)};
+}
+}  // namespace
+
+PixelSet PersonLayer::movingPersonPixels(const mrpt::obs::CObservation3DRangeScan& obs,
+	const mrpt::poses::CPose3D& sensorPoseInWorld, double horizon, double margin) const
+{
+	PixelSet pixels;
+	if (!obs.hasRangeImage || obs.rangeImage.cols() == 0) return pixels;
+	const double time = mrpt::Clock::toDouble(obs.timestamp);
+	const auto camera = io::DepthCamera::of(obs);
+	std::vector<mrpt::math::TBoundingBox> boxes;
+	std::vector<PixelRect> rects;
+	for (const auto& t : tracks())
+	{
+		const double since = time - t.lastTime;
+		if (t.still || since > horizon) continue;
+		const auto moved = t.velocity * std::max(0.0, since);
+		const mrpt::math::TPoint3D grow(margin, margin, margin);
+		const mrpt::math::TBoundingBox box(t.box.min + moved - grow, t.box.max + moved + grow);
+		const auto rect = pixelRectOf(box, sensorPoseInWorld, camera);
+		if (rect.u0 > rect.u1 || rect.v0 > rect.v1) continue;
+		boxes.push_back(box);
+		rects.push_back(rect);
+	}
+	if (boxes.empty()) return pixels;
+	const auto& image = obs.rangeImage;
+	const auto inAnyBox = [&](const mrpt::math::TPoint3D& p)
+	{ return std::any_of(boxes.begin(), boxes.end(), [&](const auto& b) { return b.containsPoint(p); }); };
+	PixelRect all = rects.front();
+	for (const auto& r : rects)
+		all = {std::min(all.u0, r.u0), std::max(all.u1, r.u1), std::min(all.v0, r.v0), std::max(all.v1, r.v1)};
+	for (int v = all.v0; v <= all.v1; v++)
+		for (int u = all.u0; u <= all.u1; u++)
+		{
+			const bool candidate = std::any_of(rects.begin(), rects.end(),
+				[&](const PixelRect& r) { return u >= r.u0 && u <= r.u1 && v >= r.v0 && v <= r.v1; });
+			if (!candidate || image(v, u) == 0) continue;
+			const auto p = sensorPoseInWorld.composePoint(camera.unproject(u, v, image(v, u) * obs.rangeUnits));
+			if (inAnyBox(p)) pixels.push_back(static_cast<std::uint32_t>(v * camera.width + u));
+		}
+	return pixels;
+}
+
 io::IniKeys<TPersonLayerOptions> TPersonLayerOptions::iniKeys()
 {
 	using O = TPersonLayerOptions;
@@ -66,6 +139,13 @@ io::IniKeys<TPersonLayerOptions> TPersonLayerOptions::iniKeys()
 			{[](double v) { return v >= 0; }, "must be >= 0 m/s"})
 		.number("track_max_gate", &O::tracking, &T::maxGate, "m",
 			"widest gate: a person back near where last seen keeps the id")
+		.number("person_still_fraction", &O::tracking, &T::stillFraction, "share of the box's mean edge",
+			"a person who stays within this share of their own size of one place for person_still_after_s is still "
+			"and mapped like any surface; else moving, and their pixels carve free space but are no surface",
+			{[](double v) { return v >= 0; }, "must be >= 0"})
+		.number("person_still_after_s", &O::tracking, &T::stillAfter, "s",
+			"how long a person must stay in one place to be still",
+			{[](double v) { return v >= 0; }, "must be >= 0 seconds"})
 		.check(
 			"track_max_gate", [](const O& o) { return o.tracking.maxGate >= o.tracking.gate; },
 			"must be >= track_gate");
