@@ -135,7 +135,7 @@ TEST(CAdaptiveOctoMapOptions, SaveThenLoadGivesTheSameOptionsAndKeySet)
 	saved.getAllKeys("c", keys);
 	EXPECT_EQ(keys.size(), 14u);
 	saved.getAllKeys("i", keys);
-	EXPECT_EQ(keys.size(), 16u);
+	EXPECT_EQ(keys.size(), 18u);  // with person_still_fraction, person_still_after_s
 }
 
 TEST(CAdaptiveOctoMapOptions, RejectsBadValuesNamingTheKey)
