@@ -124,7 +124,7 @@ void RayIntegrator::begin(const mrpt::math::TPoint3D& origin, const ScanTargets&
 		m_insideFree.reset(lo, hi);
 		m_insideOccupied.reset(lo, hi);
 	}
-	m_lastOutsideKey = m_lastInsideKey = m_lastCrossingKey = 0;
+	m_lastOutsideKey = m_lastInsideKey = m_lastCrossingKey = m_lastFreeOnlyInsideKey = m_lastFreeOnlyOutsideKey = 0;
 }
 
 inline void RayIntegrator::addPoint(double x, double y, double z, bool nearRegion, bool surface)
@@ -137,7 +137,10 @@ inline void RayIntegrator::addPoint(double x, double y, double z, bool nearRegio
 		{
 			if (!packedKeyOf(x, y, z, m_insideGrid.inverse, key)) return;
 			if (!surface)
-				m_freeOnlyInsideEnds.insert(key);
+			{
+				if (key != m_lastFreeOnlyInsideKey) m_freeOnlyInsideEnds.insert(key);
+				m_lastFreeOnlyInsideKey = key;
+			}
 			else if (key != m_lastInsideKey)
 			{
 				m_lastInsideKey = key;
@@ -160,7 +163,11 @@ inline void RayIntegrator::addPoint(double x, double y, double z, bool nearRegio
 	}
 	if (!surface)
 	{
-		if (packedKeyOf(x, y, z, m_outsideGrid.inverse, key)) m_freeOnlyOutsideEnds.insert(key);
+		if (packedKeyOf(x, y, z, m_outsideGrid.inverse, key) && key != m_lastFreeOnlyOutsideKey)
+		{
+			m_lastFreeOnlyOutsideKey = key;
+			m_freeOnlyOutsideEnds.insert(key);
+		}
 		return;
 	}
 	if (m_targets.sketch && packedKeyOf(x, y, z, m_sketchGrid.inverse, key)) m_sketchEnds.insert(key);

@@ -158,6 +158,7 @@ class RayIntegrator
 	KeySet m_outsideFree, m_outsideOccupied;
 	BoxKeySet m_insideFree, m_insideOccupied;
 	std::uint64_t m_lastOutsideKey = 0, m_lastInsideKey = 0, m_lastCrossingKey = 0;
+	std::uint64_t m_lastFreeOnlyInsideKey = 0, m_lastFreeOnlyOutsideKey = 0;
 	BatchUpdate m_batch;
 	std::vector<std::pair<double, double>> m_intervals;
 	std::vector<float> m_columnFactor;

@@ -52,20 +52,24 @@ struct PixelRect
 PixelRect pixelRectOf(
 	const mrpt::math::TBoundingBox& box, const mrpt::poses::CPose3D& sensorPose, const io::DepthCamera& camera)
 {
-	PixelRect r{camera.width, -1, camera.height, -1};
+	const PixelRect whole{0, camera.width - 1, 0, camera.height - 1};
+	double u0 = camera.width, u1 = -1, v0 = camera.height, v1 = -1;
 	for (int corner = 0; corner < 8; corner++)
 	{
 		const mrpt::math::TPoint3D w(
 			corner & 1 ? box.max.x : box.min.x, corner & 2 ? box.max.y : box.min.y, corner & 4 ? box.max.z : box.min.z);
 		const auto s = sensorPose.inverseComposePoint(w);
-		if (s.x <= 1e-3) return {0, camera.width - 1, 0, camera.height - 1};
+		if (!(s.x > 1e-3)) return whole;
 		const auto p = camera.pixelOf(s);
-		r.u0 = std::min(r.u0, static_cast<int>(std::floor(p.x)) - 1);
-		r.u1 = std::max(r.u1, static_cast<int>(std::ceil(p.x)) + 1);
-		r.v0 = std::min(r.v0, static_cast<int>(std::floor(p.y)) - 1);
-		r.v1 = std::max(r.v1, static_cast<int>(std::ceil(p.y)) + 1);
+		u0 = std::min(u0, p.x), u1 = std::max(u1, p.x), v0 = std::min(v0, p.y), v1 = std::max(v1, p.y);
 	}
-	return {std::max(r.u0, 0), std::min(r.u1, camera.width - 1), std::max(r.v0, 0), std::min(r.v1, camera.height - 1)};
+	// Clamped in doubles first: a corner just in front of the camera
+	// projects far beyond what an int holds.
+	const auto clamp = [](double x, int hi) { return static_cast<int>(std::clamp(x, -1.0, double(hi))); };
+	return {std::max(clamp(std::floor(u0) - 1, camera.width), 0),
+		std::min(clamp(std::ceil(u1) + 1, camera.width), camera.width - 1),
+		std::max(clamp(std::floor(v0) - 1, camera.height), 0),
+		std::min(clamp(std::ceil(v1) + 1, camera.height), camera.height - 1)};
 }
 }  // namespace
 
@@ -91,21 +95,38 @@ PixelSet PersonLayer::movingPersonPixels(const mrpt::obs::CObservation3DRangeSca
 		rects.push_back(rect);
 	}
 	if (boxes.empty()) return pixels;
+	// Pixel (u, v) at depth d lies at t + d * (c0 + a_u c1 + b_v c2), the
+	// columns c of the rotation, a_u = (cx - u) / fx, b_v = (cy - v) / fy.
+	const auto& R = sensorPoseInWorld.getRotationMatrix();
+	const auto t = sensorPoseInWorld.translation();
+	const mrpt::math::TPoint3D c0(R(0, 0), R(1, 0), R(2, 0)), c1(R(0, 1), R(1, 1), R(2, 1)),
+		c2(R(0, 2), R(1, 2), R(2, 2));
 	const auto& image = obs.rangeImage;
-	const auto inAnyBox = [&](const mrpt::math::TPoint3D& p)
-	{ return std::any_of(boxes.begin(), boxes.end(), [&](const auto& b) { return b.containsPoint(p); }); };
-	PixelRect all = rects.front();
-	for (const auto& r : rects)
-		all = {std::min(all.u0, r.u0), std::max(all.u1, r.u1), std::min(all.v0, r.v0), std::max(all.v1, r.v1)};
-	for (int v = all.v0; v <= all.v1; v++)
-		for (int u = all.u0; u <= all.u1; u++)
+	std::vector<std::uint8_t> covered(static_cast<std::size_t>(camera.width));
+	for (int v = 0; v < camera.height; v++)
+	{
+		int from = camera.width, to = -1;
+		for (const auto& r : rects)
+			if (v >= r.v0 && v <= r.v1)
+			{
+				std::fill(covered.begin() + r.u0, covered.begin() + r.u1 + 1, 1);
+				from = std::min(from, r.u0), to = std::max(to, r.u1);
+			}
+		const double b = (camera.cy - v) / camera.fy;
+		const auto rowBase = c0 + c2 * b;
+		for (int u = from; u <= to; u++)
 		{
-			const bool candidate = std::any_of(rects.begin(), rects.end(),
-				[&](const PixelRect& r) { return u >= r.u0 && u <= r.u1 && v >= r.v0 && v <= r.v1; });
-			if (!candidate || image(v, u) == 0) continue;
-			const auto p = sensorPoseInWorld.composePoint(camera.unproject(u, v, image(v, u) * obs.rangeUnits));
-			if (inAnyBox(p)) pixels.push_back(static_cast<std::uint32_t>(v * camera.width + u));
+			if (!covered[u] || image(v, u) == 0) continue;
+			covered[u] = 0;
+			const double a = (camera.cx - u) / camera.fx;
+			double d = image(v, u) * obs.rangeUnits;
+			if (!camera.rangeIsDepth) d /= std::sqrt(1 + a * a + b * b);
+			const auto p = t + (rowBase + c1 * a) * d;
+			if (std::any_of(boxes.begin(), boxes.end(), [&](const auto& box) { return box.containsPoint(p); }))
+				pixels.push_back(static_cast<std::uint32_t>(v * camera.width + u));
 		}
+		if (from <= to) std::fill(covered.begin() + from, covered.begin() + to + 1, 0);
+	}
 	return pixels;
 }
 

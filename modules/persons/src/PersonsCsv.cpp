@@ -43,11 +43,10 @@ std::vector<PersonTrack> readPersonsCsv(const std::filesystem::path& file)
 		if (line.empty()) continue;
 		PersonTrack t;
 		char end = 0, state[8] = {};
-		const int read =
-			std::sscanf(line.c_str(), "%u,%zu,%zu,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%zu,%7[a-z]%c", &t.id,
-				&t.firstFrame, &t.lastFrame, &t.firstTime, &t.lastTime, &t.position.x, &t.position.y, &t.position.z,
-				&t.box.min.x, &t.box.min.y, &t.box.min.z, &t.box.max.x, &t.box.max.y, &t.box.max.z, &t.sightings, state,
-				&end);
+		const int read = std::sscanf(line.c_str(),
+			"%u,%zu,%zu,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%zu,%7[a-z]%c", &t.id, &t.firstFrame, &t.lastFrame,
+			&t.firstTime, &t.lastTime, &t.position.x, &t.position.y, &t.position.z, &t.box.min.x, &t.box.min.y,
+			&t.box.min.z, &t.box.max.x, &t.box.max.y, &t.box.max.z, &t.sightings, state, &end);
 		t.still = std::string(state) == "still";
 		if (read != 16 || (!t.still && std::string(state) != "moving"))
 			throw std::runtime_error(file.string() + ":" + std::to_string(lineNo) + ": not a persons.csv line");
