@@ -135,7 +135,7 @@ TEST(CAdaptiveOctoMapOptions, SaveThenLoadGivesTheSameOptionsAndKeySet)
 	saved.getAllKeys("c", keys);
 	EXPECT_EQ(keys.size(), 14u);
 	saved.getAllKeys("i", keys);
-	EXPECT_EQ(keys.size(), 16u);
+	EXPECT_EQ(keys.size(), 18u);  // with person_still_fraction, person_still_after_s
 }
 
 TEST(CAdaptiveOctoMapOptions, RejectsBadValuesNamingTheKey)
@@ -169,6 +169,8 @@ TEST(CAdaptiveOctoMapOptions, RejectsBadValuesNamingTheKey)
 	expectKeyInError(iniWith("", "min_person_depth_fraction=1.5"), "min_person_depth_fraction");
 	expectKeyInError(iniWith("", "track_gate=0"), "track_gate");
 	expectKeyInError(iniWith("", "track_gate=1\ntrack_max_gate=0.5"), "track_max_gate");
+	expectKeyInError(iniWith("", "person_still_fraction=-0.1"), "person_still_fraction");
+	expectKeyInError(iniWith("", "person_still_after_s=-1"), "person_still_after_s");
 	expectKeyInError(iniWith("", "switch_policy=paper\nswitch_at_fraction=1.5"), "switch_at_fraction");
 	expectKeyInError(iniWith("", "switch_policy=region\nswitch_at_frame=10"), "switch_at_frame");
 	expectKeyInError(iniWith("", "switch_policy=paper\nswitch_at_frame=2.5"), "switch_at_frame");

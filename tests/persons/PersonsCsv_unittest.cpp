@@ -17,7 +17,7 @@ TEST(PersonsCsv, TracksComeBackAsWritten)
 	a.box = mrpt::math::TBoundingBox({1.0, -0.8, 0.0}, {1.5, -0.2, 1.8});
 	a.sightings = 120;
 	PersonTrack b = a;
-	b.id = 2, b.firstFrame = 200, b.sightings = 3, b.position = {-2.0, 3.0, 1.1};
+	b.id = 2, b.firstFrame = 200, b.sightings = 3, b.position = {-2.0, 3.0, 1.1}, b.still = true;
 
 	const auto file = avm::test::scratchDir("PersonsCsv") / "persons.csv";
 	std::ofstream(file) << personsCsvText({a, b});
@@ -36,6 +36,7 @@ TEST(PersonsCsv, TracksComeBackAsWritten)
 		EXPECT_NEAR(r.box.min.distanceTo(w.box.min), 0, 1e-3);
 		EXPECT_NEAR(r.box.max.distanceTo(w.box.max), 0, 1e-3);
 		EXPECT_EQ(r.sightings, w.sightings);
+		EXPECT_EQ(r.still, w.still);
 	}
 }
 

@@ -215,10 +215,10 @@ bool CDualOctoMap::internal_insertObservation(
 		if (scan->hasRangeImage && scan->rangeImage_isExternallyStored()) scan->load();
 		if (!scan->hasRangeImage || scan->rangeImage.rows() == 0 || scan->cameraParams.fx() <= 0) return false;
 		const mrpt::poses::CPose3D sensorPose = robot + scan->sensorPose;
-		beforeDepthImage(*scan, robot);
+		const auto freeOnly = beforeDepthImage(*scan, robot);
 		ageRegions(*scan, sensorPose);
 		m_integrator->setThreads(insertionOptions.insertionThreads);
-		m_integrator->integrateDepthImage(*scan, sensorPose, prepareInsertion());
+		m_integrator->integrateDepthImage(*scan, sensorPose, prepareInsertion(), freeOnly);
 		finishInsertion();
 		return true;
 	}

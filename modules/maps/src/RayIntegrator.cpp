@@ -111,7 +111,8 @@ void RayIntegrator::begin(const mrpt::math::TPoint3D& origin, const ScanTargets&
 	m_hasRegions = targets.regions && !targets.regions->empty() && targets.inside;
 	if (m_hasRegions) m_insideGrid.set(targets.inside->getResolution());
 	if (targets.sketch) m_sketchGrid.set(targets.sketchResolution);
-	for (auto* s : {&m_outsideEnds, &m_insideEnds, &m_crossingEnds, &m_outsideFree, &m_outsideOccupied, &m_sketchEnds})
+	for (auto* s : {&m_outsideEnds, &m_insideEnds, &m_crossingEnds, &m_outsideFree, &m_outsideOccupied, &m_sketchEnds,
+			 &m_freeOnlyOutsideEnds, &m_freeOnlyInsideEnds})
 		s->clear();
 	if (m_hasRegions)
 	{
@@ -123,10 +124,10 @@ void RayIntegrator::begin(const mrpt::math::TPoint3D& origin, const ScanTargets&
 		m_insideFree.reset(lo, hi);
 		m_insideOccupied.reset(lo, hi);
 	}
-	m_lastOutsideKey = m_lastInsideKey = m_lastCrossingKey = 0;
+	m_lastOutsideKey = m_lastInsideKey = m_lastCrossingKey = m_lastFreeOnlyInsideKey = m_lastFreeOnlyOutsideKey = 0;
 }
 
-inline void RayIntegrator::addPoint(double x, double y, double z, bool nearRegion)
+inline void RayIntegrator::addPoint(double x, double y, double z, bool nearRegion, bool surface)
 {
 	if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) return;
 	std::uint64_t key;
@@ -134,7 +135,13 @@ inline void RayIntegrator::addPoint(double x, double y, double z, bool nearRegio
 	{
 		if (insideAnyRegion(x, y, z))
 		{
-			if (packedKeyOf(x, y, z, m_insideGrid.inverse, key) && key != m_lastInsideKey)
+			if (!packedKeyOf(x, y, z, m_insideGrid.inverse, key)) return;
+			if (!surface)
+			{
+				if (key != m_lastFreeOnlyInsideKey) m_freeOnlyInsideEnds.insert(key);
+				m_lastFreeOnlyInsideKey = key;
+			}
+			else if (key != m_lastInsideKey)
 			{
 				m_lastInsideKey = key;
 				m_insideEnds.insert(key);
@@ -154,12 +161,40 @@ inline void RayIntegrator::addPoint(double x, double y, double z, bool nearRegio
 			break;
 		}
 	}
+	if (!surface)
+	{
+		if (packedKeyOf(x, y, z, m_outsideGrid.inverse, key) && key != m_lastFreeOnlyOutsideKey)
+		{
+			m_lastFreeOnlyOutsideKey = key;
+			m_freeOnlyOutsideEnds.insert(key);
+		}
+		return;
+	}
 	if (m_targets.sketch && packedKeyOf(x, y, z, m_sketchGrid.inverse, key)) m_sketchEnds.insert(key);
 	if (!packedKeyOf(x, y, z, m_outsideGrid.inverse, key)) return;
 	// Neighbouring pixels mostly fall in the same outside voxel.
 	if (key == m_lastOutsideKey) return;
 	m_lastOutsideKey = key;
 	m_outsideEnds.insert(key);
+}
+
+void RayIntegrator::addFreeOnlyPixels(
+	const RowSetup& rs, const std::vector<std::uint32_t>& pixels, const io::DepthCamera& camera)
+{
+	// The row passes' unprojection (see integrateDepthImage), in doubles.
+	const auto& R = rs.R;
+	for (const auto i : pixels)
+	{
+		const int v = static_cast<int>(i / rs.cols), u = static_cast<int>(i % rs.cols);
+		if (v >= camera.height) break;
+		const std::uint16_t raw = (*rs.image)(v, u);
+		if (raw == 0) continue;
+		const double d = raw * static_cast<double>(rs.unitsF) * (rs.rangeToDepth ? rs.rangeToDepth[i] : 1.0f);
+		const double a = rs.colFactor[u], b = (rs.cy - v) / rs.fy;
+		addPoint(m_origin.x + d * (R(0, 0) + R(0, 1) * a + R(0, 2) * b),
+			m_origin.y + d * (R(1, 0) + R(1, 1) * a + R(1, 2) * b),
+			m_origin.z + d * (R(2, 0) + R(2, 1) * a + R(2, 2) * b), true, false);
+	}
 }
 
 void RayIntegrator::castSegment(bool inside, double a, double b, bool extendStart, bool extendEnd, double length)
@@ -250,11 +285,16 @@ void RayIntegrator::applyUpdates(
 
 void RayIntegrator::finish()
 {
-	for (const auto k : m_outsideEnds.keys())
+	for (const auto* ends : {&m_outsideEnds, &m_freeOnlyOutsideEnds})
 	{
-		const auto c = centreOf(k, m_outsideGrid.resolution);
-		if (m_targets.overlapFilter && !overlapFilterAdmits(*m_targets.overlapFilter, c)) continue;
-		castRay(c, k, Endpoint::Outside, RayPart::OutsideRegions);
+		const bool surface = ends == &m_outsideEnds;
+		for (const auto k : ends->keys())
+		{
+			if (!surface && m_outsideEnds.contains(k)) continue;
+			const auto c = centreOf(k, m_outsideGrid.resolution);
+			if (m_targets.overlapFilter && !overlapFilterAdmits(*m_targets.overlapFilter, c)) continue;
+			castRay(c, k, surface ? Endpoint::Outside : Endpoint::None, RayPart::OutsideRegions);
+		}
 	}
 	if (m_hasRegions)
 	{
@@ -262,13 +302,18 @@ void RayIntegrator::finish()
 		// an OctoMap at that resolution, one ray per outside endpoint voxel
 		// carries that part, not one per inside endpoint.
 		m_insideEndsOutsideGrid.clear();
-		for (const auto k : m_insideEnds.keys())
+		for (const auto* ends : {&m_insideEnds, &m_freeOnlyInsideEnds})
 		{
-			const auto c = centreOf(k, m_insideGrid.resolution);
-			castRay(c, k, Endpoint::Inside, RayPart::InsideRegions);
-			std::uint64_t outsideKey;
-			if (packedKeyOf(c.x, c.y, c.z, m_outsideGrid.inverse, outsideKey))
-				m_insideEndsOutsideGrid.insert(outsideKey);
+			const bool surface = ends == &m_insideEnds;
+			for (const auto k : ends->keys())
+			{
+				if (!surface && m_insideEnds.contains(k)) continue;
+				const auto c = centreOf(k, m_insideGrid.resolution);
+				castRay(c, k, surface ? Endpoint::Inside : Endpoint::None, RayPart::InsideRegions);
+				std::uint64_t outsideKey;
+				if (packedKeyOf(c.x, c.y, c.z, m_outsideGrid.inverse, outsideKey))
+					m_insideEndsOutsideGrid.insert(outsideKey);
+			}
 		}
 		for (const auto k : m_insideEndsOutsideGrid.keys())
 			castRay(centreOf(k, m_outsideGrid.resolution), k, Endpoint::None, RayPart::OutsideRegions);
@@ -357,8 +402,9 @@ void RayIntegrator::scanBands(const RowSetup& rs, int rows)
 	}
 }
 
-void RayIntegrator::integrateDepthImage(
-	const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& sensorPose, const ScanTargets& targets)
+void RayIntegrator::integrateDepthImage(const mrpt::obs::CObservation3DRangeScan& obs,
+	const mrpt::poses::CPose3D& sensorPose, const ScanTargets& targets,
+	const std::vector<std::uint32_t>& freeOnlyPixels)
 {
 	begin(sensorPose.translation(), targets);
 	const auto& img = obs.rangeImage;
@@ -396,8 +442,18 @@ void RayIntegrator::integrateDepthImage(
 	rs.colFactor = m_columnFactor.data();
 	rs.rangeToDepth = m_rangeToDepth.empty() ? nullptr : m_rangeToDepth.data();
 	rs.regions = m_hasRegions ? &targets.regions->boxes : nullptr;
+	if (!freeOnlyPixels.empty())
+	{
+		// The row passes take these pixels as without depth; their rays are
+		// cast below, with no endpoint.
+		m_freeOnlyMask.assign(static_cast<std::size_t>(rows) * cols, 0);
+		for (const auto i : freeOnlyPixels)
+			if (i < m_freeOnlyMask.size()) m_freeOnlyMask[i] = 1;
+		rs.freeOnly = m_freeOnlyMask.data();
+	}
 
 	scanBands(rs, rows);
+	addFreeOnlyPixels(rs, freeOnlyPixels, camera);
 	if (m_targets.sketch) forgetSketchSeenThrough(obs, sensorPose, camera);
 	finish();
 }
@@ -507,6 +563,7 @@ void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band
 		const RowKeys inside = rowKeys(v, 1), insideAbove = rowKeys(v + 1, 1);
 		rowDepth(&(*rs.image)(v, 0), rs.rangeToDepth ? rs.rangeToDepth + static_cast<std::size_t>(v) * n : nullptr,
 			rs.unitsF, cols, depth);
+		if (rs.freeOnly) maskWhereSet(rs.freeOnly + static_cast<std::size_t>(v) * n, cols, depth);
 		pointRowKeys(rays, depth, outsideInverse, cols, outside);
 
 		// Columns of this row whose rays can reach a region (empty: none).

@@ -44,9 +44,11 @@ struct ScanTargets
 class RayIntegrator
 {
    public:
-	/** Unprojects the depth image itself (no points3D needed). */
+	/** Unprojects the depth image itself (no points3D needed). The rays of
+	 *  `freeOnlyPixels` (indices row * cols + col, sorted) carve free space as
+	 *  any other, but their endpoints are not marked occupied. */
 	void integrateDepthImage(const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& sensorPose,
-		const ScanTargets& targets);
+		const ScanTargets& targets, const std::vector<std::uint32_t>& freeOnlyPixels = {});
 	/** Points in the world frame, rays from `origin`. */
 	void integrateWorldPoints(const float* xs, const float* ys, const float* zs, std::size_t n,
 		const mrpt::math::TPoint3D& origin, const ScanTargets& targets);
@@ -86,6 +88,8 @@ class RayIntegrator
 		const float* colFactor = nullptr;
 		const float* rangeToDepth = nullptr;  //!< per pixel, range images only
 		const std::vector<Region>* regions = nullptr;
+		/** Per pixel, 1 where the endpoint is free only (null: none). */
+		const std::uint8_t* freeOnly = nullptr;
 	};
 	/** One band of rows' endpoint sets and scratch rows. */
 	struct PixelBand
@@ -110,7 +114,11 @@ class RayIntegrator
 	void begin(const mrpt::math::TPoint3D& origin, const ScanTargets& targets);
 	/** `nearRegion`: the ray may end in or cross a region (false lets the
 	 *  depth-image path skip the region tests for most pixels). */
-	void addPoint(double x, double y, double z, bool nearRegion);
+	/** `surface` false: the ray carves free space, the point is no surface
+	 *  (a free-only endpoint). */
+	void addPoint(double x, double y, double z, bool nearRegion, bool surface = true);
+	/** The free-only points of `pixels` (those with depth). */
+	void addFreeOnlyPixels(const RowSetup& rs, const std::vector<std::uint32_t>& pixels, const io::DepthCamera& camera);
 	void finish();
 	/** Clears the sketch's bits of the high voxels that this depth image sees
 	 *  through. */
@@ -140,6 +148,9 @@ class RayIntegrator
 	 *  cross a region without ending in one, the inside voxel where they leave
 	 *  it (point clouds: the inside voxel of the endpoint). */
 	KeySet m_outsideEnds, m_insideEnds, m_crossingEnds;
+	/** Endpoint voxels of free-only points: outside regions and inside them. */
+	KeySet m_freeOnlyOutsideEnds, m_freeOnlyInsideEnds;
+	std::vector<std::uint8_t> m_freeOnlyMask;
 	/** High voxels of the endpoints in low-tree space, for the sketch. */
 	KeySet m_sketchEnds;
 	/** The outside grid's voxels of m_insideEnds. */
@@ -147,6 +158,7 @@ class RayIntegrator
 	KeySet m_outsideFree, m_outsideOccupied;
 	BoxKeySet m_insideFree, m_insideOccupied;
 	std::uint64_t m_lastOutsideKey = 0, m_lastInsideKey = 0, m_lastCrossingKey = 0;
+	std::uint64_t m_lastFreeOnlyInsideKey = 0, m_lastFreeOnlyOutsideKey = 0;
 	BatchUpdate m_batch;
 	std::vector<std::pair<double, double>> m_intervals;
 	std::vector<float> m_columnFactor;

@@ -117,6 +117,12 @@ AVM_ROW_PASS void flagNewVoxels(const RowKeys& row, const RowKeys& above, int fr
 			differs(u, ax, ay, az, u) & differs(u, x, y, z, u - 1) & differs(u, x, y, z, u - 2));
 }
 
+/** depth[u] = 0 ("no depth") wherever mask[u] is set. */
+AVM_ROW_PASS void maskWhereSet(const std::uint8_t* mask, int cols, float* depth)
+{
+	for (int u = 0; u < cols; u++) depth[u] = mask[u] != 0 ? 0.0f : depth[u];
+}
+
 /** x[u] = -1 ("no voxel") wherever reference[u] is -1. */
 AVM_ROW_PASS void maskWhereNone(const int* reference, int cols, int* x)
 {

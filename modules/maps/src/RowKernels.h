@@ -59,6 +59,9 @@ void insideRowKeys(const RowRays& r, const float* depth, const float* inside, co
  *  the others need no lookup (doc/map.md says how few are left). */
 void flagNewVoxels(const RowKeys& row, const RowKeys& above, int from, int to, std::uint8_t* flags);
 
+/** depth[u] = 0 ("no depth") wherever mask[u] is set. */
+void maskWhereSet(const std::uint8_t* mask, int cols, float* depth);
+
 /** x[u] = -1 ("no voxel") wherever reference[u] is -1. */
 void maskWhereNone(const int* reference, int cols, int* x);
 

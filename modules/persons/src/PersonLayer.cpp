@@ -1,5 +1,9 @@
 #include "avm/persons/PersonLayer.h"
 
+#include <algorithm>
+#include <cmath>
+
+#include "avm/io/DepthCamera.h"
 #include "avm/io/IniKeys.h"
 
 namespace avm::persons
@@ -36,6 +40,96 @@ std::vector<PersonObservation> PersonLayer::observe(const mrpt::obs::CObservatio
 	return out;
 }
 
+namespace
+{
+/** Pixels [u0, u1] x [v0, v1] (inclusive, clipped to the image) whose rays
+ *  can reach `box`: its corners' projection grown by a pixel, the whole image
+ *  when a corner is behind the camera; empty (u0 > u1) when it is off the image. */
+struct PixelRect
+{
+	int u0, u1, v0, v1;
+};
+PixelRect pixelRectOf(
+	const mrpt::math::TBoundingBox& box, const mrpt::poses::CPose3D& sensorPose, const io::DepthCamera& camera)
+{
+	const PixelRect whole{0, camera.width - 1, 0, camera.height - 1};
+	double u0 = camera.width, u1 = -1, v0 = camera.height, v1 = -1;
+	for (int corner = 0; corner < 8; corner++)
+	{
+		const mrpt::math::TPoint3D w(
+			corner & 1 ? box.max.x : box.min.x, corner & 2 ? box.max.y : box.min.y, corner & 4 ? box.max.z : box.min.z);
+		const auto s = sensorPose.inverseComposePoint(w);
+		if (!(s.x > 1e-3)) return whole;
+		const auto p = camera.pixelOf(s);
+		u0 = std::min(u0, p.x), u1 = std::max(u1, p.x), v0 = std::min(v0, p.y), v1 = std::max(v1, p.y);
+	}
+	// Clamped in doubles first: a corner just in front of the camera
+	// projects far beyond what an int holds.
+	const auto clamp = [](double x, int hi) { return static_cast<int>(std::clamp(x, -1.0, double(hi))); };
+	return {std::max(clamp(std::floor(u0) - 1, camera.width), 0),
+		std::min(clamp(std::ceil(u1) + 1, camera.width), camera.width - 1),
+		std::max(clamp(std::floor(v0) - 1, camera.height), 0),
+		std::min(clamp(std::ceil(v1) + 1, camera.height), camera.height - 1)};
+}
+}  // namespace
+
+PixelSet PersonLayer::movingPersonPixels(const mrpt::obs::CObservation3DRangeScan& obs,
+	const mrpt::poses::CPose3D& sensorPoseInWorld, double horizon, double margin) const
+{
+	PixelSet pixels;
+	if (!obs.hasRangeImage || obs.rangeImage.cols() == 0) return pixels;
+	const double time = mrpt::Clock::toDouble(obs.timestamp);
+	const auto camera = io::DepthCamera::of(obs);
+	std::vector<mrpt::math::TBoundingBox> boxes;
+	std::vector<PixelRect> rects;
+	for (const auto& t : tracks())
+	{
+		const double since = time - t.lastTime;
+		if (t.still || since > horizon) continue;
+		const auto moved = t.velocity * std::max(0.0, since);
+		const mrpt::math::TPoint3D grow(margin, margin, margin);
+		const mrpt::math::TBoundingBox box(t.box.min + moved - grow, t.box.max + moved + grow);
+		const auto rect = pixelRectOf(box, sensorPoseInWorld, camera);
+		if (rect.u0 > rect.u1 || rect.v0 > rect.v1) continue;
+		boxes.push_back(box);
+		rects.push_back(rect);
+	}
+	if (boxes.empty()) return pixels;
+	// Pixel (u, v) at depth d lies at t + d * (c0 + a_u c1 + b_v c2), the
+	// columns c of the rotation, a_u = (cx - u) / fx, b_v = (cy - v) / fy.
+	const auto& R = sensorPoseInWorld.getRotationMatrix();
+	const auto t = sensorPoseInWorld.translation();
+	const mrpt::math::TPoint3D c0(R(0, 0), R(1, 0), R(2, 0)), c1(R(0, 1), R(1, 1), R(2, 1)),
+		c2(R(0, 2), R(1, 2), R(2, 2));
+	const auto& image = obs.rangeImage;
+	std::vector<std::uint8_t> covered(static_cast<std::size_t>(camera.width));
+	for (int v = 0; v < camera.height; v++)
+	{
+		int from = camera.width, to = -1;
+		for (const auto& r : rects)
+			if (v >= r.v0 && v <= r.v1)
+			{
+				std::fill(covered.begin() + r.u0, covered.begin() + r.u1 + 1, 1);
+				from = std::min(from, r.u0), to = std::max(to, r.u1);
+			}
+		const double b = (camera.cy - v) / camera.fy;
+		const auto rowBase = c0 + c2 * b;
+		for (int u = from; u <= to; u++)
+		{
+			if (!covered[u] || image(v, u) == 0) continue;
+			covered[u] = 0;
+			const double a = (camera.cx - u) / camera.fx;
+			double d = image(v, u) * obs.rangeUnits;
+			if (!camera.rangeIsDepth) d /= std::sqrt(1 + a * a + b * b);
+			const auto p = t + (rowBase + c1 * a) * d;
+			if (std::any_of(boxes.begin(), boxes.end(), [&](const auto& box) { return box.containsPoint(p); }))
+				pixels.push_back(static_cast<std::uint32_t>(v * camera.width + u));
+		}
+		if (from <= to) std::fill(covered.begin() + from, covered.begin() + to + 1, 0);
+	}
+	return pixels;
+}
+
 io::IniKeys<TPersonLayerOptions> TPersonLayerOptions::iniKeys()
 {
 	using O = TPersonLayerOptions;
@@ -66,6 +160,13 @@ io::IniKeys<TPersonLayerOptions> TPersonLayerOptions::iniKeys()
 			{[](double v) { return v >= 0; }, "must be >= 0 m/s"})
 		.number("track_max_gate", &O::tracking, &T::maxGate, "m",
 			"widest gate: a person back near where last seen keeps the id")
+		.number("person_still_fraction", &O::tracking, &T::stillFraction, "share of the box's mean edge",
+			"a person who stays within this share of their own size of one place for person_still_after_s is still "
+			"and mapped like any surface; else moving, and their pixels carve free space but are no surface",
+			{[](double v) { return v >= 0; }, "must be >= 0"})
+		.number("person_still_after_s", &O::tracking, &T::stillAfter, "s",
+			"how long a person must stay in one place to be still",
+			{[](double v) { return v >= 0; }, "must be >= 0 seconds"})
 		.check(
 			"track_max_gate", [](const O& o) { return o.tracking.maxGate >= o.tracking.gate; },
 			"must be >= track_gate");

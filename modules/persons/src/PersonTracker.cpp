@@ -35,6 +35,15 @@ std::vector<std::uint32_t> PersonTracker::update(
 	std::vector<bool> trackTaken(m_tracks.size(), false);
 	const auto record = [&](PersonTrack& track, const PersonSighting& s)
 	{
+		const double dt = time - track.lastTime;
+		track.velocity =
+			track.sightings > 0 && dt > 0 ? (s.position - track.position) * (1.0 / dt) : mrpt::math::TPoint3D(0, 0, 0);
+		if (track.sightings == 0 || (s.position - track.settledAt).norm() > m_options.stillFraction * meanEdge(s.box))
+		{
+			track.settledAt = s.position;
+			track.settledSince = time;
+		}
+		track.still = time - track.settledSince >= m_options.stillAfter;
 		track.lastFrame = frame;
 		track.lastTime = time;
 		track.position = s.position;
@@ -62,16 +71,24 @@ std::vector<std::uint32_t> PersonTracker::update(
 	return ids;
 }
 
+double meanEdge(const mrpt::math::TBoundingBox& box)
+{
+	const auto edge = box.max - box.min;
+	return (edge.x + edge.y + edge.z) / 3.0;
+}
+
 void PersonTracker::serializeTo(mrpt::serialization::CArchive& out) const
 {
 	out.WriteAs<uint32_t>(m_tracks.size());
 	for (const auto& t : m_tracks)
 		out << t.id << static_cast<uint64_t>(t.firstFrame) << static_cast<uint64_t>(t.lastFrame) << t.firstTime
 			<< t.lastTime << t.position.x << t.position.y << t.position.z << t.box.min.x << t.box.min.y << t.box.min.z
-			<< t.box.max.x << t.box.max.y << t.box.max.z << static_cast<uint64_t>(t.sightings);
+			<< t.box.max.x << t.box.max.y << t.box.max.z << static_cast<uint64_t>(t.sightings) << t.velocity.x
+			<< t.velocity.y << t.velocity.z << t.settledAt.x << t.settledAt.y << t.settledAt.z << t.settledSince
+			<< t.still;
 }
 
-void PersonTracker::serializeFrom(mrpt::serialization::CArchive& in)
+void PersonTracker::serializeFrom(mrpt::serialization::CArchive& in, bool withMotion)
 {
 	m_tracks.resize(in.ReadAs<uint32_t>());
 	for (auto& t : m_tracks)
@@ -80,6 +97,11 @@ void PersonTracker::serializeFrom(mrpt::serialization::CArchive& in)
 		in >> t.id >> first >> last >> t.firstTime >> t.lastTime >> t.position.x >> t.position.y >> t.position.z >>
 			t.box.min.x >> t.box.min.y >> t.box.min.z >> t.box.max.x >> t.box.max.y >> t.box.max.z >> count;
 		t.firstFrame = first, t.lastFrame = last, t.sightings = count;
+		if (withMotion)
+			in >> t.velocity.x >> t.velocity.y >> t.velocity.z >> t.settledAt.x >> t.settledAt.y >> t.settledAt.z >>
+				t.settledSince >> t.still;
+		else
+			t.settledAt = t.position, t.settledSince = t.lastTime;
 	}
 }
 }  // namespace avm::persons

@@ -11,7 +11,7 @@ namespace
 {
 constexpr const char* kHeader =
 	"id,first_frame,last_frame,first_time,last_time,x,y,z,box_min_x,box_min_y,box_min_z,box_max_x,box_max_y,"
-	"box_max_z,detections";
+	"box_max_z,detections,state";
 }  // namespace
 
 std::string personsCsvText(const std::vector<PersonTrack>& tracks)
@@ -21,9 +21,10 @@ std::string personsCsvText(const std::vector<PersonTrack>& tracks)
 	for (const auto& t : tracks)
 	{
 		char line[512];
-		std::snprintf(line, sizeof(line), "%u,%zu,%zu,%.6f,%.6f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%zu\n",
+		std::snprintf(line, sizeof(line), "%u,%zu,%zu,%.6f,%.6f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%zu,%s\n",
 			t.id, t.firstFrame, t.lastFrame, t.firstTime, t.lastTime, t.position.x, t.position.y, t.position.z,
-			t.box.min.x, t.box.min.y, t.box.min.z, t.box.max.x, t.box.max.y, t.box.max.z, t.sightings);
+			t.box.min.x, t.box.min.y, t.box.min.z, t.box.max.x, t.box.max.y, t.box.max.z, t.sightings,
+			t.still ? "still" : "moving");
 		out << line;
 	}
 	return out.str();
@@ -41,11 +42,13 @@ std::vector<PersonTrack> readPersonsCsv(const std::filesystem::path& file)
 	{
 		if (line.empty()) continue;
 		PersonTrack t;
-		char end = 0;
-		const int read = std::sscanf(line.c_str(), "%u,%zu,%zu,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%zu%c",
-			&t.id, &t.firstFrame, &t.lastFrame, &t.firstTime, &t.lastTime, &t.position.x, &t.position.y, &t.position.z,
-			&t.box.min.x, &t.box.min.y, &t.box.min.z, &t.box.max.x, &t.box.max.y, &t.box.max.z, &t.sightings, &end);
-		if (read != 15)
+		char end = 0, state[8] = {};
+		const int read = std::sscanf(line.c_str(),
+			"%u,%zu,%zu,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%zu,%7[a-z]%c", &t.id, &t.firstFrame, &t.lastFrame,
+			&t.firstTime, &t.lastTime, &t.position.x, &t.position.y, &t.position.z, &t.box.min.x, &t.box.min.y,
+			&t.box.min.z, &t.box.max.x, &t.box.max.y, &t.box.max.z, &t.sightings, state, &end);
+		t.still = std::string(state) == "still";
+		if (read != 16 || (!t.still && std::string(state) != "moving"))
 			throw std::runtime_error(file.string() + ":" + std::to_string(lineNo) + ": not a persons.csv line");
 		tracks.push_back(t);
 	}

@@ -105,10 +105,16 @@ std::vector<persons::PersonObservation> CAdaptiveOctoMap::observePersons(const m
 	return seen;
 }
 
-void CAdaptiveOctoMap::beforeDepthImage(
+CDualOctoMap::DepthPixels CAdaptiveOctoMap::beforeDepthImage(
 	const mrpt::obs::CObservation3DRangeScan& scan, const mrpt::poses::CPose3D& robotPose)
 {
 	observePersons(scan, robotPose,
 		persons::personPixelsFromLabels(scan, personOptions.personLabel, personOptions.sighting.minPixels),
 		insertionCount());
+	// Algorithm 1 maps every point; the region policy knows who moves. A
+	// person unseen for as long as a region lasts unseen is no longer
+	// followed; the region margin is how far they may stray from their box.
+	if (insertionOptions.switchPolicy != SwitchPolicy::Region) return {};
+	return m_persons.movingPersonPixels(
+		scan, robotPose + scan.sensorPose, insertionOptions.regionEndAfterSeconds, personOptions.regionMargin);
 }

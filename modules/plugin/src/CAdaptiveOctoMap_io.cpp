@@ -12,8 +12,9 @@ using namespace avm;
 
 IMPLEMENTS_SERIALIZABLE(CAdaptiveOctoMap, CMetricMap, avm)
 
-// Version 1: per-person regions and person tracks.
-uint8_t CAdaptiveOctoMap::serializeGetVersion() const { return 1; }
+// Version 1: per-person regions and person tracks. Version 2: the tracks'
+// motion (velocity, where and since when the person stays) and the still keys.
+uint8_t CAdaptiveOctoMap::serializeGetVersion() const { return 2; }
 
 void CAdaptiveOctoMap::serializeTo(mrpt::serialization::CArchive& out) const
 {
@@ -27,7 +28,7 @@ void CAdaptiveOctoMap::serializeTo(mrpt::serialization::CArchive& out) const
 	out << i.regionEndAfterSeconds << p.personLabel << p.sighting.depthBand << p.sighting.percentile
 		<< static_cast<uint64_t>(p.sighting.minPixels) << p.sighting.minDepthFraction << p.tracking.gate
 		<< p.tracking.gateGrowth << p.tracking.maxGate << i.switchAtFrame << i.switchAtFraction << i.expectedFrameCount
-		<< i.insertionThreads;
+		<< i.insertionThreads << p.tracking.stillFraction << p.tracking.stillAfter;
 	out << likelihoodOptions.decimation << renderingOptions.showFreeSpace << renderingOptions.showRegions;
 	writeRegions(out);
 	m_persons.serializeTo(out);
@@ -36,7 +37,7 @@ void CAdaptiveOctoMap::serializeTo(mrpt::serialization::CArchive& out) const
 
 void CAdaptiveOctoMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t version)
 {
-	if (version != 1) MRPT_THROW_UNKNOWN_SERIALIZATION_VERSION(version);
+	if (version != 1 && version != 2) MRPT_THROW_UNKNOWN_SERIALIZATION_VERSION(version);
 	in >> genericMapParams;
 	readTreeOptions(in);
 	auto& i = insertionOptions;
@@ -52,12 +53,13 @@ void CAdaptiveOctoMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t 
 		p.sighting.minDepthFraction >> p.tracking.gate >> p.tracking.gateGrowth >> p.tracking.maxGate >>
 		i.switchAtFrame >> i.switchAtFraction >> i.expectedFrameCount >> i.insertionThreads;
 	p.sighting.minPixels = minPixels;
+	if (version >= 2) in >> p.tracking.stillFraction >> p.tracking.stillAfter;
 	in >> likelihoodOptions.decimation >> renderingOptions.showFreeSpace >> renderingOptions.showRegions;
 	creationOptions().validate("serialized creationOpts");
 	insertionOptions.validate("serialized insertOpts");
 	personOptions.validate("serialized insertOpts");
 	readRegions(in);
 	m_persons = persons::PersonLayer(p.tracking);
-	m_persons.serializeFrom(in);
+	m_persons.serializeFrom(in, version >= 2);
 	readTrees(in);
 }

@@ -60,11 +60,25 @@ class PersonLayer
 		const mrpt::poses::CPose3D& sensorPoseInWorld, const std::vector<PixelSet>& persons, std::size_t frameIndex,
 		const SightingOptions& sighting, double regionMargin);
 
+	/** The pixels of `obs` (its depth sensor at `sensorPoseInWorld`) that are
+	 *  persons on the move, sorted: for each moving track seen at most
+	 *  `horizon` [s] before the image, its last box carried on by its velocity
+	 *  to the image's time and grown by `margin` [m] on each side; the pixels
+	 *  whose points lie in such a box. Their rays see free space up to the
+	 *  person; their endpoints are no surface. Between two detections the
+	 *  track carries the person's pixels forward this way. */
+	PixelSet movingPersonPixels(const mrpt::obs::CObservation3DRangeScan& obs,
+		const mrpt::poses::CPose3D& sensorPoseInWorld, double horizon, double margin) const;
+
 	/** Every person seen so far, in order of id. */
 	const std::vector<PersonTrack>& tracks() const { return m_tracker.tracks(); }
 
 	void serializeTo(mrpt::serialization::CArchive& out) const { m_tracker.serializeTo(out); }
-	void serializeFrom(mrpt::serialization::CArchive& in) { m_tracker.serializeFrom(in); }
+	/** `withMotion`: see PersonTracker::serializeFrom. */
+	void serializeFrom(mrpt::serialization::CArchive& in, bool withMotion = true)
+	{
+		m_tracker.serializeFrom(in, withMotion);
+	}
 
    private:
 	PersonTracker m_tracker;

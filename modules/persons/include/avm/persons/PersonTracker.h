@@ -10,6 +10,11 @@
 // expire: a person out of view for a while and seen again near the same place
 // keeps the id. Pairs are taken in the order (distance, track id, sighting
 // index), so the same sightings always give the same ids.
+//
+// A track is still once its person has stayed within `stillFraction` of their
+// own size (the mean edge of their box) of one place for `stillAfter` seconds:
+// a victim lying still or a worker at a desk, mapped like any surface. Any
+// other track is moving, and its pixels are no surface (PersonLayer).
 #pragma once
 
 #include <mrpt/math/TBoundingBox.h>
@@ -31,6 +36,11 @@ struct TrackerOptions
 	double gate = 0.6;        //!< [m] gate of a track seen in the same instant
 	double gateGrowth = 1.0;  //!< [m/s] gate widening per second unseen (walking pace)
 	double maxGate = 1.5;     //!< [m] widest gate
+	/** [share of the box's mean edge] farthest a still person may move from
+	 *  where they settled: scale-free, so near and far persons, standing or
+	 *  lying, are judged alike. */
+	double stillFraction = 0.25;
+	double stillAfter = 2.0;  //!< [s] a person settled this long is still
 };
 
 struct PersonTrack
@@ -41,7 +51,16 @@ struct PersonTrack
 	mrpt::math::TPoint3D position;       //!< last world position
 	mrpt::math::TBoundingBox box;        //!< last world box (no margin)
 	std::size_t sightings = 0;
+	/** [m/s] between the last two sightings (zero after the first). */
+	mrpt::math::TPoint3D velocity{0, 0, 0};
+	/** Where and since when [s] the person has stayed (within stillFraction). */
+	mrpt::math::TPoint3D settledAt;
+	double settledSince = 0;
+	bool still = false;  //!< settled for stillAfter, as of the last sighting
 };
+
+/** The mean edge [m] of a box: the size a still person's motion is judged by. */
+double meanEdge(const mrpt::math::TBoundingBox& box);
 
 class PersonTracker
 {
@@ -55,8 +74,10 @@ class PersonTracker
 	/** Every track so far, in order of id. */
 	const std::vector<PersonTrack>& tracks() const { return m_tracks; }
 
+	/** `withMotion`: the velocity and settling state too (the plugin map's
+	 *  stream from version 2 on; version 1 streams lack them). */
 	void serializeTo(mrpt::serialization::CArchive& out) const;
-	void serializeFrom(mrpt::serialization::CArchive& in);
+	void serializeFrom(mrpt::serialization::CArchive& in, bool withMotion = true);
 
    private:
 	TrackerOptions m_options;

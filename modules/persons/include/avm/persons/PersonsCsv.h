@@ -1,6 +1,6 @@
 // persons.csv, the list a rescue team reads first: one line per person track
 // (id, first and last frame and time, last world position and box, number of
-// sightings). Written by avm-map, read back by avm-view and the tests.
+// sightings, and whether the person was still or moving at the end). Written by avm-map, read back by avm-view and the tests.
 #pragma once
 
 #include <filesystem>

@@ -57,8 +57,10 @@ class CAdaptiveOctoMap : public CDualOctoMap
    protected:
 	void internal_clear() override;
 	/** The persons labelled in the image are observed before it is inserted, so
-	 *  the image is mapped with their regions in place. */
-	void beforeDepthImage(
+	 *  the image is mapped with their regions in place. Region policy: the
+	 *  pixels of the persons on the move are free only (a person walking
+	 *  through leaves no trail); a still person is mapped like any surface. */
+	DepthPixels beforeDepthImage(
 		const mrpt::obs::CObservation3DRangeScan& scan, const mrpt::poses::CPose3D& robotPose) override;
 
    private:

@@ -1,0 +1,46 @@
+// avm-trail: the trail moving people leave in a map: occupied volume where a
+// reference built without the people's pixels says the space is free, for
+// avm-map outputs and for single OctoMaps of the same frames.
+#include <mrpt/3rdparty/tclap/CmdLine.h>
+
+#include <iostream>
+
+#include "avm/io/ProgramMain.h"
+#include "avm/plugin/TrailShare.h"
+
+int main(int argc, char** argv)
+{
+	return avm::io::runProgram("avm-trail", "Trail share of maps against a reference without the persons' pixels.",
+		[&](avm::io::CommandLine& cmd)
+		{
+			TCLAP::UnlabeledValueArg<std::string> argRawlog("RAWLOG",
+				"rawlog with ground truth and person labels on every frame (avm-detect --every 1)", true, "", "RAWLOG",
+				cmd);
+			TCLAP::MultiArg<std::string> argMap(
+				"m", "map", "avm-map output folder (map_low.bt, map_high.bt) built with -p gt", false, "DIR", cmd);
+			TCLAP::ValueArg<std::size_t> argFrames(
+				"", "frames", "use the first N frames with ground truth (default all)", false, 0, "N", cmd);
+			TCLAP::ValueArg<double> argRange(
+				"", "max-range", "max range [m] of the references and single maps (default 5)", false, 5.0, "M", cmd);
+			TCLAP::ValueArg<double> argHigh("", "high", "fine resolution [m] (default 0.05)", false, 0.05, "M", cmd);
+			TCLAP::ValueArg<double> argLow("", "low", "coarse resolution [m] (default 0.20)", false, 0.20, "M", cmd);
+			cmd.parse(argc, argv);
+
+			avm::maps::TrailOptions opt;
+			opt.rawlog = argRawlog.getValue();
+			for (const auto& m : argMap.getValue()) opt.avmMaps.emplace_back(m);
+			opt.maxFrames = argFrames.getValue();
+			opt.maxRange = argRange.getValue();
+			opt.highResolution = argHigh.getValue();
+			opt.lowResolution = argLow.getValue();
+			if (!(opt.maxRange > 0)) throw std::runtime_error("--max-range must be > 0");
+			if (!(opt.highResolution > 0) || !(opt.lowResolution > opt.highResolution))
+				throw std::runtime_error("--high must be > 0 and --low above it");
+			avm::io::useImagesFolderOf(opt.rawlog);
+			avm::io::ProgressBar bar(false);
+			const auto result = avm::maps::measureTrails(opt, [&bar](std::size_t done, std::size_t total)
+				{ bar.show(double(done) / double(total), std::to_string(done) + "/" + std::to_string(total)); });
+			std::cout << avm::maps::toMarkdown(result);
+			return 0;
+		});
+}

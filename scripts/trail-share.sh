@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# The trail moving people leave (issue 32): labels every frame with avm-detect
+# (--every 1, whole detector boxes), runs avm-map with ground-truth poses, and
+# prints avm-trail's table: occupied volume that an octomap reference built
+# without the person boxes says is free, for avm and single OctoMaps.
+#   scripts/trail-share.sh RAWLOG INI OUTDIR
+set -euo pipefail
+rawlog=$(realpath "$1"); ini=$(realpath "$2"); out=$3
+root=$(cd "$(dirname "$0")/.." && pwd)
+mkdir -p "$out"; out=$(realpath "$out")
+cd "$out"
+"$root/build/bin/avm-detect" -q -c "$ini" --root "$root" -r "$rawlog" -o labelled.rawlog --every 1 > detect.log
+"$root/build/bin/avm-map" -q -c "$ini" -p gt -r "$rawlog" -o "$out/avm" > avm-map.log
+"$root/build/bin/avm-trail" -m avm labelled.rawlog 2>/dev/null

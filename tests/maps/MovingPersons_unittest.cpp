@@ -1,0 +1,147 @@
+// People are objects, not walls (issue 32), on real data: Bonn crowd frames
+// with ground-truth poses and YOLOX person boxes. A person walking through
+// leaves (almost) no occupied voxels where a reference that never saw the
+// people says the space is free; a person who stays still is mapped; the
+// paper policy (Algorithm 1) still maps every point.
+#include <gtest/gtest.h>
+#include <octomap/OcTree.h>
+
+#include <map>
+
+#include "BonnFrames.h"
+#include "avm/detection/Detector.h"
+#include "avm/detection/PersonLabels.h"
+#include "avm/io/RgbdFrame.h"
+#include "avm/plugin/CAdaptiveOctoMap.h"
+#include "avm/plugin/TrailShare.h"
+
+using avm::CAdaptiveOctoMap;
+using avm::test::MapFrame;
+
+namespace
+{
+/** Every 2nd frame of 60..240, where people walk through the view: each
+ *  frame with its detector boxes as person labels. */
+struct LabelledFrame
+{
+	MapFrame frame;
+	mrpt::obs::CObservation3DRangeScan::Ptr labelled;
+};
+const std::vector<LabelledFrame>& labelledFrames()
+{
+	static const auto frames = []
+	{
+		avm::detection::TDetectorOptions o;
+		o.model = avm::test::sharedFile("models/yolox_nano.onnx").string();
+		const auto detector = avm::detection::createDetector(o);
+		std::vector<LabelledFrame> out;
+		for (const auto& f : avm::test::bonnFrames(240, 2))
+		{
+			if (f.index < 60) continue;
+			auto labelled = mrpt::obs::CObservation3DRangeScan::Create(*f.obs);
+			avm::detection::writePersonLabels(
+				*labelled, avm::detection::personsOnly(detector->detect(avm::io::colourImage(*f.obs))));
+			out.push_back({f, labelled});
+		}
+		return out;
+	}();
+	return frames;
+}
+
+/** The trail (low + high) of a map built from the frames, labels on every
+ *  3rd frame as avm-map detects, against references without any person box. */
+avm::maps::TrailRow trailOf(const CAdaptiveOctoMap& map, const avm::maps::TrailReference& high,
+	const avm::maps::TrailReference& low, const std::string& name)
+{
+	auto row = high.judge(*map.tree(avm::Resolution::High), name);
+	const auto coarse = low.judge(*map.tree(avm::Resolution::Low), name);
+	row.occupiedM3 += coarse.occupiedM3;
+	row.trailM3 += coarse.trailM3;
+	return row;
+}
+
+CAdaptiveOctoMap regionMap(double stillAfter)
+{
+	avm::persons::TPersonLayerOptions people;
+	people.tracking.stillAfter = stillAfter;
+	return CAdaptiveOctoMap({}, {}, {}, people);
+}
+
+std::size_t occupiedIn(const CAdaptiveOctoMap& map, const mrpt::math::TBoundingBox& box)
+{
+	std::size_t n = 0;
+	for (const auto which : {avm::Resolution::Low, avm::Resolution::High})
+		map.forEachLeaf(which,
+			[&](const avm::TLeafVoxel& v)
+			{
+				if (v.occupied && box.containsPoint(v.center)) ++n;
+			});
+	return n;
+}
+}  // namespace
+
+TEST(MovingPersons, AMovingPersonLeavesNoTrail)
+{
+	avm::maps::TrailReference high(0.05, 5.0), low(0.20, 5.0);
+	// Every person is still at once: the map as it was before moving persons
+	// were told apart (all their pixels are walls).
+	auto objects = regionMap(2.0), walls = regionMap(0.0);
+	std::size_t i = 0;
+	for (const auto& lf : labelledFrames())
+	{
+		const auto cut = avm::maps::personPixelMask(*lf.labelled, "person");
+		high.insert(*lf.frame.obs, lf.frame.pose, cut);
+		low.insert(*lf.frame.obs, lf.frame.pose, cut);
+		const auto& input = i++ % 3 == 0 ? *lf.labelled : *lf.frame.obs;
+		ASSERT_TRUE(objects.insertObservation(input, lf.frame.pose));
+		ASSERT_TRUE(walls.insertObservation(input, lf.frame.pose));
+	}
+	ASSERT_GE(objects.personTracks().size(), 1u);
+	const auto o = trailOf(objects, high, low, "objects"), w = trailOf(walls, high, low, "walls");
+	const auto single = high.judge(high.single(), "single 0.05 m");
+	std::cout << "trail share: persons as objects " << o.share() << " (" << o.trailM3 << " m3), as walls " << w.share()
+			  << " (" << w.trailM3 << " m3), single 0.05 m OctoMap " << single.share() << "\n";
+	EXPECT_LT(o.trailM3, 0.5 * w.trailM3);
+	EXPECT_LT(o.share(), single.share());
+	// The rest of the scene is still mapped: most of the walls' occupied volume.
+	EXPECT_GT(o.occupiedM3, 0.8 * w.occupiedM3);
+}
+
+TEST(MovingPersons, APersonWhoStaysStillIsMappedAndPaperMapsEveryPoint)
+{
+	// The first frame with a person, seen again and again 0.1 s apart: a
+	// person who does not move.
+	const LabelledFrame* seen = nullptr;
+	for (const auto& lf : labelledFrames())
+		if (!avm::maps::personPixelMask(*lf.labelled, "person").empty() &&
+			avm::persons::personPixelsFromLabels(*lf.labelled, "person", 200).size() == 1)
+		{
+			seen = &lf;
+			break;
+		}
+	ASSERT_NE(seen, nullptr);
+	auto map = regionMap(2.0);
+	const auto t0 = seen->labelled->timestamp;
+	std::map<int, std::size_t> occupiedAfter;
+	mrpt::math::TBoundingBox person;
+	for (int k = 0; k <= 30; k++)
+	{
+		auto again = mrpt::obs::CObservation3DRangeScan::Create(*seen->labelled);
+		again->timestamp = t0 + std::chrono::milliseconds(100 * k);
+		ASSERT_TRUE(map.insertObservation(*again, seen->frame.pose));
+		ASSERT_EQ(map.personTracks().size(), 1u);
+		person = map.personTracks()[0].box;
+		occupiedAfter[k] = occupiedIn(map, person);
+		if (k < 19 || k > 21) EXPECT_EQ(map.personTracks()[0].still, k > 20) << "after " << k * 0.1 << " s";
+	}
+	std::cout << "occupied voxels in the person's box: after 1 s " << occupiedAfter[10] << ", after 3 s "
+			  << occupiedAfter[30] << "\n";
+	EXPECT_GT(occupiedAfter[30], 10 * std::max<std::size_t>(1, occupiedAfter[10]));
+
+	// Paper policy: Algorithm 1 as written, every point of the person mapped.
+	avm::CDualOctoMap::TInsertionOptions paper;
+	paper.switchPolicy = avm::SwitchPolicy::Paper;
+	CAdaptiveOctoMap paperMap({}, paper, {});
+	ASSERT_TRUE(paperMap.insertObservation(*seen->labelled, seen->frame.pose));
+	EXPECT_GT(occupiedIn(paperMap, person), occupiedAfter[30] / 4);
+}
