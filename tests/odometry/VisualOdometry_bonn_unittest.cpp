@@ -203,6 +203,20 @@ void blurView(mrpt::obs::CObservation3DRangeScan& obs)
 	obs.intensityImage = mrpt::img::CImage(blurred, mrpt::img::DEEP_COPY);
 }
 
+/** A view filled by people close to the lens: all but the image's left
+ *  sixth flat grey without depth, as a crowd too close for the depth camera,
+ *  or masked out, leaves it. */
+void fillViewWithPeople(mrpt::obs::CObservation3DRangeScan& obs)
+{
+	obs.load();
+	cv::Mat colour = io::colourImage(obs).clone();
+	const int strip = colour.cols / 6;
+	colour(cv::Rect(strip, 0, colour.cols - strip, colour.rows)).setTo(cv::Scalar(128, 128, 128));
+	obs.intensityImage = mrpt::img::CImage(colour, mrpt::img::DEEP_COPY);
+	if (obs.rangeImage_isExternallyStored()) obs.rangeImage_forceResetExternalStorage();
+	obs.rangeImage.asEigen().rightCols(obs.rangeImage.cols() - strip).setZero();
+}
+
 io::Trajectory groundTruth()
 {
 	auto gt = test::bonnRawlog();
@@ -397,12 +411,13 @@ TEST(VisualOdometryBonn, AViewThatAgreesOnAWrongPoseIsBridgedNotTrusted)
 	// frames 59 and 62; without it the trajectory jumps there and back.
 	constexpr std::size_t first = 60, last = 61, ahead = 45;
 	const auto later = bonnFrames(first + ahead, last + ahead);
-	const auto run = [&](double gate, io::Trajectory& trajectory)
+	const auto run = [&](double gate, io::Trajectory& trajectory, double qualityGate = 0)
 	{
 		odometry::TOdometryOptions opt;
 		opt.keyframe_tracked_pose = true;
 		opt.motion_prior_sigma = 0.005;
 		opt.motion_gate = gate;
+		opt.quality_gate = qualityGate;
 		std::size_t next = 0;
 		const auto showLater = [&](mrpt::obs::CObservation3DRangeScan& obs)
 		{
@@ -443,6 +458,61 @@ TEST(VisualOdometryBonn, AViewThatAgreesOnAWrongPoseIsBridgedNotTrusted)
 	std::size_t untrusted = 0;
 	for (const auto& e : estimates) untrusted += e.status.find("untrusted") != std::string::npos;
 	EXPECT_EQ(untrusted, last - first + 1) << "no frame of the clean views is bridged";
+
+	// The quality gate alone (no motion gate): the view's pose disagrees with
+	// the prediction far beyond both their uncertainties.
+	io::Trajectory judged;
+	const auto byQuality = run(0, judged, 0.999);
+	for (std::size_t i = first; i <= last; ++i)
+	{
+		EXPECT_FALSE(byQuality[i].tracked) << i;
+		EXPECT_GT(byQuality[i].quality.motionChi2, 16.27) << i << ": " << byQuality[i].status;
+	}
+	for (std::size_t i = first; i <= last + 1; ++i) EXPECT_LT(step(judged, i), 0.02) << i;
+}
+
+TEST(VisualOdometryBonn, AViewFilledByPeopleIsReportedPoorAndTheRunStaysAccurate)
+{
+	// Frames 150-154 keep only the left sixth of the view (fillViewWithPeople).
+	// Their inliers, in a corner of the image, fix the camera centre worse
+	// than the clear view's do. With the quality gate on, a frame is bridged
+	// only when its centre is less certain than the motion model's
+	// prediction (here the strip still fixes it better: kept), and the run's
+	// error stays bounded.
+	constexpr std::size_t first = 150, last = 154;
+	odometry::TOdometryOptions opt;
+	opt.keyframe_tracked_pose = true;
+	opt.motion_prior_sigma = 0.005;
+	opt.quality_gate = 0.999;
+	io::Trajectory filled;
+	const auto estimates = runBonnSpoilt(first, last, fillViewWithPeople, filled, opt);
+	const auto& clearView = estimates[first - 1].quality;
+	EXPECT_GT(clearView.spread, 0.4);
+	EXPECT_GT(clearView.predictionSigma, clearView.centreSigma);
+	for (std::size_t i = first; i <= last; ++i)
+	{
+		const auto& q = estimates[i].quality;
+		std::cout << "frame " << i << ": " << estimates[i].inliers << " inliers, spread " << q.spread
+				  << ", centre sigma " << q.centreSigma << " m, prediction sigma " << q.predictionSigma
+				  << " m, chi-square " << q.motionChi2 << ": " << estimates[i].status << "\n";
+		EXPECT_LE(q.spread, 2.0 / 8) << i << ": the strip is two of the grid's eight columns at most";
+		EXPECT_GT(q.centreSigma, clearView.centreSigma) << i;
+		EXPECT_EQ(estimates[i].tracked, q.centreSigma <= q.predictionSigma) << i << ": " << estimates[i].status;
+	}
+	std::size_t back = first;
+	while (back < estimates.size() && !estimates[back].tracked) ++back;
+	ASSERT_LE(back, last + 1) << "the track goes on by the time the view clears";
+	EXPECT_EQ(estimates[back].bridgedFramesPlaced, back - first);
+
+	auto clearOptions = opt;
+	clearOptions.mask_people = true;
+	const auto clear = odometry::runOdometry(test::bonnRawlog(), clearOptions, personBoxesOf);
+	const double clearAte = ate(clear.trajectory(), 0, 0), filledAte = ate(filled, 0, 0);
+	std::cout << "ATE clear " << clearAte << " m (" << clear.lostFrames() << " frames bridged), view filled "
+			  << filledAte << " m\n";
+	// Bounded, not as accurate: the strip's poses are kept and cost about
+	// 5 mm of ATE (doc/odometry.md, "How good a frame's pose is").
+	EXPECT_LE(filledAte, 0.03) << "the issue's bound for every sequence";
 }
 
 TEST(VisualOdometryBonn, ShownItsStartAgainTheCameraClosesALoop)

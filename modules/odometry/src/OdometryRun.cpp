@@ -58,13 +58,16 @@ void OdometryRun::writeFrameStats(const std::filesystem::path& csv) const
 		[&](const std::filesystem::path& tmp)
 		{
 			std::ofstream out(tmp);
-			out << "index,timestamp,ms,cpu_ms,tracked,keyframe,inliers,reprojection_rmse_px,person_boxes,status\n";
-			char line[128];
+			out << "index,timestamp,ms,cpu_ms,tracked,keyframe,inliers,reprojection_rmse_px,spread,centre_sigma_m,"
+				   "prediction_sigma_m,motion_chi2,person_boxes,status\n";
+			char line[256];
 			for (const auto& f : frames)
 			{
-				std::snprintf(line, sizeof(line), "%zu,%.6f,%.3f,%.3f,%d,%d,%zu,%.3f,%zu,", f.index, f.timestamp,
-					f.milliseconds, f.cpuMilliseconds, int(f.estimate.tracked), int(f.estimate.keyframe),
-					f.estimate.inliers, f.estimate.reprojectionRmse, f.personBoxes);
+				const TrackQuality& q = f.estimate.quality;
+				std::snprintf(line, sizeof(line), "%zu,%.6f,%.3f,%.3f,%d,%d,%zu,%.3f,%.3f,%.5f,%.5f,%.2f,%zu,", f.index,
+					f.timestamp, f.milliseconds, f.cpuMilliseconds, int(f.estimate.tracked), int(f.estimate.keyframe),
+					f.estimate.inliers, f.estimate.reprojectionRmse, q.spread, q.centreSigma, q.predictionSigma,
+					q.motionChi2, f.personBoxes);
 				out << line << '"' << f.estimate.status << "\"\n";
 			}
 			if (!out) throw std::runtime_error(csv.string() + ": cannot write");

@@ -71,6 +71,11 @@ void addBackEndKeys(io::IniKeys<TOdometryOptions>& keys)
 			"a tracked frame whose camera centre is farther from the constant-velocity prediction than this many times "
 			"the median distance of the last frames is bridged by the motion model as a lost frame is; 0 = off",
 			{[](double v) { return v == 0 || v >= 2; }, "must be 0 (off) or at least 2"})
+		.number("quality_gate", &O::quality_gate, "",
+			"a tracked frame whose camera centre is less certain than the motion model's prediction (the inliers' "
+			"covariance against the recent frames' agreement with the model), or disagrees with it beyond this "
+			"quantile of chi-square (3 dof) in the metric of both, is bridged as motion_gate's are; 0 = off",
+			{[](double v) { return v == 0 || (v >= 0.9 && v < 1); }, "must be 0 (off) or in [0.9, 1)"})
 		.number("window_size", &O::window_size, "", "keyframes in the bundle adjustment, 0 = no BA",
 			{[](int v) { return v == 0 || v >= 2; }, "must be 0 (off) or >= 2"})
 		.number("ba_iterations", &O::ba_iterations, "", "Ceres iterations of one bundle adjustment",

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "TrackQuality.h"
 #include "VisualOdometryImpl.h"
 #include "avm/io/RgbdFrame.h"
 #include "avm/io/Trajectory.h"
@@ -117,10 +118,26 @@ OdometryEstimate VisualOdometry::Impl::track(const FrameFeatures& f)
 	const double sq = refined->squaredErrors;
 	if (int(inliers.size()) < options.min_inliers)
 		return lost(f, std::to_string(inliers.size()) + " inliers after refinement");
-	const double deviation = (T.inverse().translation() - predicted.inverse().translation()).norm();
-	if (const auto why = implausibleMotion(deviation)) return bridge(*why);
+	const Eigen::Vector3d offPrediction = T.inverse().translation() - predicted.inverse().translation();
+	const double deviation = offPrediction.norm();
+	// The prediction's error grows with every frame it is carried over a
+	// bridge: its variance with the square of the frames since a measured one.
+	const bool judged = velocityMeasured && recentDeviations.size() >= kDeviationHistory;
+	const double carried = double(1 + lostFrames);
+	const TrackQuality quality = qualityOf(f, inliers, refined->centreCovariance, offPrediction,
+		judged ? predictionVariance(recentDeviations) * carried * carried : 0.0);
+	auto why = implausibleMotion(deviation);
+	if (!why) why = poorEstimate(quality, inliers.size());
+	if (why)
+	{
+		auto bridged = bridge(*why);
+		bridged.quality = quality;
+		bridged.inliers = inliers.size();
+		return bridged;
+	}
 
 	OdometryEstimate e;
+	e.quality = quality;
 	e.tracked = true;
 	e.inliers = inliers.size();
 	e.reprojectionRmse = std::sqrt(sq / inliers.size());

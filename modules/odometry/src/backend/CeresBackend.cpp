@@ -2,10 +2,12 @@
 
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>
+#include <Eigen/LU>
 
 #include <algorithm>
 #include <array>
 #include <functional>
+#include <limits>
 #include <unordered_map>
 
 #include "PoseParams.h"
@@ -42,6 +44,19 @@ struct CentrePriorCost
 	}
 	CeresBackend::CentrePrior prior;
 };
+
+/** One robust reprojection-and-depth residual per observation of a fixed landmark, on `pose`. */
+std::vector<ceres::ResidualBlockId> addObservations(ceres::Problem& problem, ceres::LossFunction& loss,
+	PoseParams& pose, const std::vector<Observation>& observations, const LandmarkMap& landmarks,
+	const io::DepthCamera& K, double depthWeight)
+{
+	std::vector<ceres::ResidualBlockId> blocks;
+	for (const auto& o : observations)
+		blocks.push_back(problem.AddResidualBlock(
+			ReprojectionDepthCost::createFixedPoint(o, landmarks.at(o.landmark).position, K, depthWeight), &loss,
+			pose.data()));
+	return blocks;
+}
 }  // namespace
 
 void CeresBackend::refinePose(Eigen::Isometry3d& T_cw, const std::vector<Observation>& observations,
@@ -53,10 +68,7 @@ void CeresBackend::refinePose(Eigen::Isometry3d& T_cw, const std::vector<Observa
 	po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
 	ceres::Problem problem(po);
 	ceres::HuberLoss loss(m_options.huber_delta);
-	for (const auto& o : observations)
-		problem.AddResidualBlock(
-			ReprojectionDepthCost::createFixedPoint(o, landmarks.at(o.landmark).position, K, m_options.depth_weight),
-			&loss, pose.data());
+	addObservations(problem, loss, pose, observations, landmarks, K, m_options.depth_weight);
 	if (prior)
 		problem.AddResidualBlock(
 			new ceres::AutoDiffCostFunction<CentrePriorCost, 3, 6>(new CentrePriorCost{*prior}), nullptr, pose.data());
@@ -81,7 +93,46 @@ std::optional<CeresBackend::RefinedPose> CeresBackend::refinePnp(const FrameFeat
 		r.inliers = std::move(inliers);
 		if (settled) break;
 	}
+	r.centreCovariance = centreCovariance(r.T_cw, observationsOf(f, r.inliers), landmarks, f.K);
 	return r;
+}
+
+Eigen::Matrix3d CeresBackend::centreCovariance(const Eigen::Isometry3d& T_cw,
+	const std::vector<Observation>& observations, const LandmarkMap& landmarks, const io::DepthCamera& K) const
+{
+	const Eigen::Matrix3d unknown = Eigen::Matrix3d::Identity() * std::numeric_limits<double>::infinity();
+	PoseParams pose = toParams(T_cw);
+	ceres::Problem::Options po;
+	po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+	ceres::Problem problem(po);
+	ceres::HuberLoss loss(m_options.huber_delta);
+	ceres::Problem::EvaluateOptions eo;
+	eo.residual_blocks = addObservations(problem, loss, pose, observations, landmarks, K, m_options.depth_weight);
+	double cost = 0;
+	std::vector<double> residuals;
+	ceres::CRSMatrix J;
+	if (!problem.Evaluate(eo, &cost, &residuals, nullptr, &J) || J.num_rows <= 6) return unknown;
+	Eigen::Matrix<double, 6, 6> JtJ = Eigen::Matrix<double, 6, 6>::Zero();
+	for (int row = 0; row < J.num_rows; ++row)
+	{
+		Eigen::Matrix<double, 6, 1> j = Eigen::Matrix<double, 6, 1>::Zero();
+		for (int k = J.rows[row]; k < J.rows[row + 1]; ++k) j[J.cols[k]] = J.values[k];
+		JtJ += j * j.transpose();
+	}
+	double squares = 0;
+	for (const double r : residuals) squares += r * r;
+	const Eigen::FullPivLU<Eigen::Matrix<double, 6, 6>> lu(JtJ);
+	if (!lu.isInvertible()) return unknown;
+	const Eigen::Matrix<double, 6, 6> poseCovariance = squares / double(J.num_rows - 6) * lu.inverse();
+	// The centre's Jacobian in the pose parameters: the prior's cost at unit sigma is the centre itself.
+	const CentrePriorCost centre{CentrePrior{Eigen::Vector3d::Zero(), 1.0}};
+	ceres::AutoDiffCostFunction<CentrePriorCost, 3, 6> centreOf(new CentrePriorCost(centre));
+	double c[3];
+	Eigen::Matrix<double, 3, 6, Eigen::RowMajor> G;
+	double* jacobians[1] = {G.data()};
+	const double* parameters[1] = {pose.data()};
+	if (!centreOf.Evaluate(parameters, c, jacobians)) return unknown;
+	return G * poseCovariance * G.transpose();
 }
 
 void CeresBackend::bundleAdjust(const std::deque<Keyframe>& window, std::vector<Eigen::Isometry3d>& windowPoses,

@@ -45,12 +45,19 @@ class CeresBackend
 	 *  a loop's measurement): PnP's pose refined from its inliers, then
 	 *  refine_rounds - 1 times more from the matches that reproject within
 	 *  ransac_reprojection at the last refined pose; those matches at the
-	 *  end. Nothing when a refinement diverged. */
+	 *  end, and the covariance of the camera centre they give. Nothing when a
+	 *  refinement diverged. */
 	struct RefinedPose
 	{
 		Eigen::Isometry3d T_cw;
 		std::vector<Match> inliers;
 		double squaredErrors = 0;  //!< [px^2] summed over the inliers
+		/** [m^2] Of the camera centre -R^T t, from the inliers alone (the
+		 *  motion prior left out): the measurement's own uncertainty,
+		 *  s^2 (J^T J)^-1 of the robust pose-only problem at T_cw, s^2 its
+		 *  residuals' variance, carried to the centre by its Jacobian.
+		 *  Infinite when the inliers do not fix the pose. */
+		Eigen::Matrix3d centreCovariance = Eigen::Matrix3d::Zero();
 	};
 	std::optional<RefinedPose> refinePnp(const FrameFeatures& f, const FeatureFrontend::PnpResult& pnp,
 		const std::vector<Match>& matches, const LandmarkMap& landmarks,
@@ -63,6 +70,10 @@ class CeresBackend
 		const io::DepthCamera& K) const;
 
    private:
+	/** RefinedPose::centreCovariance of T_cw from these observations. */
+	Eigen::Matrix3d centreCovariance(const Eigen::Isometry3d& T_cw, const std::vector<Observation>& observations,
+		const LandmarkMap& landmarks, const io::DepthCamera& K) const;
+
 	const TOdometryOptions& m_options;
 };
 }  // namespace avm::odometry::detail

@@ -53,6 +53,16 @@ struct TOdometryOptions : public io::CIniKeyOptions<TOdometryOptions>
 	 *  can agree on a wrong pose; a camera does not jump by ten times its
 	 *  usual deviation from one frame to the next. */
 	double motion_gate = 0.0;
+	/** A tracked frame is not trusted, and bridged as motion_gate's are, when
+	 *  its own measurement says it is poor (0 = off; else a probability in
+	 *  [0.9, 1)): its camera centre is less certain than the motion model's
+	 *  prediction (TrackQuality::centreSigma above predictionSigma: few
+	 *  inliers in a corner of a view filled by people, blur, no depth), or
+	 *  the two disagree beyond this quantile of chi-square with 3 degrees of
+	 *  freedom in the metric of both uncertainties (motionChi2). Both
+	 *  uncertainties are the odometry's own: the inliers' covariance and the
+	 *  recent frames' agreement with the motion model. */
+	double quality_gate = 0.0;
 	int window_size = 8;         //!< keyframes in the sliding-window bundle adjustment (0 = no BA)
 	int ba_iterations = 8;       //!< Ceres iterations of one bundle adjustment
 	int ba_max_landmarks = 250;  //!< landmarks in one bundle adjustment, the most-viewed first (0 = all)

@@ -45,6 +45,31 @@ struct LoopReport
 	mrpt::poses::CPose3D tracked;    //!< and as the odometry had tracked it
 };
 
+/** How good a frame's own pose measurement is, beside the motion model's
+ *  prediction: filled for a frame whose pose was measured against the local
+ *  map (tracked, or bridged as untrusted); zeros otherwise. */
+struct TrackQuality
+{
+	/** Share of the image's cells (8 x 6) that hold an inlier, in [0, 1]: a
+	 *  view filled by people leaves its inliers in a corner. */
+	double spread = 0;
+	/** [m] The measured camera centre's standard deviation along its worst
+	 *  axis (the largest eigenvalue of its covariance from the inliers,
+	 *  CeresBackend); infinite when the inliers do not fix the pose. */
+	double centreSigma = 0;
+	/** [m] Per-axis standard deviation of the constant-velocity model's
+	 *  centre, from the odometry's own recent frames (the median of their
+	 *  squared distances from the prediction, over chi-square(3)'s median),
+	 *  times 1 + the frames bridged since the last measured one (a constant
+	 *  velocity carried over n frames is n times as far off); 0 while there
+	 *  are too few of them. */
+	double predictionSigma = 0;
+	/** The measured centre's distance from the prediction, squared, in the
+	 *  metric of the two covariances together (Mahalanobis; chi-square with
+	 *  3 degrees of freedom when both hold); 0 without a prediction sigma. */
+	double motionChi2 = 0;
+};
+
 struct OdometryEstimate
 {
 	mrpt::poses::CPose3D pose;  //!< camera optical frame in the world (never NaN)
@@ -61,7 +86,8 @@ struct OdometryEstimate
 	std::optional<LoopReport> loop;
 	std::size_t inliers = 0;      //!< matches consistent with the pose
 	double reprojectionRmse = 0;  //!< [px] over the inliers
-	std::string status;           //!< "tracking", "initialised", or why tracking was lost
+	TrackQuality quality;
+	std::string status;  //!< "tracking", "initialised", or why tracking was lost
 	/** [px] The frame's features with depth, and those a person box took away;
 	 *  empty unless VisualOdometry::reportFeatures() is on (the live view). */
 	std::vector<cv::Point2f> features, maskedFeatures;
