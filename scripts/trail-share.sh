@@ -11,4 +11,4 @@ mkdir -p "$out"; out=$(realpath "$out")
 cd "$out"
 "$root/build/bin/avm-detect" -q -c "$ini" --root "$root" -r "$rawlog" -o labelled.rawlog --every 1 > detect.log
 "$root/build/bin/avm-map" -q -c "$ini" -p gt -r "$rawlog" -o "$out/avm" > avm-map.log
-"$root/build/bin/avm-trail" -m avm labelled.rawlog 2>/dev/null
+"$root/build/bin/avm-trail" -m avm labelled.rawlog

@@ -419,7 +419,7 @@ void writePictures(std::ostream& md, const std::vector<PerSource>& results, cons
 {
 	const fs::path pictures = s.results.parent_path() / "results";
 	md << "\n## Pictures\n\nOccupied voxels, low resolution in blue, high resolution in orange, camera trajectory "
-		  "in green, person regions in red, persons (id at the last position) in purple.\n";
+		  "in black, person regions in green, persons (id at the last position) in purple.\n";
 	for (const auto& r : results)
 	{
 		md << "\n### " << (r.poses == PoseSource::GroundTruth ? "Ground-truth poses" : "Odometry poses") << "\n\n";
@@ -442,8 +442,10 @@ void writePictures(std::ostream& md, const std::vector<PerSource>& results, cons
 	}
 }
 
-const std::string kSectionBegin = "<!-- avm-paper section: ";
-const std::string kSectionEnd = "<!-- end of avm-paper section -->\n";
+// A section another run or tool wrote (the whole sequence, scripts/trail-share.sh):
+// kept when this run writes the file.
+const std::string kSectionBegin = "<!-- section: ";
+const std::string kSectionEnd = "<!-- end of section -->\n";
 
 /** The sections other runs wrote into a results file, each with its markers. */
 std::vector<std::pair<std::string, std::string>> generatedSections(const fs::path& file, const std::string& text)
@@ -454,7 +456,8 @@ std::vector<std::pair<std::string, std::string>> generatedSections(const fs::pat
 		const auto titleEnd = text.find(" -->", at);
 		const auto end = text.find(kSectionEnd, at);
 		if (titleEnd == std::string::npos || end == std::string::npos)
-			throw std::runtime_error(file.string() + ": an avm-paper section without its end marker");
+			throw std::runtime_error(file.string() + ": a section without its end marker (" +
+									 kSectionEnd.substr(0, kSectionEnd.size() - 1) + ")");
 		const auto blockEnd = end + kSectionEnd.size();
 		sections.emplace_back(text.substr(at + kSectionBegin.size(), titleEnd - at - kSectionBegin.size()),
 			text.substr(at, blockEnd - at));

@@ -12,5 +12,5 @@ namespace avm::maps
 inline const mrpt::img::TColor kLowColour(70, 110, 200), kHighColour(235, 90, 30);
 inline const mrpt::img::TColor kLowFreeColour(150, 170, 220, 40), kHighFreeColour(250, 190, 150, 40);
 inline const mrpt::img::TColor kRegionColour(40, 200, 60);
-inline const mrpt::img::TColor kTrajectoryColour(40, 160, 40), kPersonColour(160, 0, 160);
+inline const mrpt::img::TColor kTrajectoryColour(20, 20, 20), kPersonColour(160, 0, 160);
 }  // namespace avm::maps
