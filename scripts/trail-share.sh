@@ -10,5 +10,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 mkdir -p "$out"; out=$(realpath "$out")
 cd "$out"
 "$root/build/bin/avm-detect" -q -c "$ini" --root "$root" -r "$rawlog" -o labelled.rawlog --every 1 > detect.log
-"$root/build/bin/avm-map" -q -c "$ini" -p gt -r "$rawlog" -o "$out/avm" > avm-map.log
-"$root/build/bin/avm-trail" -m avm labelled.rawlog
+# The map's folder is named after the ini: avm-trail's row says which avm it was.
+name=$(basename "$ini" .ini)
+"$root/build/bin/avm-map" -q -c "$ini" -p gt -r "$rawlog" -o "$out/$name" > avm-map.log
+"$root/build/bin/avm-trail" -m "$name" labelled.rawlog
