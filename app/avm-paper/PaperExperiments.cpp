@@ -388,12 +388,11 @@ void writeAgreement(std::ostream& md, const PerSource& gt, const SequenceFacts& 
 	   << p.adaptive.high.occupiedLeaves << " occupied voxels and its low tree " << p.adaptive.low.occupiedLeaves
 	   << " (the low tree no longer changes after the switch, so it is the low map of the first " << switchFrame
 	   << " frames). The camera's ground-truth path is " << fmt("%.2f", facts.path) << " m long, "
-	   << fmt("%.2f", facts.pathBeforeSwitch) << " m of it before the switch. "
-	   << (ordered ? "After the switch enough of what the camera sees is space the low tree has no node for, which "
-					 "the high tree maps, as in the paper, where the robot goes on into unseen space.\n"
-				   : "By the switch the low tree already has nodes nearly everywhere the later frames look, so "
-					 "little reaches the high tree. In the paper the robot goes on into unseen space after the "
-					 "switch, which the high tree then maps.\n")
+	   << fmt("%.2f", facts.pathBeforeSwitch) << " m of it before the switch; the high tree got "
+	   << fmt("%.1f", 100.0 * ratio(p.adaptive.high.occupiedLeaves, p.highOnly.occupied()))
+	   << " % of the high-only map's occupied voxels. Where that share is small, the low tree's nodes (free or "
+		  "occupied) of the frames before the switch already cover most of what the later frames see. In the paper "
+		  "the robot goes on into unseen space after the switch, which the high tree then maps.\n"
 	   << "- High only / low only: paper " << fmt("%.1f", 6415.0 / 641.0) << "x, here "
 	   << fmt("%.1f", ratio(p.highOnly.occupied(), p.lowOnly.occupied()))
 	   << "x. The ratio depends on how much of the scene is surface: 3^3 = 27 is the bound for solid matter, "
