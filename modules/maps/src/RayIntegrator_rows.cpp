@@ -1,0 +1,199 @@
+// The depth image's row passes: which pixels can reach a region, each row's
+// endpoint keys (RowKernels), and the surface sketch forgetting what the
+// image saw through. RayIntegrator.cpp joins them into one scan.
+#include "RayIntegrator.h"
+
+#include "RowKernels.h"
+#include "avm/io/DepthCamera.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace avm::detail
+{
+/** The pixels whose ray can reach `box`: its projection, grown by a pixel
+ *  (all pixels when a corner is behind the camera). */
+RayIntegrator::PixelRect RayIntegrator::pixelRectOf(const mrpt::math::TBoundingBox& box,
+	const mrpt::poses::CPose3D& sensorPose, const io::DepthCamera& camera, int rows, int cols)
+{
+	PixelRect rect{cols, -1, rows, -1};
+	for (int corner = 0; corner < 8; corner++)
+	{
+		const mrpt::math::TPoint3D w(
+			corner & 1 ? box.max.x : box.min.x, corner & 2 ? box.max.y : box.min.y, corner & 4 ? box.max.z : box.min.z);
+		const auto s = sensorPose.inverseComposePoint(w);
+		if (s.x <= 1e-3) return PixelRect{0, cols - 1, 0, rows - 1};
+		const auto [u, v] = camera.pixelOf(s);
+		rect.u0 = std::min(rect.u0, static_cast<int>(std::floor(u)) - 1);
+		rect.u1 = std::max(rect.u1, static_cast<int>(std::ceil(u)) + 1);
+		rect.v0 = std::min(rect.v0, static_cast<int>(std::floor(v)) - 1);
+		rect.v1 = std::max(rect.v1, static_cast<int>(std::ceil(v)) + 1);
+	}
+	return rect;
+}
+
+void RayIntegrator::forgetSketchSeenThrough(const mrpt::obs::CObservation3DRangeScan& obs,
+	const mrpt::poses::CPose3D& sensorPose, const io::DepthCamera& camera)
+{
+	// A single high-resolution map frees the voxels its rays cross, so a person who walked
+	// through leaves nothing there once the wall behind is seen again. The low
+	// tree's rays are too coarse to say which high voxels they crossed; the
+	// depth image says it for the few the sketch holds: a voxel whose pixel
+	// sees a surface more than a voxel beyond it has been seen through. The
+	// endpoints of this image are marked after (finish()), so a surface seen
+	// again stays.
+	const double highEdge = m_sketchGrid.resolution;
+	const double lowHalfDiagonal = 0.5 * std::sqrt(3.0) * highEdge * m_targets.sketch->ratio();
+	const double maxRange = m_targets.outsideMaxRange;
+	const auto& img = obs.rangeImage;
+	const auto units = obs.rangeUnits;
+	// The image's four side planes, through the sensor, normals inwards: a low
+	// voxel wholly outside one of them has no high voxel that projects into
+	// the image, and most of the sketch lies there.
+	const double W = camera.width, H = camera.height;
+	std::array<mrpt::math::TPoint3D, 4> sides{mrpt::math::TPoint3D(camera.cx, -camera.fx, 0),
+		mrpt::math::TPoint3D(W - camera.cx, camera.fx, 0), mrpt::math::TPoint3D(camera.cy, 0, -camera.fy),
+		mrpt::math::TPoint3D(H - camera.cy, 0, camera.fy)};
+	for (auto& n : sides) n *= 1.0 / n.norm();
+	const double outsideBy = lowHalfDiagonal + 1e-6;
+	const auto outsideTheImage = [&](const mrpt::math::TPoint3D& c)
+	{
+		return std::any_of(
+			sides.begin(), sides.end(), [&](const auto& n) { return n.x * c.x + n.y * c.y + n.z * c.z < -outsideBy; });
+	};
+	// A high voxel's centre is its low voxel's plus a fixed offset per bit:
+	// the offsets turned into the sensor frame once per image.
+	const unsigned ratio = m_targets.sketch->ratio();
+	const auto& R = sensorPose.getRotationMatrix();
+	std::vector<mrpt::math::TPoint3D> offsets(ratio * ratio * ratio);
+	for (unsigned bit = 0; bit < offsets.size(); ++bit)
+	{
+		const unsigned o[3] = {bit / (ratio * ratio), (bit / ratio) % ratio, bit % ratio};
+		double w[3];
+		for (int i = 0; i < 3; ++i) w[i] = (o[i] + 0.5) * highEdge - 0.5 * highEdge * ratio;
+		offsets[bit] = {R(0, 0) * w[0] + R(1, 0) * w[1] + R(2, 0) * w[2],
+			R(0, 1) * w[0] + R(1, 1) * w[1] + R(2, 1) * w[2], R(0, 2) * w[0] + R(1, 2) * w[1] + R(2, 2) * w[2]};
+	}
+	m_targets.sketch->updateBits(
+		[&](std::uint64_t lowKey, std::uint64_t bits)
+		{
+			if (bits == 0) return bits;
+			const auto lowCentre = sensorPose.inverseComposePoint(centreOf(lowKey, highEdge * ratio));
+			if (lowCentre.x <= -lowHalfDiagonal || lowCentre.norm() > maxRange + lowHalfDiagonal) return bits;
+			if (outsideTheImage(lowCentre)) return bits;
+			for (std::uint64_t rest = bits; rest != 0; rest &= rest - 1)
+			{
+				const auto bit = static_cast<unsigned>(__builtin_ctzll(rest));
+				const auto p = lowCentre + offsets[bit];
+				const double distance = p.norm();
+				if (distance > maxRange) continue;
+				const auto pixel = camera.project(p);
+				if (!pixel) continue;
+				const auto u = static_cast<int>(std::lround(pixel->x)), v = static_cast<int>(std::lround(pixel->y));
+				if (u >= camera.width || v >= camera.height) continue;
+				const std::uint16_t raw = img(v, u);
+				if (raw == 0) continue;
+				const double measured = raw * units, along = camera.rangeIsDepth ? p.x : distance;
+				if (measured > along + highEdge) bits &= ~(std::uint64_t(1) << bit);
+			}
+			return bits;
+		});
+}
+
+void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band) const
+{
+	using namespace rows;
+	const int cols = rs.cols;
+	const auto& R = rs.R;
+	const float outsideInverse = static_cast<float>(m_outsideGrid.inverse);
+	const float insideInverse = static_cast<float>(m_insideGrid.inverse);
+	const float sketchInverse = static_cast<float>(m_sketchGrid.inverse);
+	const std::size_t n = static_cast<std::size_t>(cols);
+	// Two rows of outside, inside and sketch keys: this one and the one above,
+	// which starts as "no voxel".
+	band.keys.assign(18 * n, -1);
+	band.near.resize(3 * n);
+	band.flags.assign(n + 8, 0);  // forEachFlagged reads whole words
+	auto rowKeys = [&](int row, int set)
+	{
+		int* const base = band.keys.data() + (static_cast<std::size_t>(row & 1) * 9 + set * 3) * n;
+		return RowKeys{base, base + n, base + 2 * n};
+	};
+	float* const depth = band.near.data();
+	float* const insideF = depth + n;    // 1: the point lies in a region
+	float* const crossTo = insideF + n;  // >= 0: depth where its ray leaves the farthest region it crosses
+	std::uint8_t* const flags = band.flags.data();
+
+	for (int v = v0; v < v1; v++)
+	{
+		const double b = (rs.cy - v) / rs.fy;
+		const RowRays rays{static_cast<float>(m_origin.x), static_cast<float>(m_origin.y),
+			static_cast<float>(m_origin.z), static_cast<float>(R(0, 0) + R(0, 2) * b),
+			static_cast<float>(R(1, 0) + R(1, 2) * b), static_cast<float>(R(2, 0) + R(2, 2) * b),
+			static_cast<float>(R(0, 1)), static_cast<float>(R(1, 1)), static_cast<float>(R(2, 1)), rs.colFactor};
+		const RowKeys outside = rowKeys(v, 0), outsideAbove = rowKeys(v + 1, 0);
+		// Inside keys of near pixels; outside this row's near columns they
+		// keep older rows' keys, all in the scan's sets already.
+		const RowKeys inside = rowKeys(v, 1), insideAbove = rowKeys(v + 1, 1);
+		rowDepth(&(*rs.image)(v, 0), rs.rangeToDepth ? rs.rangeToDepth + static_cast<std::size_t>(v) * n : nullptr,
+			rs.unitsF, cols, depth);
+		if (rs.freeOnly) maskWhereSet(rs.freeOnly + static_cast<std::size_t>(v) * n, cols, depth);
+		pointRowKeys(rays, depth, outsideInverse, cols, outside);
+
+		// Columns of this row whose rays can reach a region (empty: none).
+		int nearFrom = cols, nearTo = -1;
+		for (const auto& rect : m_regionRects)
+			if (v >= rect.v0 && v <= rect.v1)
+			{
+				nearFrom = std::min(nearFrom, std::max(rect.u0, 0));
+				nearTo = std::max(nearTo, std::min(rect.u1, cols - 1));
+			}
+		const int nearEnd = nearTo + 1;
+		if (nearEnd > nearFrom)
+		{
+			std::fill(insideF + nearFrom, insideF + nearEnd, 0.0f);
+			std::fill(crossTo + nearFrom, crossTo + nearEnd, -1.0f);
+			// Each region only over the columns its box projects to.
+			for (std::size_t r = 0; r < rs.regions->size(); r++)
+			{
+				const auto& rect = m_regionRects[r];
+				if (v < rect.v0 || v > rect.v1) continue;
+				const int from = std::max(nearFrom, rect.u0), to = std::min(nearEnd, rect.u1 + 1);
+				if (from < to) classifyAgainstBox(rays, depth, (*rs.regions)[r].box, from, to, insideF, crossTo);
+			}
+			insideRowKeys(rays, depth, insideF, crossTo, insideInverse, nearFrom, nearEnd, inside, outside.x);
+			flagNewVoxels(inside, insideAbove, nearFrom, nearEnd, flags);
+			forEachFlagged(flags, nearFrom, nearEnd,
+				[&](int u)
+				{
+					const bool inRegion = inside.x[u] >= kInsideTag;
+					const int x = inside.x[u] < 0 ? -1 : static_cast<int>(inside.x[u] & kKeyMask);
+					if (const auto key = packedOrNone(x, inside.y[u], inside.z[u]))
+						(inRegion ? band.inside : band.crossing)->insert(key);
+				});
+			std::fill(flags + nearFrom, flags + nearEnd, 0);
+		}
+
+		flagNewVoxels(outside, outsideAbove, 0, cols, flags);
+		forEachFlagged(flags, 0, cols,
+			[&](int u)
+			{
+				if (const auto key = packedOrNone(outside.x[u], outside.y[u], outside.z[u])) band.outside->insert(key);
+			});
+		if (m_targets.sketch)
+		{
+			// The high voxels of the points in low-tree space (no outside key:
+			// no depth, or inside a region).
+			const RowKeys sketch = rowKeys(v, 2), sketchAbove = rowKeys(v + 1, 2);
+			pointRowKeys(rays, depth, sketchInverse, cols, sketch);
+			maskWhereNone(outside.x, cols, sketch.x);
+			flagNewVoxels(sketch, sketchAbove, 0, cols, flags);
+			forEachFlagged(flags, 0, cols,
+				[&](int u)
+				{
+					if (const auto key = packedOrNone(sketch.x[u], sketch.y[u], sketch.z[u])) band.sketch->insert(key);
+				});
+		}
+	}
+}
+}  // namespace avm::detail
