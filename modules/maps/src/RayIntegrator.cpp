@@ -395,7 +395,7 @@ void RayIntegrator::integrateDepthImage(const mrpt::obs::CObservation3DRangeScan
 	m_regionRects.clear();
 	if (m_hasRegions)
 		for (const auto& r : targets.regions->boxes)
-			m_regionRects.push_back(pixelRectOf(r.box, sensorPose, camera, rows, cols));
+			m_regionRects.push_back(io::pixelRectOf(r.box, sensorPose, camera));
 
 	// DepthCamera::unproject, factored for the row passes: pixel (u, v) with
 	// depth d is d * (1, (cx - u)/fx, (cy - v)/fy) in the sensor frame, so

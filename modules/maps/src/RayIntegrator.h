@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "BatchUpdate.h"
-#include "avm/io/DepthCamera.h"
+#include "avm/io/PixelRect.h"
 #include "KeySet.h"
 #include "ResolutionPolicy.h"
 #include "SurfaceSketch.h"
@@ -103,13 +103,6 @@ class RayIntegrator
 	void scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band) const;
 	/** scanRows over all rows, in one band per thread. */
 	void scanBands(const RowSetup& rs, int rows);
-	/** Pixels [u0, u1] x [v0, v1]. */
-	struct PixelRect
-	{
-		int u0, u1, v0, v1;
-	};
-	static PixelRect pixelRectOf(const mrpt::math::TBoundingBox& box, const mrpt::poses::CPose3D& sensorPose,
-		const io::DepthCamera& camera, int rows, int cols);
 
 	void begin(const mrpt::math::TPoint3D& origin, const ScanTargets& targets);
 	/** `nearRegion`: the ray may end in or cross a region (false lets the
@@ -165,6 +158,6 @@ class RayIntegrator
 	std::vector<float> m_rangeToDepth;
 	unsigned m_threads = 1;
 	std::vector<PixelBand> m_bands;
-	std::vector<PixelRect> m_regionRects;
+	std::vector<io::PixelRect> m_regionRects;
 };
 }  // namespace avm::detail

@@ -1,6 +1,5 @@
-// The depth image's row passes: which pixels can reach a region, each row's
-// endpoint keys (RowKernels), and the surface sketch forgetting what the
-// image saw through. RayIntegrator.cpp joins them into one scan.
+// The depth image's row passes: each row's endpoint keys (RowKernels), and
+// the surface sketch forgetting what the image saw through. RayIntegrator.cpp joins them into one scan.
 #include "RayIntegrator.h"
 
 #include "RowKernels.h"
@@ -11,27 +10,6 @@
 
 namespace avm::detail
 {
-/** The pixels whose ray can reach `box`: its projection, grown by a pixel
- *  (all pixels when a corner is behind the camera). */
-RayIntegrator::PixelRect RayIntegrator::pixelRectOf(const mrpt::math::TBoundingBox& box,
-	const mrpt::poses::CPose3D& sensorPose, const io::DepthCamera& camera, int rows, int cols)
-{
-	PixelRect rect{cols, -1, rows, -1};
-	for (int corner = 0; corner < 8; corner++)
-	{
-		const mrpt::math::TPoint3D w(
-			corner & 1 ? box.max.x : box.min.x, corner & 2 ? box.max.y : box.min.y, corner & 4 ? box.max.z : box.min.z);
-		const auto s = sensorPose.inverseComposePoint(w);
-		if (s.x <= 1e-3) return PixelRect{0, cols - 1, 0, rows - 1};
-		const auto [u, v] = camera.pixelOf(s);
-		rect.u0 = std::min(rect.u0, static_cast<int>(std::floor(u)) - 1);
-		rect.u1 = std::max(rect.u1, static_cast<int>(std::ceil(u)) + 1);
-		rect.v0 = std::min(rect.v0, static_cast<int>(std::floor(v)) - 1);
-		rect.v1 = std::max(rect.v1, static_cast<int>(std::ceil(v)) + 1);
-	}
-	return rect;
-}
-
 void RayIntegrator::forgetSketchSeenThrough(const mrpt::obs::CObservation3DRangeScan& obs,
 	const mrpt::poses::CPose3D& sensorPose, const io::DepthCamera& camera)
 {

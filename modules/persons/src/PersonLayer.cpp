@@ -5,6 +5,7 @@
 
 #include "avm/io/DepthCamera.h"
 #include "avm/io/IniKeys.h"
+#include "avm/io/PixelRect.h"
 
 namespace avm::persons
 {
@@ -40,39 +41,6 @@ std::vector<PersonObservation> PersonLayer::observe(const mrpt::obs::CObservatio
 	return out;
 }
 
-namespace
-{
-/** Pixels [u0, u1] x [v0, v1] (inclusive, clipped to the image) whose rays
- *  can reach `box`: its corners' projection grown by a pixel, the whole image
- *  when a corner is behind the camera; empty (u0 > u1) when it is off the image. */
-struct PixelRect
-{
-	int u0, u1, v0, v1;
-};
-PixelRect pixelRectOf(
-	const mrpt::math::TBoundingBox& box, const mrpt::poses::CPose3D& sensorPose, const io::DepthCamera& camera)
-{
-	const PixelRect whole{0, camera.width - 1, 0, camera.height - 1};
-	double u0 = camera.width, u1 = -1, v0 = camera.height, v1 = -1;
-	for (int corner = 0; corner < 8; corner++)
-	{
-		const mrpt::math::TPoint3D w(
-			corner & 1 ? box.max.x : box.min.x, corner & 2 ? box.max.y : box.min.y, corner & 4 ? box.max.z : box.min.z);
-		const auto s = sensorPose.inverseComposePoint(w);
-		if (!(s.x > 1e-3)) return whole;
-		const auto p = camera.pixelOf(s);
-		u0 = std::min(u0, p.x), u1 = std::max(u1, p.x), v0 = std::min(v0, p.y), v1 = std::max(v1, p.y);
-	}
-	// Clamped in doubles first: a corner just in front of the camera
-	// projects far beyond what an int holds.
-	const auto clamp = [](double x, int hi) { return static_cast<int>(std::clamp(x, -1.0, double(hi))); };
-	return {std::max(clamp(std::floor(u0) - 1, camera.width), 0),
-		std::min(clamp(std::ceil(u1) + 1, camera.width), camera.width - 1),
-		std::max(clamp(std::floor(v0) - 1, camera.height), 0),
-		std::min(clamp(std::ceil(v1) + 1, camera.height), camera.height - 1)};
-}
-}  // namespace
-
 PixelSet PersonLayer::movingPersonPixels(const mrpt::obs::CObservation3DRangeScan& obs,
 	const mrpt::poses::CPose3D& sensorPoseInWorld, double horizon, double margin) const
 {
@@ -81,7 +49,7 @@ PixelSet PersonLayer::movingPersonPixels(const mrpt::obs::CObservation3DRangeSca
 	const double time = mrpt::Clock::toDouble(obs.timestamp);
 	const auto camera = io::DepthCamera::of(obs);
 	std::vector<mrpt::math::TBoundingBox> boxes;
-	std::vector<PixelRect> rects;
+	std::vector<io::PixelRect> rects;
 	for (const auto& t : tracks())
 	{
 		const double since = time - t.lastTime;
@@ -89,8 +57,8 @@ PixelSet PersonLayer::movingPersonPixels(const mrpt::obs::CObservation3DRangeSca
 		const auto moved = t.velocity * std::max(0.0, since);
 		const mrpt::math::TPoint3D grow(margin, margin, margin);
 		const mrpt::math::TBoundingBox box(t.box.min + moved - grow, t.box.max + moved + grow);
-		const auto rect = pixelRectOf(box, sensorPoseInWorld, camera);
-		if (rect.u0 > rect.u1 || rect.v0 > rect.v1) continue;
+		const auto rect = io::pixelRectOf(box, sensorPoseInWorld, camera);
+		if (rect.empty()) continue;
 		boxes.push_back(box);
 		rects.push_back(rect);
 	}

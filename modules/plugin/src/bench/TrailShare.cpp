@@ -12,6 +12,7 @@
 
 #include "avm/io/DepthCamera.h"
 #include "avm/io/RawlogFrameReader.h"
+#include "avm/io/RunFolder.h"
 #include "avm/maps/OcTreeFile.h"
 #include "avm/persons/PersonLabels.h"
 
@@ -102,11 +103,12 @@ TrailResult measureTrails(
 	result.rows.push_back(low.judge(low.single(), "single OctoMap, low resolution, all pixels"));
 	for (const auto& dir : options.avmMaps)
 	{
-		auto row = high.judge(*readBinaryTree(dir / "map_high.bt"), (dir / "map_high.bt").string());
-		const auto coarse = low.judge(*readBinaryTree(dir / "map_low.bt"), (dir / "map_low.bt").string());
+		const auto files = io::RunFolder(dir).map();
+		auto row = high.judge(*readBinaryTree(files.highTree), files.highTree.string());
+		const auto lowRow = low.judge(*readBinaryTree(files.lowTree), files.lowTree.string());
 		row.map = "avm " + dir.string() + " (low + high)";
-		row.occupiedM3 += coarse.occupiedM3;
-		row.trailM3 += coarse.trailM3;
+		row.occupiedM3 += lowRow.occupiedM3;
+		row.trailM3 += lowRow.trailM3;
 		result.rows.push_back(row);
 	}
 	return result;
