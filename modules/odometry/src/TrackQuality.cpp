@@ -14,8 +14,6 @@ namespace
 /** The image's cells for the spread: about 80 px square at 640 x 480, a few
  *  features' worth each. */
 constexpr int kSpreadColumns = 8, kSpreadRows = 6;
-/** The median of chi-square with 3 degrees of freedom. */
-constexpr double kChiSquare3Median = 2.365974;
 }  // namespace
 
 double chiSquare3Quantile(double p)
@@ -52,7 +50,8 @@ double predictionVariance(const std::deque<double>& deviations)
 	std::vector<double> squares;
 	for (const double d : deviations) squares.push_back(d * d);
 	std::nth_element(squares.begin(), squares.begin() + squares.size() / 2, squares.end());
-	return squares[squares.size() / 2] / kChiSquare3Median;
+	static const double median = chiSquare3Quantile(0.5);
+	return squares[squares.size() / 2] / median;
 }
 
 TrackQuality qualityOf(const FrameFeatures& f, const std::vector<Match>& inliers,

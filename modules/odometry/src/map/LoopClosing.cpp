@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <cstring>
 
+#include "../TrackQuality.h"
+
 namespace avm::odometry::detail
 {
 namespace
@@ -82,7 +84,7 @@ LoopJudgement judgeLoop(const LoopMeasurement& loop, int newestId, const std::ve
 {
 	// Chi-square with 3 degrees of freedom at 99 %: a camera centre's error
 	// over its per-axis standard deviation stays below this 99 times in 100.
-	constexpr double kChiSquare = 11.345;
+	static const double kChiSquare = chiSquare3Quantile(0.99);
 	const double loopVariance = options.loop_sigma * options.loop_sigma;
 	const Eigen::Vector3d shift = cameraCentre(loop.T_cw) - cameraCentre(map.find(newestId)->T_cw);
 	const int keyframesApart = newestId - loop.candidate;
