@@ -92,7 +92,7 @@ AVM_ROW_PASS void insideRowKeys(const RowRays& r, const float* depth, const floa
 		const float z = (r.oz + ts * (r.bz + r.sz * a)) * inverse + offset;
 		const bool none = std::max(inside[u], crossTo[u]) <= 0;
 		const int tag = static_cast<int>(inside[u]) * kInsideTag;
-		kx[u] = (x < 0) | (x >= 65536.0f) | none ? -1 : static_cast<int>(x) + tag;
+		kx[u] = (x < 0) | (x >= static_cast<float>(kKeyEnd)) | none ? -1 : static_cast<int>(x) + tag;
 		ky[u] = y < 0 ? -1 : static_cast<int>(y);
 		kz[u] = z < 0 ? -1 : static_cast<int>(z);
 	}

@@ -53,11 +53,6 @@ void pointRowKeys(const RowRays& r, const float* depth, float inverse, int cols,
 void classifyAgainstBox(const RowRays& r, const float* depth, const mrpt::math::TBoundingBox& box, int from, int to,
 	float* inside, float* crossTo);
 
-constexpr int kInsideTag = 1 << kKeyBits;
-/** Rides on the x key of a free-only endpoint (outside keys and inside keys
- *  of points in a region; not crossing keys, whose rays end elsewhere). */
-constexpr int kFreeOnlyTag = 1 << (kKeyBits + 1);
-
 /** Inside keys of the classified pixels: of the point where it lies in a
  *  region, else of the voxel where its ray leaves the farthest region it
  *  crosses; -1 in x for neither. The category rides on the x key (above
@@ -109,17 +104,5 @@ inline void forEachFlagged(const std::uint8_t* flags, int from, int to, Visit&& 
 			if (u < to) visit(u);
 		}
 	}
-}
-
-/** The key part of a row pass's tagged x key (-1 stays -1). */
-inline int untagged(int tagged) { return tagged < 0 ? -1 : static_cast<int>(tagged & kKeyMask); }
-
-/** packKey() of the row passes' key components, or 0 (no key, as in the
- *  KeySets) where one is -1 ("no voxel") or beyond the tree. */
-inline std::uint64_t packedOrNone(int x, int y, int z)
-{
-	if ((static_cast<unsigned>(x) | static_cast<unsigned>(y) | static_cast<unsigned>(z)) > kKeyMask) return 0;
-	return packKey(octomap::OcTreeKey(
-		static_cast<octomap::key_type>(x), static_cast<octomap::key_type>(y), static_cast<octomap::key_type>(z)));
 }
 }  // namespace avm::detail::rows
