@@ -16,6 +16,8 @@ constexpr unsigned kKeyBits = 16;
 constexpr std::uint64_t kKeyMask = (std::uint64_t(1) << kKeyBits) - 1;
 /** octomap's key of coordinate 0 in a depth-16 tree (tree_max_val). */
 constexpr int kKeyOffset = 1 << (kKeyBits - 1);
+/** Keys per axis: a key lies in [0, kKeyEnd). */
+constexpr int kKeyEnd = 2 * kKeyOffset;
 /** What a packed key changes by for one voxel along x, y and z (adding the
  *  wrapped negative moves back). */
 constexpr std::uint64_t kPackedUnit[3] = {std::uint64_t(1) << (2 * kKeyBits), std::uint64_t(1) << kKeyBits, 1};
@@ -39,12 +41,40 @@ inline bool packedKeyOf(double x, double y, double z, double inverseResolution, 
 {
 	const double fx = x * inverseResolution + kKeyOffset, fy = y * inverseResolution + kKeyOffset,
 				 fz = z * inverseResolution + kKeyOffset;
-	constexpr double kEnd = 2.0 * kKeyOffset;
+	constexpr double kEnd = kKeyEnd;
 	if (!(fx >= 0 && fx < kEnd && fy >= 0 && fy < kEnd && fz >= 0 && fz < kEnd)) return false;
 	out = packKey(octomap::OcTreeKey(
 		static_cast<octomap::key_type>(fx), static_cast<octomap::key_type>(fy), static_cast<octomap::key_type>(fz)));
 	return true;
 }
+
+/** Half the edge of a tree of this resolution [m]: it spans +-that around
+ *  the origin on each axis. */
+constexpr double treeHalfExtent(double resolution) { return resolution * kKeyOffset; }
+
+/** @name The row passes' keys
+ *  One axis of a key in an int, -1 for "no voxel"; the x key may carry tags
+ *  above the key bits, so that a change of category is a change of voxel too.
+ *  @{ */
+/** On the inside x key of a point that lies in a region (not on a crossing
+ *  key: the voxel where a ray leaves a region). */
+constexpr int kInsideTag = 1 << kKeyBits;
+/** On the x key of a free-only endpoint (outside keys and inside keys of
+ *  points in a region; not crossing keys, whose rays end elsewhere). */
+constexpr int kFreeOnlyTag = 1 << (kKeyBits + 1);
+
+/** The key part of a tagged x key (-1 stays -1). */
+inline int untagged(int tagged) { return tagged < 0 ? -1 : static_cast<int>(tagged & kKeyMask); }
+
+/** packKey() of a row pass's untagged key components, or 0 (no key, as in
+ *  the KeySets) where one is -1 ("no voxel") or beyond the tree. */
+inline std::uint64_t packedOrNone(int x, int y, int z)
+{
+	if ((static_cast<unsigned>(x) | static_cast<unsigned>(y) | static_cast<unsigned>(z)) > kKeyMask) return 0;
+	return packKey(octomap::OcTreeKey(
+		static_cast<octomap::key_type>(x), static_cast<octomap::key_type>(y), static_cast<octomap::key_type>(z)));
+}
+/** @} */
 
 /** The centre of the voxel of a packed key. */
 inline mrpt::math::TPoint3D centreOf(std::uint64_t packed, double resolution)

@@ -124,24 +124,18 @@ void RayIntegrator::begin(const mrpt::math::TPoint3D& origin, const ScanTargets&
 		m_insideFree.reset(lo, hi);
 		m_insideOccupied.reset(lo, hi);
 	}
-	m_lastOutsideKey = m_lastInsideKey = m_lastCrossingKey = m_lastFreeOnlyInsideKey = m_lastFreeOnlyOutsideKey = 0;
+	m_lastOutsideKey = m_lastInsideKey = m_lastCrossingKey = 0;
 }
 
-inline void RayIntegrator::addPoint(double x, double y, double z, bool nearRegion, bool surface)
+inline void RayIntegrator::addPoint(double x, double y, double z)
 {
 	if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) return;
 	std::uint64_t key;
-	if (nearRegion && m_hasRegions)
+	if (m_hasRegions)
 	{
 		if (insideAnyRegion(x, y, z))
 		{
-			if (!packedKeyOf(x, y, z, m_insideGrid.inverse, key)) return;
-			if (!surface)
-			{
-				if (key != m_lastFreeOnlyInsideKey) m_freeOnlyInsideEnds.insert(key);
-				m_lastFreeOnlyInsideKey = key;
-			}
-			else if (key != m_lastInsideKey)
+			if (packedKeyOf(x, y, z, m_insideGrid.inverse, key) && key != m_lastInsideKey)
 			{
 				m_lastInsideKey = key;
 				m_insideEnds.insert(key);
@@ -161,40 +155,12 @@ inline void RayIntegrator::addPoint(double x, double y, double z, bool nearRegio
 			break;
 		}
 	}
-	if (!surface)
-	{
-		if (packedKeyOf(x, y, z, m_outsideGrid.inverse, key) && key != m_lastFreeOnlyOutsideKey)
-		{
-			m_lastFreeOnlyOutsideKey = key;
-			m_freeOnlyOutsideEnds.insert(key);
-		}
-		return;
-	}
 	if (m_targets.sketch && packedKeyOf(x, y, z, m_sketchGrid.inverse, key)) m_sketchEnds.insert(key);
 	if (!packedKeyOf(x, y, z, m_outsideGrid.inverse, key)) return;
-	// Neighbouring pixels mostly fall in the same outside voxel.
+	// Neighbouring points mostly fall in the same outside voxel.
 	if (key == m_lastOutsideKey) return;
 	m_lastOutsideKey = key;
 	m_outsideEnds.insert(key);
-}
-
-void RayIntegrator::addFreeOnlyPixels(
-	const RowSetup& rs, const std::vector<std::uint32_t>& pixels, const io::DepthCamera& camera)
-{
-	// The row passes' unprojection (see integrateDepthImage), in doubles.
-	const auto& R = rs.R;
-	for (const auto i : pixels)
-	{
-		const int v = static_cast<int>(i / rs.cols), u = static_cast<int>(i % rs.cols);
-		if (v >= camera.height) break;
-		const std::uint16_t raw = (*rs.image)(v, u);
-		if (raw == 0) continue;
-		const double d = raw * static_cast<double>(rs.unitsF) * (rs.rangeToDepth ? rs.rangeToDepth[i] : 1.0f);
-		const double a = rs.colFactor[u], b = (rs.cy - v) / rs.fy;
-		addPoint(m_origin.x + d * (R(0, 0) + R(0, 1) * a + R(0, 2) * b),
-			m_origin.y + d * (R(1, 0) + R(1, 1) * a + R(1, 2) * b),
-			m_origin.z + d * (R(2, 0) + R(2, 1) * a + R(2, 2) * b), true, false);
-	}
 }
 
 void RayIntegrator::castSegment(bool inside, double a, double b, bool extendStart, bool extendEnd, double length)
@@ -356,7 +322,11 @@ void RayIntegrator::scanBands(const RowSetup& rs, int rows)
 		band.inside = i == 0 ? &m_insideEnds : &band.ownInside;
 		band.crossing = i == 0 ? &m_crossingEnds : &band.ownCrossing;
 		band.sketch = i == 0 ? &m_sketchEnds : &band.ownSketch;
-		for (auto* set : {band.outside, band.inside, band.crossing, band.sketch}) set->clear();
+		band.freeOnlyOutside = i == 0 ? &m_freeOnlyOutsideEnds : &band.ownFreeOnlyOutside;
+		band.freeOnlyInside = i == 0 ? &m_freeOnlyInsideEnds : &band.ownFreeOnlyInside;
+		for (auto* set :
+			{band.outside, band.inside, band.crossing, band.sketch, band.freeOnlyOutside, band.freeOnlyInside})
+			set->clear();
 	}
 	if (m_bands.size() == 1)
 		scanRows(rs, 0, rows, m_bands[0]);
@@ -377,13 +347,15 @@ void RayIntegrator::scanBands(const RowSetup& rs, int rows)
 			for (const auto k : m_bands[i].ownInside.keys()) m_insideEnds.insert(k);
 			for (const auto k : m_bands[i].ownCrossing.keys()) m_crossingEnds.insert(k);
 			for (const auto k : m_bands[i].ownSketch.keys()) m_sketchEnds.insert(k);
+			for (const auto k : m_bands[i].ownFreeOnlyOutside.keys()) m_freeOnlyOutsideEnds.insert(k);
+			for (const auto k : m_bands[i].ownFreeOnlyInside.keys()) m_freeOnlyInsideEnds.insert(k);
 		}
 	}
 }
 
 void RayIntegrator::integrateDepthImage(const mrpt::obs::CObservation3DRangeScan& obs,
 	const mrpt::poses::CPose3D& sensorPose, const ScanTargets& targets,
-	const std::vector<std::uint32_t>& freeOnlyPixels)
+	const std::vector<mrpt::math::TBoundingBox>& freeOnlyBoxes)
 {
 	begin(sensorPose.translation(), targets);
 	const auto& img = obs.rangeImage;
@@ -396,12 +368,25 @@ void RayIntegrator::integrateDepthImage(const mrpt::obs::CObservation3DRangeScan
 	if (m_hasRegions)
 		for (const auto& r : targets.regions->boxes)
 			m_regionRects.push_back(io::pixelRectOf(r.box, sensorPose, camera));
+	m_freeOnlyBoxes.clear();
+	m_freeOnlyRects.clear();
+	for (const auto& box : freeOnlyBoxes)
+		if (const auto rect = io::pixelRectOf(box, sensorPose, camera); !rect.empty())
+		{
+			m_freeOnlyBoxes.push_back(box);
+			m_freeOnlyRects.push_back(rect);
+		}
 
 	// DepthCamera::unproject, factored for the row passes: pixel (u, v) with
 	// depth d is d * (1, (cx - u)/fx, (cy - v)/fy) in the sensor frame, so
 	// world = t + d * (R0 + a_u R1 + b_v R2).
 	m_columnFactor.resize(cols);
-	for (int u = 0; u < cols; u++) m_columnFactor[u] = static_cast<float>((cx - u) / fx);
+	m_columnFactorDouble.resize(cols);
+	for (int u = 0; u < cols; u++)
+	{
+		m_columnFactorDouble[u] = (cx - u) / fx;
+		m_columnFactor[u] = static_cast<float>(m_columnFactorDouble[u]);
+	}
 	// Range (not depth) images: the per-pixel factor from range to depth.
 	m_rangeToDepth.clear();
 	if (!obs.range_is_depth)
@@ -421,18 +406,11 @@ void RayIntegrator::integrateDepthImage(const mrpt::obs::CObservation3DRangeScan
 	rs.colFactor = m_columnFactor.data();
 	rs.rangeToDepth = m_rangeToDepth.empty() ? nullptr : m_rangeToDepth.data();
 	rs.regions = m_hasRegions ? &targets.regions->boxes : nullptr;
-	if (!freeOnlyPixels.empty())
-	{
-		// The row passes take these pixels as without depth; their rays are
-		// cast below, with no endpoint.
-		m_freeOnlyMask.assign(static_cast<std::size_t>(rows) * cols, 0);
-		for (const auto i : freeOnlyPixels)
-			if (i < m_freeOnlyMask.size()) m_freeOnlyMask[i] = 1;
-		rs.freeOnly = m_freeOnlyMask.data();
-	}
+	rs.colFactorDouble = m_columnFactorDouble.data();
+	rs.rangeIsDepth = obs.range_is_depth;
+	rs.freeOnlyBoxes = &m_freeOnlyBoxes;
 
 	scanBands(rs, rows);
-	addFreeOnlyPixels(rs, freeOnlyPixels, camera);
 	if (m_targets.sketch) forgetSketchSeenThrough(obs, sensorPose, camera);
 	finish();
 }
@@ -441,7 +419,7 @@ void RayIntegrator::integrateWorldPoints(const float* xs, const float* ys, const
 	const mrpt::math::TPoint3D& origin, const ScanTargets& targets)
 {
 	begin(origin, targets);
-	for (std::size_t i = 0; i < n; i++) addPoint(xs[i], ys[i], zs[i], true);
+	for (std::size_t i = 0; i < n; i++) addPoint(xs[i], ys[i], zs[i]);
 	finish();
 }
 
@@ -452,7 +430,7 @@ void RayIntegrator::integrateSensorPoints(const float* xs, const float* ys, cons
 	for (std::size_t i = 0; i < n; i++)
 	{
 		const auto w = sensorPose.composePoint(mrpt::math::TPoint3D(xs[i], ys[i], zs[i]));
-		addPoint(w.x, w.y, w.z, true);
+		addPoint(w.x, w.y, w.z);
 	}
 	finish();
 }

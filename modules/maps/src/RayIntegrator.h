@@ -45,10 +45,11 @@ class RayIntegrator
 {
    public:
 	/** Unprojects the depth image itself (no points3D needed). The rays of
-	 *  `freeOnlyPixels` (indices row * cols + col, sorted) carve free space as
-	 *  any other, but their endpoints are not marked occupied. */
+	 *  the pixels whose points lie in one of `freeOnlyBoxes` (world frame,
+	 *  bounds included) carve free space as any other, but their endpoints
+	 *  are not marked occupied. */
 	void integrateDepthImage(const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& sensorPose,
-		const ScanTargets& targets, const std::vector<std::uint32_t>& freeOnlyPixels = {});
+		const ScanTargets& targets, const std::vector<mrpt::math::TBoundingBox>& freeOnlyBoxes = {});
 	/** Points in the world frame, rays from `origin`. */
 	void integrateWorldPoints(const float* xs, const float* ys, const float* zs, std::size_t n,
 		const mrpt::math::TPoint3D& origin, const ScanTargets& targets);
@@ -88,30 +89,35 @@ class RayIntegrator
 		const float* colFactor = nullptr;
 		const float* rangeToDepth = nullptr;  //!< per pixel, range images only
 		const std::vector<Region>* regions = nullptr;
-		/** Per pixel, 1 where the endpoint is free only (null: none). */
-		const std::uint8_t* freeOnly = nullptr;
+		/** The free-only test's unprojection, in doubles. */
+		const double* colFactorDouble = nullptr;
+		bool rangeIsDepth = true;
+		const std::vector<mrpt::math::TBoundingBox>* freeOnlyBoxes = nullptr;
 	};
 	/** One band of rows' endpoint sets and scratch rows. */
 	struct PixelBand
 	{
 		KeySet *outside = nullptr, *inside = nullptr, *crossing = nullptr, *sketch = nullptr;
-		KeySet ownOutside, ownInside, ownCrossing, ownSketch;
+		KeySet *freeOnlyOutside = nullptr, *freeOnlyInside = nullptr;
+		KeySet ownOutside, ownInside, ownCrossing, ownSketch, ownFreeOnlyOutside, ownFreeOnlyInside;
 		std::vector<int> keys;
 		std::vector<float> near;
 		std::vector<std::uint8_t> flags;
+		/** The free-only test's candidates (pixels with depth in a box's
+		 *  rectangle), its answer, and the row's points in doubles. */
+		std::vector<std::uint8_t> candidate, freeOnly;
+		std::vector<double> points;
 	};
 	void scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band) const;
+	/** Sets band.freeOnly over the columns [from, to) of row v that it
+	 *  returns (empty: none): the pixels whose points lie in a free-only box. */
+	std::pair<int, int> markFreeOnlyPixels(const RowSetup& rs, int v, PixelBand& band) const;
 	/** scanRows over all rows, in one band per thread. */
 	void scanBands(const RowSetup& rs, int rows);
 
 	void begin(const mrpt::math::TPoint3D& origin, const ScanTargets& targets);
-	/** `nearRegion`: the ray may end in or cross a region (false lets the
-	 *  depth-image path skip the region tests for most pixels). */
-	/** `surface` false: the ray carves free space, the point is no surface
-	 *  (a free-only endpoint). */
-	void addPoint(double x, double y, double z, bool nearRegion, bool surface = true);
-	/** The free-only points of `pixels` (those with depth). */
-	void addFreeOnlyPixels(const RowSetup& rs, const std::vector<std::uint32_t>& pixels, const io::DepthCamera& camera);
+	/** A point of a cloud: its endpoint voxel in the set it belongs to. */
+	void addPoint(double x, double y, double z);
 	void finish();
 	/** Clears the sketch's bits of the high voxels that this depth image sees
 	 *  through. */
@@ -141,9 +147,8 @@ class RayIntegrator
 	 *  cross a region without ending in one, the inside voxel where they leave
 	 *  it (point clouds: the inside voxel of the endpoint). */
 	KeySet m_outsideEnds, m_insideEnds, m_crossingEnds;
-	/** Endpoint voxels of free-only points: outside regions and inside them. */
+	/** Endpoint voxels of free-only pixels: outside regions and inside them. */
 	KeySet m_freeOnlyOutsideEnds, m_freeOnlyInsideEnds;
-	std::vector<std::uint8_t> m_freeOnlyMask;
 	/** High voxels of the endpoints in low-tree space, for the sketch. */
 	KeySet m_sketchEnds;
 	/** The outside grid's voxels of m_insideEnds. */
@@ -151,13 +156,16 @@ class RayIntegrator
 	KeySet m_outsideFree, m_outsideOccupied;
 	BoxKeySet m_insideFree, m_insideOccupied;
 	std::uint64_t m_lastOutsideKey = 0, m_lastInsideKey = 0, m_lastCrossingKey = 0;
-	std::uint64_t m_lastFreeOnlyInsideKey = 0, m_lastFreeOnlyOutsideKey = 0;
 	BatchUpdate m_batch;
 	std::vector<std::pair<double, double>> m_intervals;
 	std::vector<float> m_columnFactor;
+	std::vector<double> m_columnFactorDouble;
 	std::vector<float> m_rangeToDepth;
 	unsigned m_threads = 1;
 	std::vector<PixelBand> m_bands;
 	std::vector<io::PixelRect> m_regionRects;
+	/** The free-only boxes in view and their rectangles in the image. */
+	std::vector<mrpt::math::TBoundingBox> m_freeOnlyBoxes;
+	std::vector<io::PixelRect> m_freeOnlyRects;
 };
 }  // namespace avm::detail

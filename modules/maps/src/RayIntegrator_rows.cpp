@@ -10,6 +10,23 @@
 
 namespace avm::detail
 {
+namespace
+{
+/** The columns [from, to) of row v that the rectangles cover, clamped to the
+ *  image (from >= to: none). */
+std::pair<int, int> columnsOnRow(const std::vector<io::PixelRect>& rects, int v, int cols)
+{
+	int from = cols, to = 0;
+	for (const auto& rect : rects)
+		if (v >= rect.v0 && v <= rect.v1)
+		{
+			from = std::min(from, std::max(rect.u0, 0));
+			to = std::max(to, std::min(rect.u1, cols - 1) + 1);
+		}
+	return {from, to};
+}
+}  // namespace
+
 void RayIntegrator::forgetSketchSeenThrough(const mrpt::obs::CObservation3DRangeScan& obs,
 	const mrpt::poses::CPose3D& sensorPose, const io::DepthCamera& camera)
 {
@@ -78,6 +95,34 @@ void RayIntegrator::forgetSketchSeenThrough(const mrpt::obs::CObservation3DRange
 		});
 }
 
+std::pair<int, int> RayIntegrator::markFreeOnlyPixels(const RowSetup& rs, int v, PixelBand& band) const
+{
+	using namespace rows;
+	// A pixel with depth, in the rectangle of a free-only box in view, whose
+	// point lies in one of these boxes: tested in doubles, so that a point on
+	// a box's face is in or out as TBoundingBox::containsPoint says.
+	const auto [from, to] = columnsOnRow(m_freeOnlyRects, v, rs.cols);
+	if (from >= to) return {0, 0};
+	const std::uint16_t* const raw = &(*rs.image)(v, 0);
+	std::uint8_t* const candidate = band.candidate.data();
+	std::uint8_t* const freeOnly = band.freeOnly.data();
+	std::fill(candidate + from, candidate + to, 0);
+	std::fill(freeOnly + from, freeOnly + to, 0);
+	for (const auto& rect : m_freeOnlyRects)
+		if (v >= rect.v0 && v <= rect.v1)
+			std::transform(raw + rect.u0, raw + rect.u1 + 1, candidate + rect.u0, [](auto r) { return r != 0; });
+	const auto& R = rs.R;
+	const double b = (rs.cy - v) / rs.fy;
+	const RowRaysDouble rays{m_origin.x, m_origin.y, m_origin.z, R(0, 0) + R(0, 2) * b, R(1, 0) + R(1, 2) * b,
+		R(2, 0) + R(2, 2) * b, R(0, 1), R(1, 1), R(2, 1), rs.colFactorDouble};
+	double* const x = band.points.data();
+	double* const y = x + rs.cols;
+	double* const z = y + rs.cols;
+	rowPointsDouble(rays, raw, rs.unitsF, rs.rangeIsDepth, b, from, to, x, y, z);
+	for (const auto& box : m_freeOnlyBoxes) markInBox(x, y, z, box, candidate, from, to, freeOnly);
+	return {from, to};
+}
+
 void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band) const
 {
 	using namespace rows;
@@ -92,6 +137,9 @@ void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band
 	band.keys.assign(18 * n, -1);
 	band.near.resize(3 * n);
 	band.flags.assign(n + 8, 0);  // forEachFlagged reads whole words
+	band.candidate.resize(n);
+	band.freeOnly.resize(n);
+	band.points.resize(3 * n);
 	auto rowKeys = [&](int row, int set)
 	{
 		int* const base = band.keys.data() + (static_cast<std::size_t>(row & 1) * 9 + set * 3) * n;
@@ -115,18 +163,13 @@ void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band
 		const RowKeys inside = rowKeys(v, 1), insideAbove = rowKeys(v + 1, 1);
 		rowDepth(&(*rs.image)(v, 0), rs.rangeToDepth ? rs.rangeToDepth + static_cast<std::size_t>(v) * n : nullptr,
 			rs.unitsF, cols, depth);
-		if (rs.freeOnly) maskWhereSet(rs.freeOnly + static_cast<std::size_t>(v) * n, cols, depth);
 		pointRowKeys(rays, depth, outsideInverse, cols, outside);
+		// Free-only pixels are keyed as any other, their keys tagged.
+		const auto [freeFrom, freeTo] = markFreeOnlyPixels(rs, v, band);
+		if (freeFrom < freeTo) tagFreeOnly(band.freeOnly.data(), 0, freeFrom, freeTo, outside.x);
 
 		// Columns of this row whose rays can reach a region (empty: none).
-		int nearFrom = cols, nearTo = -1;
-		for (const auto& rect : m_regionRects)
-			if (v >= rect.v0 && v <= rect.v1)
-			{
-				nearFrom = std::min(nearFrom, std::max(rect.u0, 0));
-				nearTo = std::max(nearTo, std::min(rect.u1, cols - 1));
-			}
-		const int nearEnd = nearTo + 1;
+		const auto [nearFrom, nearEnd] = columnsOnRow(m_regionRects, v, cols);
 		if (nearEnd > nearFrom)
 		{
 			std::fill(insideF + nearFrom, insideF + nearEnd, 0.0f);
@@ -140,14 +183,17 @@ void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band
 				if (from < to) classifyAgainstBox(rays, depth, (*rs.regions)[r].box, from, to, insideF, crossTo);
 			}
 			insideRowKeys(rays, depth, insideF, crossTo, insideInverse, nearFrom, nearEnd, inside, outside.x);
+			if (std::max(nearFrom, freeFrom) < std::min(nearEnd, freeTo))
+				tagFreeOnly(band.freeOnly.data(), kInsideTag, std::max(nearFrom, freeFrom), std::min(nearEnd, freeTo),
+					inside.x);
 			flagNewVoxels(inside, insideAbove, nearFrom, nearEnd, flags);
 			forEachFlagged(flags, nearFrom, nearEnd,
 				[&](int u)
 				{
-					const bool inRegion = inside.x[u] >= kInsideTag;
-					const int x = inside.x[u] < 0 ? -1 : static_cast<int>(inside.x[u] & kKeyMask);
-					if (const auto key = packedOrNone(x, inside.y[u], inside.z[u]))
-						(inRegion ? band.inside : band.crossing)->insert(key);
+					const int tagged = inside.x[u];
+					KeySet* const set = tagged >= kFreeOnlyTag ? band.freeOnlyInside
+															   : (tagged >= kInsideTag ? band.inside : band.crossing);
+					if (const auto key = packedOrNone(untagged(tagged), inside.y[u], inside.z[u])) set->insert(key);
 				});
 			std::fill(flags + nearFrom, flags + nearEnd, 0);
 		}
@@ -156,15 +202,17 @@ void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band
 		forEachFlagged(flags, 0, cols,
 			[&](int u)
 			{
-				if (const auto key = packedOrNone(outside.x[u], outside.y[u], outside.z[u])) band.outside->insert(key);
+				const int tagged = outside.x[u];
+				if (const auto key = packedOrNone(untagged(tagged), outside.y[u], outside.z[u]))
+					(tagged >= kFreeOnlyTag ? band.freeOnlyOutside : band.outside)->insert(key);
 			});
 		if (m_targets.sketch)
 		{
-			// The high voxels of the points in low-tree space (no outside key:
-			// no depth, or inside a region).
+			// The high voxels of the surface points in low-tree space (no
+			// surface outside key: no depth, inside a region, or free-only).
 			const RowKeys sketch = rowKeys(v, 2), sketchAbove = rowKeys(v + 1, 2);
 			pointRowKeys(rays, depth, sketchInverse, cols, sketch);
-			maskWhereNone(outside.x, cols, sketch.x);
+			maskWhereNoSurface(outside.x, cols, sketch.x);
 			flagNewVoxels(sketch, sketchAbove, 0, cols, flags);
 			forEachFlagged(flags, 0, cols,
 				[&](int u)

@@ -57,7 +57,7 @@ void refineIntoHighTree(octomap::OcTree& low, octomap::OcTree& high, std::uint64
 	// A sketch bit says a surface was seen there and not seen through since,
 	// not how often: in an occupied low voxel it comes back as a voxel hit
 	// once, which rays through it at high resolution free as they would in a
-	// single fine map. In a free low voxel (a chair's edge in a voxel of mostly air)
+	// single high-resolution map. In a free low voxel (a chair's edge in a voxel of mostly air)
 	// the bit has had more rays around it: just occupied, and the voxel's
 	// other high voxels come back free.
 	const float surfaceValue =

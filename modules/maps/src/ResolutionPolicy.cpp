@@ -222,7 +222,7 @@ void ResolutionPolicy::updateCovered()
 	if (!m_coveredStale) return;
 	m_coveredStale = false;
 	std::vector<KeyRange> spans;
-	constexpr unsigned kEnd = 2 * kKeyOffset;
+	constexpr unsigned kEnd = kKeyEnd;
 	// Beyond the tree nothing can be mapped: nothing to cover.
 	auto key = [this](double v)
 	{ return static_cast<unsigned>(std::clamp<long>(gridKeyOf(v, m_lowResolution), 0, kEnd)); };

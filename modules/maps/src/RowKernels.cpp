@@ -1,6 +1,7 @@
 #include "RowKernels.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace avm::detail::rows
 {
@@ -91,7 +92,7 @@ AVM_ROW_PASS void insideRowKeys(const RowRays& r, const float* depth, const floa
 		const float z = (r.oz + ts * (r.bz + r.sz * a)) * inverse + offset;
 		const bool none = std::max(inside[u], crossTo[u]) <= 0;
 		const int tag = static_cast<int>(inside[u]) * kInsideTag;
-		kx[u] = (x < 0) | (x >= 65536.0f) | none ? -1 : static_cast<int>(x) + tag;
+		kx[u] = (x < 0) | (x >= static_cast<float>(kKeyEnd)) | none ? -1 : static_cast<int>(x) + tag;
 		ky[u] = y < 0 ? -1 : static_cast<int>(y);
 		kz[u] = z < 0 ? -1 : static_cast<int>(z);
 	}
@@ -117,15 +118,53 @@ AVM_ROW_PASS void flagNewVoxels(const RowKeys& row, const RowKeys& above, int fr
 			differs(u, ax, ay, az, u) & differs(u, x, y, z, u - 1) & differs(u, x, y, z, u - 2));
 }
 
-/** depth[u] = 0 ("no depth") wherever mask[u] is set. */
-AVM_ROW_PASS void maskWhereSet(const std::uint8_t* mask, int cols, float* depth)
+/** The points of pixels [from, to) of a row, in doubles: depth
+ *  raw * units (the float product, as rowDepth), for range images
+ *  (`rangeIsDepth` false) divided by sqrt(1 + a^2 + b^2), a = colFactor[u]
+ *  and b the row's (cy - v) / fy. */
+AVM_ROW_PASS void rowPointsDouble(const RowRaysDouble& r, const std::uint16_t* raw, float units, bool rangeIsDepth,
+	double b, int from, int to, double* x, double* y, double* z)
 {
-	for (int u = 0; u < cols; u++) depth[u] = mask[u] != 0 ? 0.0f : depth[u];
+	double* const __restrict px = x;
+	double* const __restrict py = y;
+	double* const __restrict pz = z;
+	for (int u = from; u < to; u++)
+	{
+		const double a = r.colFactor[u];
+		double d = static_cast<double>(raw[u] * units);
+		if (!rangeIsDepth) d /= std::sqrt(1 + a * a + b * b);
+		px[u] = r.ox + (r.bx + r.sx * a) * d;
+		py[u] = r.oy + (r.by + r.sy * a) * d;
+		pz[u] = r.oz + (r.bz + r.sz * a) * d;
+	}
 }
 
-/** x[u] = -1 ("no voxel") wherever reference[u] is -1. */
-AVM_ROW_PASS void maskWhereNone(const int* reference, int cols, int* x)
+/** inside[u] |= candidate[u] and the point (x, y, z)[u] lies in the box,
+ *  bounds included (TBoundingBox::containsPoint), for u in [from, to). */
+AVM_ROW_PASS void markInBox(const double* x, const double* y, const double* z, const mrpt::math::TBoundingBox& box,
+	const std::uint8_t* candidate, int from, int to, std::uint8_t* inside)
 {
-	for (int u = 0; u < cols; u++) x[u] = reference[u] < 0 ? -1 : x[u];
+	const double minx = box.min.x, miny = box.min.y, minz = box.min.z;
+	const double maxx = box.max.x, maxy = box.max.y, maxz = box.max.z;
+	for (int u = from; u < to; u++)
+	{
+		const bool in = (x[u] >= minx) & (y[u] >= miny) & (z[u] >= minz) & (x[u] <= maxx) & (y[u] <= maxy) &
+						(z[u] <= maxz) & (candidate[u] != 0);
+		inside[u] = static_cast<std::uint8_t>(inside[u] | in);
+	}
+}
+
+/** x[u] += kFreeOnlyTag where freeOnly[u] is set and x[u] >= atLeast (0:
+ *  any key; kInsideTag: keys of points in a region), u in [from, to). */
+AVM_ROW_PASS void tagFreeOnly(const std::uint8_t* freeOnly, int atLeast, int from, int to, int* x)
+{
+	for (int u = from; u < to; u++) x[u] = (freeOnly[u] != 0) & (x[u] >= atLeast) ? x[u] + kFreeOnlyTag : x[u];
+}
+
+/** x[u] = -1 ("no voxel") wherever reference[u] is no surface key: -1, or
+ *  tagged free-only. */
+AVM_ROW_PASS void maskWhereNoSurface(const int* reference, int cols, int* x)
+{
+	for (int u = 0; u < cols; u++) x[u] = static_cast<unsigned>(reference[u]) > kKeyMask ? -1 : x[u];
 }
 }  // namespace avm::detail::rows

@@ -24,6 +24,16 @@ struct RowRays
 	const float* colFactor;
 };
 
+/** The rays of one image row in doubles (the free-only test): pixel u at
+ *  depth d is the point origin + d * (base + colFactor[u] * slope). */
+struct RowRaysDouble
+{
+	double ox, oy, oz;
+	double bx, by, bz;
+	double sx, sy, sz;
+	const double* colFactor;
+};
+
 /** Voxel keys of one image row, an array per axis; -1 marks "no voxel". */
 struct RowKeys
 {
@@ -43,8 +53,6 @@ void pointRowKeys(const RowRays& r, const float* depth, float inverse, int cols,
 void classifyAgainstBox(const RowRays& r, const float* depth, const mrpt::math::TBoundingBox& box, int from, int to,
 	float* inside, float* crossTo);
 
-constexpr int kInsideTag = 1 << kKeyBits;
-
 /** Inside keys of the classified pixels: of the point where it lies in a
  *  region, else of the voxel where its ray leaves the farthest region it
  *  crosses; -1 in x for neither. The category rides on the x key (above
@@ -59,11 +67,25 @@ void insideRowKeys(const RowRays& r, const float* depth, const float* inside, co
  *  the others need no lookup (doc/map.md says how few are left). */
 void flagNewVoxels(const RowKeys& row, const RowKeys& above, int from, int to, std::uint8_t* flags);
 
-/** depth[u] = 0 ("no depth") wherever mask[u] is set. */
-void maskWhereSet(const std::uint8_t* mask, int cols, float* depth);
+/** The points of pixels [from, to) of a row, in doubles: depth
+ *  raw * units (the float product, as rowDepth), for range images
+ *  (`rangeIsDepth` false) divided by sqrt(1 + a^2 + b^2), a = colFactor[u]
+ *  and b the row's (cy - v) / fy. */
+void rowPointsDouble(const RowRaysDouble& r, const std::uint16_t* raw, float units, bool rangeIsDepth, double b,
+	int from, int to, double* x, double* y, double* z);
 
-/** x[u] = -1 ("no voxel") wherever reference[u] is -1. */
-void maskWhereNone(const int* reference, int cols, int* x);
+/** inside[u] |= candidate[u] and the point (x, y, z)[u] lies in the box,
+ *  bounds included (TBoundingBox::containsPoint), for u in [from, to). */
+void markInBox(const double* x, const double* y, const double* z, const mrpt::math::TBoundingBox& box,
+	const std::uint8_t* candidate, int from, int to, std::uint8_t* inside);
+
+/** x[u] += kFreeOnlyTag where freeOnly[u] is set and x[u] >= atLeast (0:
+ *  any key; kInsideTag: keys of points in a region), u in [from, to). */
+void tagFreeOnly(const std::uint8_t* freeOnly, int atLeast, int from, int to, int* x);
+
+/** x[u] = -1 ("no voxel") wherever reference[u] is no surface key: -1, or
+ *  tagged free-only. */
+void maskWhereNoSurface(const int* reference, int cols, int* x);
 
 /** Calls `visit(u)` for every u in [from, to) whose byte in `flags` is 1.
  *  Most bytes are 0, so whole words are skipped at once; `flags` must be
@@ -82,14 +104,5 @@ inline void forEachFlagged(const std::uint8_t* flags, int from, int to, Visit&& 
 			if (u < to) visit(u);
 		}
 	}
-}
-
-/** packKey() of the row passes' key components, or 0 (no key, as in the
- *  KeySets) where one is -1 ("no voxel") or beyond the tree. */
-inline std::uint64_t packedOrNone(int x, int y, int z)
-{
-	if ((static_cast<unsigned>(x) | static_cast<unsigned>(y) | static_cast<unsigned>(z)) > kKeyMask) return 0;
-	return packKey(octomap::OcTreeKey(
-		static_cast<octomap::key_type>(x), static_cast<octomap::key_type>(y), static_cast<octomap::key_type>(z)));
 }
 }  // namespace avm::detail::rows

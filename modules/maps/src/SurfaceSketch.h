@@ -2,8 +2,8 @@
 // the low voxel (a 0.20 m voxel holds 4 x 4 x 4 = 64 voxels of 0.05 m), set by
 // the scan endpoints that land in low-tree space, and by the occupied high
 // voxels of space that leaves a region; cleared where a later depth image
-// sees through the voxel (a single fine map frees what its rays cross). A few bytes per occupied low voxel
-// keep the shape a coarse voxel lost, so that when a person's region reaches
+// sees through the voxel (a single high-resolution map frees what its rays cross). A few bytes per occupied low voxel
+// keep the shape a low voxel lost, so that when a person's region reaches
 // it the high tree gets the surface back where it was (a wall 5 cm thick), not
 // a solid 20 cm block.
 #pragma once

@@ -1,11 +1,8 @@
 #include "avm/persons/PersonLayer.h"
 
 #include <algorithm>
-#include <cmath>
 
-#include "avm/io/DepthCamera.h"
 #include "avm/io/IniKeys.h"
-#include "avm/io/PixelRect.h"
 
 namespace avm::persons
 {
@@ -41,61 +38,20 @@ std::vector<PersonObservation> PersonLayer::observe(const mrpt::obs::CObservatio
 	return out;
 }
 
-PixelSet PersonLayer::movingPersonPixels(const mrpt::obs::CObservation3DRangeScan& obs,
-	const mrpt::poses::CPose3D& sensorPoseInWorld, double horizon, double margin) const
+std::vector<mrpt::math::TBoundingBox> PersonLayer::movingPersonBoxes(
+	const mrpt::obs::CObservation3DRangeScan& obs, double horizon, double margin) const
 {
-	PixelSet pixels;
-	if (!obs.hasRangeImage || obs.rangeImage.cols() == 0) return pixels;
-	const double time = mrpt::Clock::toDouble(obs.timestamp);
-	const auto camera = io::DepthCamera::of(obs);
 	std::vector<mrpt::math::TBoundingBox> boxes;
-	std::vector<io::PixelRect> rects;
+	const double time = mrpt::Clock::toDouble(obs.timestamp);
+	const mrpt::math::TPoint3D grow(margin, margin, margin);
 	for (const auto& t : tracks())
 	{
 		const double since = time - t.lastTime;
 		if (t.still || since > horizon) continue;
 		const auto moved = t.velocity * std::max(0.0, since);
-		const mrpt::math::TPoint3D grow(margin, margin, margin);
-		const mrpt::math::TBoundingBox box(t.box.min + moved - grow, t.box.max + moved + grow);
-		const auto rect = io::pixelRectOf(box, sensorPoseInWorld, camera);
-		if (rect.empty()) continue;
-		boxes.push_back(box);
-		rects.push_back(rect);
+		boxes.emplace_back(t.box.min + moved - grow, t.box.max + moved + grow);
 	}
-	if (boxes.empty()) return pixels;
-	// Pixel (u, v) at depth d lies at t + d * (c0 + a_u c1 + b_v c2), the
-	// columns c of the rotation, a_u = (cx - u) / fx, b_v = (cy - v) / fy.
-	const auto& R = sensorPoseInWorld.getRotationMatrix();
-	const auto t = sensorPoseInWorld.translation();
-	const mrpt::math::TPoint3D c0(R(0, 0), R(1, 0), R(2, 0)), c1(R(0, 1), R(1, 1), R(2, 1)),
-		c2(R(0, 2), R(1, 2), R(2, 2));
-	const auto& image = obs.rangeImage;
-	std::vector<std::uint8_t> covered(static_cast<std::size_t>(camera.width));
-	for (int v = 0; v < camera.height; v++)
-	{
-		int from = camera.width, to = -1;
-		for (const auto& r : rects)
-			if (v >= r.v0 && v <= r.v1)
-			{
-				std::fill(covered.begin() + r.u0, covered.begin() + r.u1 + 1, 1);
-				from = std::min(from, r.u0), to = std::max(to, r.u1);
-			}
-		const double b = (camera.cy - v) / camera.fy;
-		const auto rowBase = c0 + c2 * b;
-		for (int u = from; u <= to; u++)
-		{
-			if (!covered[u] || image(v, u) == 0) continue;
-			covered[u] = 0;
-			const double a = (camera.cx - u) / camera.fx;
-			double d = image(v, u) * obs.rangeUnits;
-			if (!camera.rangeIsDepth) d /= std::sqrt(1 + a * a + b * b);
-			const auto p = t + (rowBase + c1 * a) * d;
-			if (std::any_of(boxes.begin(), boxes.end(), [&](const auto& box) { return box.containsPoint(p); }))
-				pixels.push_back(static_cast<std::uint32_t>(v * camera.width + u));
-		}
-		if (from <= to) std::fill(covered.begin() + from, covered.begin() + to + 1, 0);
-	}
-	return pixels;
+	return boxes;
 }
 
 io::IniKeys<TPersonLayerOptions> TPersonLayerOptions::iniKeys()

@@ -105,7 +105,7 @@ std::vector<persons::PersonObservation> CAdaptiveOctoMap::observePersons(const m
 	return seen;
 }
 
-CDualOctoMap::DepthPixels CAdaptiveOctoMap::beforeDepthImage(
+CDualOctoMap::FreeOnlyBoxes CAdaptiveOctoMap::beforeDepthImage(
 	const mrpt::obs::CObservation3DRangeScan& scan, const mrpt::poses::CPose3D& robotPose)
 {
 	observePersons(scan, robotPose,
@@ -115,6 +115,5 @@ CDualOctoMap::DepthPixels CAdaptiveOctoMap::beforeDepthImage(
 	// person unseen for as long as a region lasts unseen is no longer
 	// followed; the region margin is how far they may stray from their box.
 	if (insertionOptions.switchPolicy != SwitchPolicy::Region) return {};
-	return m_persons.movingPersonPixels(
-		scan, robotPose + scan.sensorPose, insertionOptions.regionEndAfterSeconds, personOptions.regionMargin);
+	return m_persons.movingPersonBoxes(scan, insertionOptions.regionEndAfterSeconds, personOptions.regionMargin);
 }

@@ -1,6 +1,5 @@
 // The pixels of a depth image whose rays can reach a box in the world: what
-// the map's row passes scan near a region, and what the person layer looks at
-// for a moving person's pixels.
+// the map's row passes scan near a region and near a free-only box.
 #pragma once
 
 #include <mrpt/math/TBoundingBox.h>

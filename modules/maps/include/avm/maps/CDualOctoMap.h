@@ -232,15 +232,17 @@ class CDualOctoMap : public mrpt::maps::CMetricMap
 	CDualOctoMap(const CDualOctoMap& other);
 	CDualOctoMap& operator=(const CDualOctoMap& other);
 
-	/** Pixels of a depth image, as indices row * cols + col, sorted. */
-	using DepthPixels = std::vector<std::uint32_t>;
+	/** Boxes in the world frame: a depth pixel whose point lies in one of
+	 *  them (bounds included) is free-only. */
+	using FreeOnlyBoxes = std::vector<mrpt::math::TBoundingBox>;
 	/** Called with each depth image about to be inserted (after its checks,
 	 *  before regions age and rays are cast): where the layer above reads it,
 	 *  e.g. places the regions of the persons it shows. Returns the image's
-	 *  free-only pixels: their rays carve free space as any other, but their
-	 *  endpoints are not marked occupied (something there is passing through);
-	 *  the map does not ask what they are. */
-	virtual DepthPixels beforeDepthImage(
+	 *  free-only boxes: the rays of the pixels whose points lie in them carve
+	 *  free space as any other, but their endpoints are not marked occupied
+	 *  (something there is passing through); the map does not ask what they
+	 *  are. */
+	virtual FreeOnlyBoxes beforeDepthImage(
 		const mrpt::obs::CObservation3DRangeScan& /*scan*/, const mrpt::poses::CPose3D& /*robotPose*/)
 	{
 		return {};

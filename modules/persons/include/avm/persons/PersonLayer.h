@@ -60,15 +60,15 @@ class PersonLayer
 		const mrpt::poses::CPose3D& sensorPoseInWorld, const std::vector<PixelSet>& persons, std::size_t frameIndex,
 		const SightingOptions& sighting, double regionMargin);
 
-	/** The pixels of `obs` (its depth sensor at `sensorPoseInWorld`) that are
-	 *  persons on the move, sorted: for each moving track seen at most
-	 *  `horizon` [s] before the image, its last box carried on by its velocity
-	 *  to the image's time and grown by `margin` [m] on each side; the pixels
-	 *  whose points lie in such a box. Their rays see free space up to the
-	 *  person; their endpoints are no surface. Between two detections the
-	 *  track carries the person's pixels forward this way. */
-	PixelSet movingPersonPixels(const mrpt::obs::CObservation3DRangeScan& obs,
-		const mrpt::poses::CPose3D& sensorPoseInWorld, double horizon, double margin) const;
+	/** Where the persons on the move are at the time of `obs`: for each
+	 *  moving track seen at most `horizon` [s] before the image, its last box
+	 *  carried on by its velocity to the image's time and grown by `margin`
+	 *  [m] on each side. The image's pixels whose points lie in such a box are
+	 *  the moving persons': their rays see free space up to the person, their
+	 *  endpoints are no surface. Between two detections the track carries the
+	 *  person forward this way. */
+	std::vector<mrpt::math::TBoundingBox> movingPersonBoxes(
+		const mrpt::obs::CObservation3DRangeScan& obs, double horizon, double margin) const;
 
 	/** Every person seen so far, in order of id. */
 	const std::vector<PersonTrack>& tracks() const { return m_tracker.tracks(); }

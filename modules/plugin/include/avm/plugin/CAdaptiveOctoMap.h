@@ -60,7 +60,7 @@ class CAdaptiveOctoMap : public CDualOctoMap
 	 *  the image is mapped with their regions in place. Region policy: the
 	 *  pixels of the persons on the move are free only (a person walking
 	 *  through leaves no trail); a still person is mapped like any surface. */
-	DepthPixels beforeDepthImage(
+	FreeOnlyBoxes beforeDepthImage(
 		const mrpt::obs::CObservation3DRangeScan& scan, const mrpt::poses::CPose3D& robotPose) override;
 
    private:
