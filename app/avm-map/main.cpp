@@ -186,13 +186,9 @@ void printSummary(const avm::pipeline::RunSummary& summary, const std::string& o
 			  << "switch:      "
 			  << (summary.switchFrame ? "frame " + std::to_string(*summary.switchFrame) : std::string("never")) << ", "
 			  << summary.regions << " person regions\n";
-	std::printf(
-		"stages [ms]: odometry mean %.1f median %.1f p95 %.1f | "
-		"detection mean %.1f median %.1f p95 %.1f "
-		"(%zu runs) | map mean %.1f median %.1f p95 %.1f\n",
-		summary.odometry.meanMs, summary.odometry.medianMs, summary.odometry.p95Ms, summary.detection.meanMs,
-		summary.detection.medianMs, summary.detection.p95Ms, summary.detection.count, summary.map.meanMs,
-		summary.map.medianMs, summary.map.p95Ms);
+	std::cout << "stages [ms]: odometry " << avm::io::describeTimes(summary.odometry) << " | detection "
+			  << avm::io::describeTimes(summary.detection) << " (" << summary.detection.count << " runs) | map "
+			  << avm::io::describeTimes(summary.map) << "\n";
 	std::printf("memory:      peak %.0f MiB\n", summary.peakMemoryMb);
 	std::printf("cpu:         %.1f ms a frame (all threads)", summary.cpuMsPerFrame);
 	if (summary.stolenCpuShare)

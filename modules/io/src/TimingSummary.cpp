@@ -1,6 +1,7 @@
 #include "avm/io/TimingSummary.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <numeric>
 
 namespace avm::io
@@ -18,5 +19,13 @@ TimingSummary summariseTimes(std::vector<double> ms)
 	s.p95Ms = at(0.95);
 	s.maxMs = ms.back();
 	return s;
+}
+
+std::string describeTimes(const TimingSummary& s)
+{
+	char text[128];
+	std::snprintf(
+		text, sizeof(text), "mean %.1f median %.1f p95 %.1f max %.1f", s.meanMs, s.medianMs, s.p95Ms, s.maxMs);
+	return text;
 }
 }  // namespace avm::io

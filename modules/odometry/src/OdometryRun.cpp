@@ -41,11 +41,7 @@ std::string OdometryRun::timingSummary() const
 	{
 		io::TimingSamples ms;
 		for (const auto& f : frames) ms.add(f.*field);
-		const auto s = ms.summary();
-		char text[160];
-		std::snprintf(text, sizeof(text), "%s ms/frame: mean %.1f median %.1f p95 %.1f max %.1f\n", name, s.meanMs,
-			s.medianMs, s.p95Ms, s.maxMs);
-		return std::string(text);
+		return std::string(name) + " ms/frame: " + io::describeTimes(ms.summary()) + "\n";
 	};
 	return "frames " + std::to_string(frames.size()) + ", lost " + std::to_string(lostFrames()) + ", keyframes " +
 		   std::to_string(keyframes()) + "\n" + line("wall", &FrameRecord::milliseconds) +

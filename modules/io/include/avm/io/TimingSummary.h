@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <numeric>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -20,6 +21,10 @@ struct TimingSummary
 
 /** The summary of durations [ms]. */
 TimingSummary summariseTimes(std::vector<double> milliseconds);
+
+/** "mean 12.3 median 11.0 p95 20.1 max 31.4" [ms, one decimal]: how every
+ *  program's console line shows a summary. */
+std::string describeTimes(const TimingSummary& s);
 
 /** Durations [ms] collected one at a time. */
 class TimingSamples
