@@ -7,6 +7,9 @@
 
 #include <opencv2/core.hpp>
 
+#include <cmath>
+#include <limits>
+
 #include "map/LoopClosing.h"
 
 using namespace avm::odometry;
@@ -40,20 +43,23 @@ class LoopCheck : public ::testing::Test
 		}
 	}
 
-	/** A loop of keyframe `id` with candidate 0 that puts its camera centre `shift` [m] sideways. */
-	LoopMeasurement loopAt(int id, double shift) const
+	/** A loop of keyframe `id` with candidate 0 that puts its camera centre
+	 *  `shift` [m] sideways, its inliers giving it `inlierSigma` [m] on each axis. */
+	LoopMeasurement loopAt(int id, double shift, double inlierSigma = 0) const
 	{
 		LoopMeasurement loop;
 		loop.candidate = 0;
 		loop.T_cw = cameraAt(centreOfKeyframe(id) + Eigen::Vector3d(0, shift, 0));
+		loop.centreCovariance = Eigen::Matrix3d::Identity() * inlierSigma * inlierSigma;
 		return loop;
 	}
 
-	LoopVerdict judge(double shift, std::optional<double> shiftBefore = std::nullopt) const
+	LoopVerdict judge(double shift, std::optional<double> shiftBefore = std::nullopt, double inlierSigma = 0) const
 	{
 		std::vector<PoseGraphEdge> loops;
-		if (shiftBefore) loops.push_back(loopEdge(loopAt(kNewest - 1, *shiftBefore), kNewest - 1, map, options));
-		return judgeLoop(loopAt(kNewest, shift), kNewest, loops, map, options).verdict;
+		if (shiftBefore)
+			loops.push_back(loopEdge(loopAt(kNewest - 1, *shiftBefore, inlierSigma), kNewest - 1, map, options));
+		return judgeLoop(loopAt(kNewest, shift, inlierSigma), kNewest, loops, map, options).verdict;
 	}
 
 	TOdometryOptions options;
@@ -84,4 +90,17 @@ TEST_F(LoopCheck, TwoAgreeingLoopsCloseOnlyBeyondTheirOwnError)
 	EXPECT_EQ(judge(0.03, 0.02), LoopVerdict::WithinOwnError);
 	EXPECT_EQ(judge(0.045, 0.045), LoopVerdict::WithinOwnError);
 	EXPECT_EQ(judge(0.052, 0.052), LoopVerdict::Close);
+}
+
+TEST_F(LoopCheck, LoopsOnWeakInliersNeedMoreDriftToClose)
+{
+	// Inliers that fix the centre to 4 mm on each axis: 5 times that on top
+	// of loop_sigma, 0.028 m a loop, and the mean of two within 0.067 m.
+	options.loop_covariance_scale = 5;
+	EXPECT_EQ(judge(0.052, 0.052, 0.004), LoopVerdict::WithinOwnError);
+	EXPECT_EQ(judge(0.10, 0.09, 0.004), LoopVerdict::Close);
+	EXPECT_NEAR(
+		loopEdge(loopAt(kNewest, 0.05, 0.004), kNewest, map, options).sigmaTranslation, std::sqrt(0.0008), 1e-12);
+	// Inliers that do not fix the pose: nothing to judge the loop by.
+	EXPECT_EQ(judge(0.01, std::nullopt, std::numeric_limits<double>::infinity()), LoopVerdict::Refused);
 }

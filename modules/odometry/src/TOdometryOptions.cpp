@@ -122,7 +122,8 @@ void addPlaceKeys(io::IniKeys<TOdometryOptions>& keys)
 			{[](int v) { return v >= 0; }, "must be >= 0"})
 		.number("loop_closure", &O::loop_closure, "",
 			"close loops: a new keyframe that sees an old keyframe's place again is measured against it, judged by "
-			"the loop check (loop_sigma, odometry_sigma) and the keyframes move in a pose graph (Ceres)")
+			"the loop check (loop_sigma, loop_covariance_scale, odometry_sigma) and the keyframes move in a pose graph "
+			"(Ceres)")
 		.number("loop_min_separation", &O::loop_min_separation, "keyframes",
 			"a loop candidate is at least this many keyframes older than the new keyframe",
 			{[](int v) { return v >= 1; }, "must be >= 1"})
@@ -141,6 +142,11 @@ void addPlaceKeys(io::IniKeys<TOdometryOptions>& keys)
 			"standard deviation of a loop's measured camera centre on each axis: the loop check's scale and the loop "
 			"constraint's in the pose graph (the same number in rad for its rotation)",
 			{[](double v) { return v > 0; }, "must be > 0"})
+		.number("loop_covariance_scale", &O::loop_covariance_scale, "",
+			"a loop's camera centre is off by this many times the standard deviation its inliers alone give (the "
+			"place's points taken as exact), on top of loop_sigma, in the loop check and the pose graph; 0: "
+			"loop_sigma alone",
+			{[](double v) { return v >= 0; }, "must be >= 0"})
 		.number("odometry_sigma", &O::odometry_sigma, "m",
 			"standard deviation of the odometry between consecutive keyframes on each axis: how far the track may "
 			"have drifted since a loop's candidate in the loop check, and the odometry constraint in the pose graph "

@@ -2,9 +2,12 @@
 
 #include <mrpt/core/bits_math.h>
 
+#include <Eigen/Eigenvalues>
+
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 
 #include "../TrackQuality.h"
 
@@ -67,6 +70,7 @@ std::optional<LoopMeasurement> measureLoop(const FrameFeatures& f, const Eigen::
 		m.candidate = c.keyframe;
 		m.T_cw = refined->T_cw;
 		m.inliers = refined->inliers.size();
+		m.centreCovariance = refined->centreCovariance;
 		m.inlierMatches = std::move(refined->inliers);
 		best = measuredFrom(std::move(m), T_cw);
 	}
@@ -79,18 +83,38 @@ LoopMeasurement measuredFrom(LoopMeasurement loop, const Eigen::Isometry3d& T_cw
 	return loop;
 }
 
+double inlierSigma(const LoopMeasurement& loop)
+{
+	if (!loop.centreCovariance.allFinite()) return std::numeric_limits<double>::infinity();
+	const double worst = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(loop.centreCovariance, Eigen::EigenvaluesOnly)
+							 .eigenvalues()
+							 .maxCoeff();
+	return std::sqrt(std::max(worst, 0.0));
+}
+
+double loopSigma(const LoopMeasurement& loop, const TOdometryOptions& options)
+{
+	// 0: every loop is as good as any other, whatever its inliers.
+	if (options.loop_covariance_scale == 0) return options.loop_sigma;
+	const double fromInliers = options.loop_covariance_scale * inlierSigma(loop);
+	return std::sqrt(options.loop_sigma * options.loop_sigma + fromInliers * fromInliers);
+}
+
 LoopJudgement judgeLoop(const LoopMeasurement& loop, int newestId, const std::vector<PoseGraphEdge>& loops,
 	const KeyframeMap& map, const TOdometryOptions& options)
 {
 	// Chi-square with 3 degrees of freedom at 99 %: a camera centre's error
 	// over its per-axis standard deviation stays below this 99 times in 100.
 	static const double kChiSquare = chiSquare3Quantile(0.99);
-	const double loopVariance = options.loop_sigma * options.loop_sigma;
+	const double sigma = loopSigma(loop, options);
+	const double loopVariance = sigma * sigma;
 	const Eigen::Vector3d shift = cameraCentre(loop.T_cw) - cameraCentre(map.find(newestId)->T_cw);
 	const int keyframesApart = newestId - loop.candidate;
 	const double trackVariance = keyframesApart * options.odometry_sigma * options.odometry_sigma;
 	char why[200];
-	std::snprintf(why, sizeof(why), "%.3f m from the track", shift.norm());
+	std::snprintf(why, sizeof(why), "%.3f m from the track, sigma %.3f m (inliers %.4f m)", shift.norm(), sigma,
+		inlierSigma(loop));
+	if (!std::isfinite(sigma)) return {LoopVerdict::Refused, std::string(why) + ": its inliers do not fix the pose"};
 	if (shift.squaredNorm() > kChiSquare * (loopVariance + trackVariance))
 	{
 		std::snprintf(why + std::strlen(why), sizeof(why) - std::strlen(why),
@@ -103,7 +127,8 @@ LoopJudgement judgeLoop(const LoopMeasurement& loop, int newestId, const std::ve
 	const MapKeyframe* to = before ? map.find(before->to) : nullptr;
 	if (!from || !to) return {LoopVerdict::Unconfirmed, why};
 	const Eigen::Vector3d shiftBefore = cameraCentre(before->T_to_from * from->T_cw) - cameraCentre(to->T_cw);
-	if ((shift - shiftBefore).squaredNorm() > kChiSquare * 2 * loopVariance)
+	const double bothVariance = loopVariance + before->sigmaTranslation * before->sigmaTranslation;
+	if ((shift - shiftBefore).squaredNorm() > kChiSquare * bothVariance)
 	{
 		std::snprintf(why + std::strlen(why), sizeof(why) - std::strlen(why),
 			", %.3f m from the keyframe before's loop", (shift - shiftBefore).norm());
@@ -113,7 +138,7 @@ LoopJudgement judgeLoop(const LoopMeasurement& loop, int newestId, const std::ve
 	std::snprintf(why + std::strlen(why), sizeof(why) - std::strlen(why), ", %.3f m with the keyframe before's loop",
 		drift.norm());
 	return {
-		drift.squaredNorm() > kChiSquare * loopVariance / 2 ? LoopVerdict::Close : LoopVerdict::WithinOwnError, why};
+		drift.squaredNorm() > kChiSquare * bothVariance / 4 ? LoopVerdict::Close : LoopVerdict::WithinOwnError, why};
 }
 
 PoseGraphEdge loopEdge(
@@ -123,8 +148,8 @@ PoseGraphEdge loopEdge(
 	e.from = loop.candidate;
 	e.to = keyframe;
 	e.T_to_from = loop.T_cw * map.find(loop.candidate)->T_cw.inverse();
-	e.sigmaTranslation = options.loop_sigma;
-	e.sigmaRotation = options.loop_sigma;  // [rad], as a metre at 1 m
+	e.sigmaTranslation = loopSigma(loop, options);
+	e.sigmaRotation = e.sigmaTranslation;  // [rad], as a metre at 1 m
 	e.robust = true;
 	return e;
 }

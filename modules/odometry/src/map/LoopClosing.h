@@ -35,6 +35,10 @@ struct LoopMeasurement
 	Eigen::Isometry3d T_cw;   //!< the new keyframe's pose measured against the old place
 	std::size_t inliers = 0;  //!< matches within ransac_reprojection at T_cw
 	double rotation = 0;      //!< [deg] T_cw's rotation from the tracked one (judgeLoop weighs the centre's shift)
+	/** [m^2] Of T_cw's camera centre, from the inliers alone
+	 *  (CeresBackend::RefinedPose); zero for a loop measured elsewhere
+	 *  (offerLoop), which has loop_sigma alone. */
+	Eigen::Matrix3d centreCovariance = Eigen::Matrix3d::Zero();
 	/** The inliers: the new keyframe's features and the place's points
 	 *  (numbered as placeAround numbers them). */
 	std::vector<Match> inlierMatches;
@@ -74,11 +78,21 @@ struct LoopJudgement
 	std::string why;  //!< the figures the verdict came from, for the status line
 };
 
+/** [m] The standard deviation of a loop's camera centre along its worst
+ *  axis from its inliers alone (the largest eigenvalue of
+ *  centreCovariance); infinite when they do not fix the pose. */
+double inlierSigma(const LoopMeasurement& loop);
+
+/** [m] A loop's per-axis standard deviation: loop_sigma and
+ *  loop_covariance_scale times its inlierSigma, added in variance
+ *  (loop_sigma alone when the scale is 0). */
+double loopSigma(const LoopMeasurement& loop, const TOdometryOptions& options);
+
 /** The loop check, on the shift of the newest keyframe's camera centre that
  *  `loop` measures against its tracked pose, with per-axis standard
- *  deviations loop_sigma for a loop and odometry_sigma for each keyframe of
- *  odometry since the candidate; every test at 99 % (chi-square, 3 degrees
- *  of freedom):
+ *  deviations loopSigma for a loop (the keyframe before's loop: its edge's
+ *  sigmaTranslation) and odometry_sigma for each keyframe of odometry since
+ *  the candidate; every test at 99 % (chi-square, 3 degrees of freedom):
  *  - refused when the shift is beyond what the loop and the odometry since
  *    the candidate together allow;
  *  - unconfirmed unless the keyframe before measured a loop (the last of
@@ -92,7 +106,8 @@ LoopJudgement judgeLoop(const LoopMeasurement& loop, int newestId, const std::ve
 /** `loop` with its rotation from the tracked pose T_cw. */
 LoopMeasurement measuredFrom(LoopMeasurement loop, const Eigen::Isometry3d& T_cw);
 
-/** The loop constraint of a measurement made at keyframe `keyframe`. */
+/** The loop constraint of a measurement made at keyframe `keyframe`, of
+ *  standard deviation loopSigma (the same number in rad for its rotation). */
 PoseGraphEdge loopEdge(
 	const LoopMeasurement& loop, int keyframe, const KeyframeMap& map, const TOdometryOptions& options);
 }  // namespace avm::odometry::detail

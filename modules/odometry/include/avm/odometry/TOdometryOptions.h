@@ -101,6 +101,15 @@ struct TOdometryOptions : public io::CIniKeyOptions<TOdometryOptions>
 	 *  against the ground truth is 2.7-3.5 cm on average, a per-axis sigma of
 	 *  1.7-2.2 cm (doc/odometry.md). */
 	double loop_sigma = 0.02;
+	/** How many times the standard deviation its inliers alone give (their
+	 *  refinement's covariance, the place's points taken as exact) a loop's
+	 *  camera centre is off, on top of loop_sigma: a loop on few points or on
+	 *  points to one side weighs less in the check and in the pose graph.
+	 *  0: loop_sigma alone for every loop. A loop's error on Bonn is about 10
+	 *  times its inliers' worst-axis sigma, a fit with loop_sigma's kind of
+	 *  floor gives 4-7; at 5 the whole sequence and the forward-backward test
+	 *  got worse, so 0 (doc/odometry.md, "The loop's own uncertainty"). */
+	double loop_covariance_scale = 0;
 	/** [m] Standard deviation of the odometry between consecutive keyframes
 	 *  on each axis (and [rad]): how far the track may have drifted since a
 	 *  loop's candidate (a loop beyond that and its own error is refused), and
