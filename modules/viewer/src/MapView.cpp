@@ -8,6 +8,7 @@
 #include <mrpt/opengl/COctoMapVoxels.h>
 #include <mrpt/opengl/COpenGLScene.h>
 #include <mrpt/opengl/CSetOfLines.h>
+#include <mrpt/opengl/CPointCloud.h>
 #include <mrpt/opengl/CSphere.h>
 #include <mrpt/opengl/CText.h>
 #include <mrpt/opengl/stock_objects.h>
@@ -120,7 +121,8 @@ mrpt::opengl::COctoMapVoxels::Ptr voxelsOf(
 	return voxels;
 }
 
-/** The regions' boxes and the persons (a dot and the id) into `objects`. */
+/** The regions' boxes and the persons (a dot, the id and the last shape)
+ *  into `objects`. */
 void insertRegionsAndPersons(mrpt::opengl::CSetOfObjects& objects, const MapSnapshot& s)
 {
 	using namespace mrpt::opengl;
@@ -134,6 +136,12 @@ void insertRegionsAndPersons(mrpt::opengl::CSetOfObjects& objects, const MapSnap
 			objects.insert(cube);
 		}
 	}
+	auto shapes = CPointCloud::Create();
+	for (const auto& p : s.persons)
+		for (const auto& v : p.shape) shapes->insertPoint(v.x, v.y, v.z);
+	shapes->setColor_u8(kPersonColour);
+	shapes->setPointSize(4.0f);
+	objects.insert(shapes);
 	for (const auto& p : s.persons)
 	{
 		auto dot = CSphere::Create(0.12f, 12);
