@@ -8,7 +8,6 @@
 #include <mrpt/opengl/COctoMapVoxels.h>
 #include <mrpt/opengl/COpenGLScene.h>
 #include <mrpt/opengl/CSetOfLines.h>
-#include <mrpt/opengl/CPointCloud.h>
 #include <mrpt/opengl/CSphere.h>
 #include <mrpt/opengl/CText.h>
 #include <mrpt/opengl/stock_objects.h>
@@ -50,6 +49,7 @@ enum VoxelSet : unsigned
 	HighOccupied,
 	LowFree,
 	HighFree,
+	PersonShapes,  //!< each person's last shape, at the high resolution
 	VoxelSetCount
 };
 
@@ -96,7 +96,8 @@ mrpt::img::CImage annotatedImage(const MapSnapshot& s, bool features)
 	return img;
 }
 
-/** The snapshot's voxels, one set per tree and occupancy, shown as toggled. */
+/** The snapshot's voxels, one set per tree and occupancy, shown as toggled,
+ *  and the persons' last shapes. */
 mrpt::opengl::COctoMapVoxels::Ptr voxelsOf(
 	const MapSnapshot& s, const ViewToggles& t, const mrpt::math::TBoundingBox& box)
 {
@@ -111,6 +112,10 @@ mrpt::opengl::COctoMapVoxels::Ptr voxelsOf(
 	add(HighOccupied, s.highOccupied, kHighColour);
 	add(LowFree, s.lowFree, kLowFreeColour);
 	add(HighFree, s.highFree, kHighFreeColour);
+	for (const auto& p : s.persons)
+		for (const auto& v : p.shape)
+			voxels->push_back_Voxel(
+				PersonShapes, COctoMapVoxels::TVoxel(v, static_cast<float>(s.highResolution), kPersonColour));
 	voxels->showVoxels(LowOccupied, t.lowTree);
 	voxels->showVoxels(LowFree, t.lowTree && t.freeSpace);
 	voxels->showVoxels(HighOccupied, t.highTree);
@@ -121,8 +126,7 @@ mrpt::opengl::COctoMapVoxels::Ptr voxelsOf(
 	return voxels;
 }
 
-/** The regions' boxes and the persons (a dot, the id and the last shape)
- *  into `objects`. */
+/** The regions' boxes and the persons (a dot and the id) into `objects`. */
 void insertRegionsAndPersons(mrpt::opengl::CSetOfObjects& objects, const MapSnapshot& s)
 {
 	using namespace mrpt::opengl;
@@ -136,12 +140,6 @@ void insertRegionsAndPersons(mrpt::opengl::CSetOfObjects& objects, const MapSnap
 			objects.insert(cube);
 		}
 	}
-	auto shapes = CPointCloud::Create();
-	for (const auto& p : s.persons)
-		for (const auto& v : p.shape) shapes->insertPoint(v.x, v.y, v.z);
-	shapes->setColor_u8(kPersonColour);
-	shapes->setPointSize(4.0f);
-	objects.insert(shapes);
 	for (const auto& p : s.persons)
 	{
 		auto dot = CSphere::Create(0.12f, 12);
