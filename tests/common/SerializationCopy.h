@@ -6,6 +6,8 @@
 #include <mrpt/io/CMemoryStream.h>
 #include <mrpt/serialization/CArchive.h>
 
+#include <string>
+
 namespace avm::test
 {
 /** Writes `from` with serializeTo(archive) and reads it into `into` with
@@ -18,5 +20,15 @@ void copyBySerialization(const T& from, T& into)
 	from.serializeTo(arch);
 	buf.Seek(0);
 	into.serializeFrom(arch);
+}
+
+/** The bytes of `object` as an MRPT archive streams it (class name, version
+ *  and state): two objects with the same bytes hold the same state. */
+inline std::string serializedBytes(const mrpt::serialization::CSerializable& object)
+{
+	mrpt::io::CMemoryStream buf;
+	auto arch = mrpt::serialization::archiveFrom(buf);
+	arch << object;
+	return std::string(static_cast<const char*>(buf.getRawBufferData()), buf.getTotalBytesCount());
 }
 }  // namespace avm::test

@@ -2,6 +2,9 @@
 // front of a wall, seen through a detector-like box that also shows the wall.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <tuple>
+
 #include "avm/persons/PersonLabels.h"
 #include "avm/persons/PersonSighting.h"
 
@@ -136,4 +139,39 @@ TEST(PersonSighting, ALabelMostlyWithoutDepthGivesNoSighting)
 		EXPECT_FALSE(est.sighting);
 		EXPECT_NE(est.skipReason.find("min_person_depth_fraction"), std::string::npos) << est.skipReason;
 	}
+}
+
+// A person's shape: their points (not the wall's), one per voxel of the given
+// resolution on octomap's grid, inside the box given; the same every time.
+TEST(PersonSighting, APersonsShapeIsOnePointPerVoxelOfTheirPointsInsideTheBox)
+{
+	const auto obs = personBeforeAWall();
+	const auto pixels = pixelsOfBox(230, 90, 410, 410, kCols, kRows);
+	const auto est = estimateSighting(obs, {}, pixels, {});
+	ASSERT_TRUE(est.sighting) << est.skipReason;
+	const double res = 0.05;
+	const mrpt::math::TPoint3D margin(0.2, 0.2, 0.2);
+	const mrpt::math::TBoundingBox region(est.sighting->box.min - margin, est.sighting->box.max + margin);
+	const auto shape = personShape(obs, {}, pixels, *est.sighting, {}, res, region);
+	// 120 x 300 px at 2 m: 0.457 m x 1.143 m, 10 x 23 voxels, give or take
+	// one on each axis where the grid cuts.
+	EXPECT_GE(shape.size(), 9u * 22u);
+	EXPECT_LE(shape.size(), 11u * 24u);
+	for (std::size_t i = 0; i < shape.size(); i++)
+	{
+		const auto& p = shape[i];
+		EXPECT_NEAR(p.x, 2.025, 1e-5) << "the person at 2 m, in voxel [2.00, 2.05); not the wall at 4 m";
+		for (const double c : {double(p.x), double(p.y), double(p.z)})
+			EXPECT_NEAR(c / res - 0.5, std::round(c / res - 0.5), 1e-3) << "not a voxel centre: " << p;
+		EXPECT_TRUE(region.containsPoint(mrpt::math::TPoint3D(p))) << p;
+		if (i > 0) EXPECT_LT(std::tie(shape[i - 1].x, shape[i - 1].y, shape[i - 1].z), std::tie(p.x, p.y, p.z));
+	}
+	EXPECT_EQ(personShape(obs, {}, pixels, *est.sighting, {}, res, region), shape);
+	// A coarser grid, fewer points; a smaller box, only the points inside.
+	EXPECT_LT(personShape(obs, {}, pixels, *est.sighting, {}, 0.2, region).size(), shape.size() / 4);
+	const mrpt::math::TBoundingBox upperHalf({1, -1, 0}, {3, 1, 1});
+	const auto upper = personShape(obs, {}, pixels, *est.sighting, {}, res, upperHalf);
+	EXPECT_GT(upper.size(), 0u);
+	EXPECT_LT(upper.size(), shape.size());
+	for (const auto& p : upper) EXPECT_GT(p.z, 0.0f) << p;
 }

@@ -107,3 +107,26 @@ TEST(PersonTracker, TheSameSightingsGiveTheSameIdsAndSurviveSerialization)
 	// And it goes on the same way.
 	EXPECT_EQ(restored.update({at(2.0, 1.0)}, 50, 5.0), a.update({at(2.0, 1.0)}, 50, 5.0));
 }
+
+// A track keeps the shape of its person's last sighting, through serialization.
+TEST(PersonTracker, ATrackKeepsItsLastSightingsShape)
+{
+	PersonTracker tracker;
+	auto first = at(1.0, 1.0);
+	first.shape = {{1.025f, 1.025f, 0.025f}, {1.025f, 1.025f, 0.075f}};
+	auto second = at(1.1, 1.0);
+	second.shape = {{1.125f, 1.025f, 0.025f}};
+	tracker.update({first}, 0, 0.0);
+	ASSERT_EQ(tracker.tracks().size(), 1u);
+	EXPECT_EQ(tracker.tracks()[0].shape, first.shape);
+	tracker.update({second}, 1, kStep);
+	ASSERT_EQ(tracker.tracks().size(), 1u);
+	EXPECT_EQ(tracker.tracks()[0].shape, second.shape) << "the last sighting's shape replaces the one before";
+	tracker.update({}, 2, 2 * kStep);
+	EXPECT_EQ(tracker.tracks()[0].shape, second.shape) << "unseen, the person keeps their last shape";
+
+	PersonTracker restored;
+	avm::test::copyBySerialization(tracker, restored);
+	ASSERT_EQ(restored.tracks().size(), 1u);
+	EXPECT_EQ(restored.tracks()[0].shape, second.shape);
+}

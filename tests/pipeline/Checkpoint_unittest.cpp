@@ -16,6 +16,7 @@
 #include <optional>
 
 #include "DefaultIni.h"
+#include "SerializationCopy.h"
 #include "TestData.h"
 #include "avm/plugin/CAdaptiveOctoMap.h"
 #include "avm/pipeline/CheckpointWriter.h"
@@ -47,17 +48,11 @@ pipeline::RunSummary runWithCheckpoints(const mrpt::config::CConfigFileBase& ini
 	return p.run(test::bonnRawlog(), out, stop, progress);
 }
 
-const char* const kRunFiles[] = {
-	"trajectory.txt", "trajectory_status.txt", "detections.txt", "persons.csv", "map_low.bt", "map_high.bt"};
+const char* const kRunFiles[] = {"trajectory.txt", "trajectory_status.txt", "detections.txt", "persons.csv",
+	"person_shapes.ply", "map_low.bt", "map_high.bt"};
 
 /** All of the map's state (trees, regions, person tracks, surface sketch). */
-std::string serialized(const CAdaptiveOctoMap& map)
-{
-	mrpt::io::CMemoryStream buf;
-	auto arch = mrpt::serialization::archiveFrom(buf);
-	arch << map;
-	return std::string(static_cast<const char*>(buf.getRawBufferData()), buf.getTotalBytesCount());
-}
+std::string serialized(const CAdaptiveOctoMap& map) { return test::serializedBytes(map); }
 }  // namespace
 
 TEST(PipelineCheckpoint, AResumedRunEndsLikeARunThatWasNeverStopped)

@@ -5,13 +5,19 @@
 #include <mrpt/io/CFileOutputStream.h>
 #include <mrpt/io/vector_loadsave.h>
 #include <mrpt/opengl/COpenGLScene.h>
+#include <mrpt/opengl/CPointCloud.h>
+#include <mrpt/opengl/CPointCloudColoured.h>
 #include <mrpt/serialization/CArchive.h>
 #include <octomap/OcTree.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <mutex>
+#include <set>
 #include <sstream>
 
 #include "CoveredLens.h"
@@ -21,6 +27,7 @@
 #include "avm/io/RawlogFrameReader.h"
 #include "avm/io/RgbdFrame.h"
 #include "avm/io/Trajectory.h"
+#include "avm/maps/MapColours.h"
 #include "avm/plugin/CAdaptiveOctoMap.h"
 #include "avm/persons/PersonsCsv.h"
 #include "avm/pipeline/MappingPipeline.h"
@@ -226,8 +233,9 @@ TEST(PipelineOnBonn, PersonTracksCrossTheViewAndLieInTheMappedSpace)
 TEST(PipelineOnBonn, AllOutputsExistAndLoad)
 {
 	const auto& [out, summary] = defaultRun();
-	for (const char* name : {"map_low.bt", "map_high.bt", "map.3Dscene", "trajectory.txt", "trajectory_status.txt",
-			 "detections.txt", "persons.csv", "stats.json", "map_top.png", "map_perspective.png", "avm-map.log"})
+	for (const char* name :
+		{"map_low.bt", "map_high.bt", "map.3Dscene", "trajectory.txt", "trajectory_status.txt", "detections.txt",
+			"persons.csv", "person_shapes.ply", "stats.json", "map_top.png", "map_perspective.png", "avm-map.log"})
 		EXPECT_TRUE(fs::exists(out / name)) << name;
 	// One status line per pose: 1 tracked, 0 bridged (the default run loses no frame).
 	const auto tracked = trackedFlagsIn(out / "trajectory_status.txt");
@@ -270,6 +278,63 @@ TEST(PipelineOnBonn, AllOutputsExistAndLoad)
 	ASSERT_EQ(gt.size(), trajectory.size());
 	EXPECT_LT((trajectory.back().pose - gt.back().pose).translation().norm(), 1e-5)
 		<< "--poses gt must write the ground truth as the trajectory";
+}
+
+// Each person's last shape on the real run: in person_shapes.ply (which
+// MRPT's PLY reader opens), one point per high-resolution voxel, inside the
+// person's last region box, and in map.3Dscene.
+TEST(PipelineOnBonn, EachPersonsLastShapeIsWrittenAtTheRegionsResolutionInTheirRegion)
+{
+	const auto& [out, summary] = defaultRun();
+	const auto tracks = persons::readPersonsCsv(out / "persons.csv");
+	ASSERT_FALSE(tracks.empty());
+	const double margin = test::defaultIni().read_double("map_adaptiveOctoMap_00_insertOpts", "region_margin", -1);
+	ASSERT_GE(margin, 0);
+	const double resolution = 0.05;  // the high tree's (AllOutputsExistAndLoad)
+
+	std::istringstream ply(test::fileBytes(out / "person_shapes.ply"));
+	std::string line;
+	while (std::getline(ply, line) && line != "end_header")
+	{
+	}
+	std::map<std::uint32_t, std::set<std::array<long, 3>>> voxelsOf;
+	std::size_t points = 0;
+	for (; std::getline(ply, line); ++points)
+	{
+		double p[3];
+		unsigned r, g, b, id;
+		ASSERT_EQ(std::sscanf(line.c_str(), "%lf %lf %lf %u %u %u %u", &p[0], &p[1], &p[2], &r, &g, &b, &id), 7)
+			<< line;
+		EXPECT_EQ(mrpt::img::TColor(r, g, b), maps::kPersonColour) << line;
+		const auto track = std::find_if(tracks.begin(), tracks.end(), [&](const auto& t) { return t.id == id; });
+		ASSERT_NE(track, tracks.end()) << "no person " << id << " in persons.csv";
+		// persons.csv's boxes are to the mm, the file's points to 0.1 mm.
+		const double lo[3] = {track->box.min.x, track->box.min.y, track->box.min.z},
+					 hi[3] = {track->box.max.x, track->box.max.y, track->box.max.z};
+		std::array<long, 3> key{};
+		for (int k = 0; k < 3; k++)
+		{
+			EXPECT_GE(p[k], lo[k] - margin - 1e-3) << "person " << id << ": " << line;
+			EXPECT_LE(p[k], hi[k] + margin + 1e-3) << "person " << id << ": " << line;
+			const double cell = p[k] / resolution - 0.5;
+			EXPECT_NEAR(cell, std::round(cell), 1e-2) << "not a voxel centre: " << line;
+			key[k] = std::lround(cell);
+		}
+		EXPECT_TRUE(voxelsOf[id].insert(key).second) << "two points in one voxel: " << line;
+	}
+	for (const auto& t : tracks) EXPECT_GT(voxelsOf[t.id].size(), 50u) << "person " << t.id << " has no shape";
+
+	mrpt::opengl::CPointCloudColoured cloud;
+	ASSERT_TRUE(cloud.loadFromPlyFile((out / "person_shapes.ply").string())) << cloud.getLoadPLYErrorString();
+	EXPECT_EQ(cloud.size(), points);
+
+	mrpt::opengl::COpenGLScene scene;
+	ASSERT_TRUE(scene.loadFromFile((out / "map.3Dscene").string()));
+	const auto shapes = scene.getByClass<mrpt::opengl::CPointCloud>();
+	ASSERT_TRUE(shapes) << "map.3Dscene has no person shapes";
+	EXPECT_EQ(shapes->getName(), CAdaptiveOctoMap::kPersonShapesName);
+	EXPECT_EQ(shapes->size(), points);
+	EXPECT_EQ(shapes->getColor_u8(), maps::kPersonColour);
 }
 
 TEST(PipelineReadAhead, SameFramesInTheSameOrderAsReadingInTheLoop)

@@ -189,6 +189,25 @@ TEST(MapSnapshot, CopiesBothTreesTheRegionsAndFreeSpaceOnlyWhenAsked)
 	EXPECT_NE(line.find("switch at 0"), std::string::npos) << line;
 }
 
+// The live view draws each person's last shape: the snapshot holds it as the
+// track does (a patch of a real Bonn frame taken for a person).
+TEST(MapSnapshot, CopiesEachPersonsLastShape)
+{
+	avm::io::RawlogFrameReader reader(avm::test::bonnRawlog());
+	auto f = reader.next();
+	while (f && !f->groundTruth) f = reader.next();
+	ASSERT_TRUE(f);
+	const int rows = f->observation->rangeImage.rows(), cols = f->observation->rangeImage.cols();
+	avm::CAdaptiveOctoMap map;
+	map.observePersons(*f->observation, *f->groundTruth,
+		{avm::persons::pixelsOfBox(cols / 2 - 30, rows / 2 - 60, cols / 2 + 30, rows / 2 + 60, cols, rows)}, 0);
+	ASSERT_EQ(map.personTracks().size(), 1u);
+	const auto s = avm::viewer::snapshotOf(map);
+	ASSERT_EQ(s.persons.size(), 1u);
+	EXPECT_FALSE(s.persons[0].shape.empty());
+	EXPECT_EQ(s.persons[0].shape, map.personTracks()[0].shape);
+}
+
 TEST(MapSnapshot, ARunFolderWithoutAMapIsNamed)
 {
 	const auto dir = avm::test::scratchDir("viewer-empty-run");

@@ -1,6 +1,7 @@
 #include "avm/persons/PersonSighting.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
 
@@ -134,6 +135,38 @@ SightingEstimate estimateSighting(const mrpt::obs::CObservation3DRangeScan& obs,
 	s.position = {percentile(xs, 0.5), percentile(ys, 0.5), percentile(zs, 0.5)};
 	est.sighting = s;
 	return est;
+}
+
+std::vector<mrpt::math::TPoint3Df> personShape(const mrpt::obs::CObservation3DRangeScan& obs,
+	const mrpt::poses::CPose3D& sensorPoseInWorld, const PixelSet& pixels, const PersonSighting& sighting,
+	const SightingOptions& o, double resolution, const mrpt::math::TBoundingBox& within)
+{
+	std::vector<mrpt::math::TPoint3Df> shape;
+	if (pixels.empty() || !obs.hasRangeImage || obs.rangeImage.cols() == 0 || !(resolution > 0)) return shape;
+	const auto camera = io::DepthCamera::of(obs);
+	const int cols = camera.width;
+	// octomap's coordToKey: floor(coordinate * (1 / resolution)).
+	const double perMetre = 1.0 / resolution;
+	using Key = std::array<std::int32_t, 3>;
+	std::vector<Key> keys;
+	for (const auto i : pixels)
+	{
+		const float d = static_cast<float>(obs.rangeImage(i / cols, i % cols) * obs.rangeUnits);
+		if (!(d > 0) || std::abs(d - sighting.depth) > o.depthBand) continue;
+		const auto p = sensorPoseInWorld.composePoint(camera.unproject(i % cols, i / cols, d));
+		const Key k{static_cast<std::int32_t>(std::floor(p.x * perMetre)),
+			static_cast<std::int32_t>(std::floor(p.y * perMetre)),
+			static_cast<std::int32_t>(std::floor(p.z * perMetre))};
+		const auto centre = [&](std::size_t axis) { return (k[axis] + 0.5) * resolution; };
+		if (within.containsPoint({centre(0), centre(1), centre(2)})) keys.push_back(k);
+	}
+	std::sort(keys.begin(), keys.end());
+	keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+	shape.reserve(keys.size());
+	for (const auto& k : keys)
+		shape.emplace_back(static_cast<float>((k[0] + 0.5) * resolution), static_cast<float>((k[1] + 0.5) * resolution),
+			static_cast<float>((k[2] + 0.5) * resolution));
+	return shape;
 }
 
 PixelSet pixelsOfBox(int u0, int v0, int u1, int v1, int cols, int rows)

@@ -48,6 +48,7 @@ std::vector<std::uint32_t> PersonTracker::update(
 		track.lastTime = time;
 		track.position = s.position;
 		track.box = s.box;
+		track.shape = s.shape;
 		++track.sightings;
 	};
 	for (const auto& p : pairs)
@@ -81,14 +82,18 @@ void PersonTracker::serializeTo(mrpt::serialization::CArchive& out) const
 {
 	out.WriteAs<uint32_t>(m_tracks.size());
 	for (const auto& t : m_tracks)
+	{
 		out << t.id << static_cast<uint64_t>(t.firstFrame) << static_cast<uint64_t>(t.lastFrame) << t.firstTime
 			<< t.lastTime << t.position.x << t.position.y << t.position.z << t.box.min.x << t.box.min.y << t.box.min.z
 			<< t.box.max.x << t.box.max.y << t.box.max.z << static_cast<uint64_t>(t.sightings) << t.velocity.x
 			<< t.velocity.y << t.velocity.z << t.settledAt.x << t.settledAt.y << t.settledAt.z << t.settledSince
 			<< t.still;
+		out.WriteAs<uint32_t>(t.shape.size());
+		for (const auto& p : t.shape) out << p.x << p.y << p.z;
+	}
 }
 
-void PersonTracker::serializeFrom(mrpt::serialization::CArchive& in, bool withMotion)
+void PersonTracker::serializeFrom(mrpt::serialization::CArchive& in, const TrackStreamParts& parts)
 {
 	m_tracks.resize(in.ReadAs<uint32_t>());
 	for (auto& t : m_tracks)
@@ -97,11 +102,19 @@ void PersonTracker::serializeFrom(mrpt::serialization::CArchive& in, bool withMo
 		in >> t.id >> first >> last >> t.firstTime >> t.lastTime >> t.position.x >> t.position.y >> t.position.z >>
 			t.box.min.x >> t.box.min.y >> t.box.min.z >> t.box.max.x >> t.box.max.y >> t.box.max.z >> count;
 		t.firstFrame = first, t.lastFrame = last, t.sightings = count;
-		if (withMotion)
+		if (parts.motion)
 			in >> t.velocity.x >> t.velocity.y >> t.velocity.z >> t.settledAt.x >> t.settledAt.y >> t.settledAt.z >>
 				t.settledSince >> t.still;
 		else
 			t.settledAt = t.position, t.settledSince = t.lastTime;
+		// Read point by point: a corrupt count ends the stream, not the memory.
+		t.shape.clear();
+		for (uint32_t n = parts.shape ? in.ReadAs<uint32_t>() : 0; n > 0; --n)
+		{
+			mrpt::math::TPoint3Df p;
+			in >> p.x >> p.y >> p.z;
+			t.shape.push_back(p);
+		}
 	}
 }
 }  // namespace avm::persons

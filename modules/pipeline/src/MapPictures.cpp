@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <utility>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -27,8 +29,10 @@ void drawPerson(cv::Mat& img, const cv::Point2d& at, std::uint32_t id)
 {
 	cv::circle(img, at, 7, kPerson, cv::FILLED, cv::LINE_AA);
 	cv::circle(img, at, 7, cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
-	cv::putText(
-		img, std::to_string(id), at + cv::Point2d(9, -6), cv::FONT_HERSHEY_SIMPLEX, 0.6, kPerson, 2, cv::LINE_AA);
+	// Outlined in white: the id stays readable over the person's own shape.
+	for (const auto& [colour, thickness] : {std::pair{cv::Scalar(255, 255, 255), 5}, {kPerson, 2}})
+		cv::putText(img, std::to_string(id), at + cv::Point2d(9, -6), cv::FONT_HERSHEY_SIMPLEX, 0.6, colour, thickness,
+			cv::LINE_AA);
 }
 
 /** Colour of a voxel: its tree's colour, darker low down and full at the top,
@@ -63,7 +67,7 @@ void drawLegend(cv::Mat& img, const MapPictureContent& c, const std::string& tit
 	line(2, buf, kHigh);
 	line(3, "camera trajectory", kTrajectory);
 	if (!c.regions.empty()) line(4, "high-resolution regions", kRegion);
-	if (!c.persons.empty()) line(5, "persons: id at the last position", kPerson);
+	if (!c.persons.empty()) line(5, "persons: id at the last position, last shape", kPerson);
 }
 
 std::pair<float, float> heightRange(const std::vector<PictureVoxel>& voxels)
@@ -72,6 +76,27 @@ std::pair<float, float> heightRange(const std::vector<PictureVoxel>& voxels)
 	const auto [lo, hi] = std::minmax_element(
 		voxels.begin(), voxels.end(), [](const auto& a, const auto& b) { return a.centre.z < b.centre.z; });
 	return {lo->centre.z, hi->centre.z};
+}
+/** The persons' shapes in a perspective view whose projection is `project`
+ *  (focal length `f` [px]), over the map (the map may hold a still person
+ *  at the same voxels), far to near. */
+void drawShapesInPerspective(cv::Mat& img, const MapPictureContent& c,
+	const std::function<bool(const mrpt::math::TPoint3D&, cv::Point2d&, double&)>& project, double f)
+{
+	std::vector<std::pair<double, cv::Point2d>> shape;
+	for (const auto& person : c.persons)
+		for (const auto& v : person.shape)
+		{
+			cv::Point2d px;
+			double depth = 0;
+			if (project(mrpt::math::TPoint3D(v), px, depth)) shape.emplace_back(depth, px);
+		}
+	std::sort(shape.begin(), shape.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+	for (const auto& [depth, px] : shape)
+	{
+		const double half = std::max(0.5, 0.5 * f * c.highResolution / depth);
+		cv::rectangle(img, px - cv::Point2d(half, half), px + cv::Point2d(half, half), kPerson, cv::FILLED);
+	}
 }
 }  // namespace
 
@@ -111,6 +136,14 @@ void drawTopView(const MapPictureContent& c, const std::filesystem::path& png, i
 			toPx(c.trajectory[i].pose.x(), c.trajectory[i].pose.y()), kTrajectory, 2, cv::LINE_AA);
 	if (!c.trajectory.empty())
 		cv::circle(img, toPx(c.trajectory.front().pose.x(), c.trajectory.front().pose.y()), 5, kTrajectory, cv::FILLED);
+	const double shapeHalf = std::max(0.5, 0.5 * c.highResolution * scale);
+	for (const auto& p : c.persons)
+		for (const auto& v : p.shape)
+		{
+			const auto at = toPx(v.x, v.y);
+			cv::rectangle(img, at - cv::Point2d(shapeHalf, shapeHalf), at + cv::Point2d(shapeHalf, shapeHalf), kPerson,
+				cv::FILLED);
+		}
 	for (const auto& p : c.persons) drawPerson(img, toPx(p.position.x, p.position.y), p.id);
 	// 1 m scale bar
 	cv::line(img, {12, sizePx - 20}, {12 + static_cast<int>(scale), sizePx - 20}, kText, 2);
@@ -199,6 +232,7 @@ void drawPerspectiveView(const MapPictureContent& c, const std::filesystem::path
 		prev = px;
 		havePrev = ok;
 	}
+	drawShapesInPerspective(img, c, project, f);
 	for (const auto& person : c.persons)
 	{
 		cv::Point2d px;

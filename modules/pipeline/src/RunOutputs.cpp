@@ -10,6 +10,8 @@
 #include "JsonWriter.h"
 #include "avm/io/AtomicFile.h"
 #include "avm/io/RunFolder.h"
+#include "avm/maps/MapColours.h"
+#include "avm/persons/PersonShapesPly.h"
 #include "avm/persons/PersonsCsv.h"
 #include "avm/pipeline/MapPictures.h"
 
@@ -79,7 +81,7 @@ void drawPictures(const io::RunFolder& run, const io::Trajectory& trajectory, co
 	content.trajectory = trajectory;
 	for (const auto& r : map.highResolutionRegions())
 		content.regions.insert(content.regions.end(), r.boxes.begin(), r.boxes.end());
-	for (const auto& t : map.personTracks()) content.persons.push_back({t.id, t.position});
+	for (const auto& t : map.personTracks()) content.persons.push_back({t.id, t.position, t.shape});
 	content.lowResolution = trees.low.resolution;
 	content.highResolution = trees.high.resolution;
 	drawTopView(content, run.topPicture(), size);
@@ -274,6 +276,7 @@ void writeRunOutputs(
 	writeText(run.trajectoryStatus(), trajectoryStatusText(record));
 	writeText(run.detections(), detectionsText(record.personDetections));
 	writeText(run.persons(), persons::personsCsvText(map.personTracks()));
+	writeText(run.personShapes(), persons::personShapesPlyText(map.personTracks(), maps::kPersonColour));
 	if (record.options->pictureSize > 0) drawPictures(run, record.trajectory, map, trees, record.options->pictureSize);
 	writeText(run.stats(), statsJson(summary, record, map, trees));
 	writeText(run.log(), record.log);

@@ -3,11 +3,14 @@
 #include "avm/plugin/CAdaptiveOctoMap.h"
 
 #include <mrpt/core/initializer.h>
+#include <mrpt/opengl/CPointCloud.h>
+#include <mrpt/opengl/CSetOfObjects.h>
 #include <mrpt/rtti/CObject.h>
 
 #include <stdexcept>
 
 #include "avm/io/RgbdFrame.h"
+#include "avm/maps/MapColours.h"
 
 using namespace avm;
 
@@ -96,8 +99,8 @@ std::vector<persons::PersonObservation> CAdaptiveOctoMap::observePersons(const m
 	if (!io::isFinite(robotPose))
 		throw std::invalid_argument("CAdaptiveOctoMap::observePersons: non-finite robot pose " + robotPose.asString());
 	if (obs.hasRangeImage && obs.rangeImage_isExternallyStored()) obs.load();
-	auto seen = m_persons.observe(
-		obs, robotPose + obs.sensorPose, persons, frameIndex, personOptions.sighting, personOptions.regionMargin);
+	auto seen = m_persons.observe(obs, robotPose + obs.sensorPose, persons, frameIndex, personOptions.sighting,
+		personOptions.regionMargin, creationOptions().high.resolution);
 	std::vector<TRegionPlacement> placements;
 	for (const auto& o : seen)
 		if (o.regionBox) placements.push_back({o.personId, *o.regionBox});
@@ -116,4 +119,18 @@ CDualOctoMap::FreeOnlyBoxes CAdaptiveOctoMap::beforeDepthImage(
 	// followed; the region margin is how far they may stray from their box.
 	if (insertionOptions.switchPolicy != SwitchPolicy::Region) return {};
 	return m_persons.movingPersonBoxes(scan, insertionOptions.regionEndAfterSeconds, personOptions.regionMargin);
+}
+
+void CAdaptiveOctoMap::getVisualizationInto(mrpt::opengl::CSetOfObjects& outObj) const
+{
+	CDualOctoMap::getVisualizationInto(outObj);
+	if (!genericMapParams.enableSaveAs3DObject) return;
+	auto shapes = mrpt::opengl::CPointCloud::Create();
+	for (const auto& t : personTracks())
+		for (const auto& p : t.shape) shapes->insertPoint(p.x, p.y, p.z);
+	if (shapes->empty()) return;
+	shapes->setName(kPersonShapesName);
+	shapes->setColor_u8(maps::kPersonColour);
+	shapes->setPointSize(4.0f);
+	outObj.insert(shapes);
 }

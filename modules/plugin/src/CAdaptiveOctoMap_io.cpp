@@ -14,7 +14,8 @@ IMPLEMENTS_SERIALIZABLE(CAdaptiveOctoMap, CMetricMap, avm)
 
 // Version 1: per-person regions and person tracks. Version 2: the tracks'
 // motion (velocity, where and since when the person stays) and the still keys.
-uint8_t CAdaptiveOctoMap::serializeGetVersion() const { return 2; }
+// Version 3: each track's last shape.
+uint8_t CAdaptiveOctoMap::serializeGetVersion() const { return 3; }
 
 void CAdaptiveOctoMap::serializeTo(mrpt::serialization::CArchive& out) const
 {
@@ -37,7 +38,7 @@ void CAdaptiveOctoMap::serializeTo(mrpt::serialization::CArchive& out) const
 
 void CAdaptiveOctoMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t version)
 {
-	if (version != 1 && version != 2) MRPT_THROW_UNKNOWN_SERIALIZATION_VERSION(version);
+	if (version < 1 || version > 3) MRPT_THROW_UNKNOWN_SERIALIZATION_VERSION(version);
 	in >> genericMapParams;
 	readTreeOptions(in);
 	auto& i = insertionOptions;
@@ -60,6 +61,6 @@ void CAdaptiveOctoMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t 
 	personOptions.validate("serialized insertOpts");
 	readRegions(in);
 	m_persons = persons::PersonLayer(p.tracking);
-	m_persons.serializeFrom(in, version >= 2);
+	m_persons.serializeFrom(in, {version >= 2, version >= 3});
 	readTrees(in);
 }

@@ -71,7 +71,7 @@ MapSnapshot snapshotOf(const CAdaptiveOctoMap& map, const SnapshotOptions& optio
 	map.forEachLeaf(Resolution::Low, collector(s.lowOccupied, s.lowFree, options.freeSpace));
 	map.forEachLeaf(Resolution::High, collector(s.highOccupied, s.highFree, options.freeSpace));
 	for (const auto& r : map.highResolutionRegions()) s.regions.push_back({r.personId, r.boxes});
-	for (const auto& t : map.personTracks()) s.persons.push_back({t.id, t.position, t.lastFrame});
+	for (const auto& t : map.personTracks()) s.persons.push_back({t.id, t.position, t.lastFrame, t.shape});
 	for (const auto which : {Resolution::Low, Resolution::High})
 		if (const auto* t = map.tree(which)) s.mapMemoryBytes += t->memoryUsage();
 	if (const auto i = map.switchInsertionIndex()) s.status.switchFrame = *i;
@@ -110,7 +110,7 @@ MapSnapshot snapshotOfRun(const std::filesystem::path& outDir, const SnapshotOpt
 		s.status.frames = s.trajectory.size();
 	}
 	if (const auto f = run.persons(); std::filesystem::exists(f))
-		for (const auto& t : persons::readPersonsCsv(f)) s.persons.push_back({t.id, t.position, t.lastFrame});
+		for (const auto& t : persons::readPersonsCsv(f)) s.persons.push_back({t.id, t.position, t.lastFrame, t.shape});
 	if (const auto f = run.stats(); std::filesystem::exists(f))
 	{
 		try

@@ -49,6 +49,7 @@ enum VoxelSet : unsigned
 	HighOccupied,
 	LowFree,
 	HighFree,
+	PersonShapes,  //!< each person's last shape, at the high resolution
 	VoxelSetCount
 };
 
@@ -95,7 +96,8 @@ mrpt::img::CImage annotatedImage(const MapSnapshot& s, bool features)
 	return img;
 }
 
-/** The snapshot's voxels, one set per tree and occupancy, shown as toggled. */
+/** The snapshot's voxels, one set per tree and occupancy, shown as toggled,
+ *  and the persons' last shapes. */
 mrpt::opengl::COctoMapVoxels::Ptr voxelsOf(
 	const MapSnapshot& s, const ViewToggles& t, const mrpt::math::TBoundingBox& box)
 {
@@ -110,6 +112,10 @@ mrpt::opengl::COctoMapVoxels::Ptr voxelsOf(
 	add(HighOccupied, s.highOccupied, kHighColour);
 	add(LowFree, s.lowFree, kLowFreeColour);
 	add(HighFree, s.highFree, kHighFreeColour);
+	for (const auto& p : s.persons)
+		for (const auto& v : p.shape)
+			voxels->push_back_Voxel(
+				PersonShapes, COctoMapVoxels::TVoxel(v, static_cast<float>(s.highResolution), kPersonColour));
 	voxels->showVoxels(LowOccupied, t.lowTree);
 	voxels->showVoxels(LowFree, t.lowTree && t.freeSpace);
 	voxels->showVoxels(HighOccupied, t.highTree);

@@ -34,6 +34,8 @@ class RunFolder
 	std::filesystem::path trajectoryStatus() const { return m_dir / "trajectory_status.txt"; }
 	std::filesystem::path detections() const { return m_dir / "detections.txt"; }
 	std::filesystem::path persons() const { return m_dir / "persons.csv"; }
+	/** Each person's last shape (avm/persons/PersonShapesPly.h). */
+	std::filesystem::path personShapes() const { return m_dir / "person_shapes.ply"; }
 	std::filesystem::path topPicture() const { return m_dir / "map_top.png"; }
 	std::filesystem::path perspectivePicture() const { return m_dir / "map_perspective.png"; }
 	std::filesystem::path stats() const { return m_dir / "stats.json"; }

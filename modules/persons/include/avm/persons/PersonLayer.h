@@ -55,10 +55,12 @@ class PersonLayer
 	/** The persons whose pixels are `persons` in `obs`, its depth sensor at
 	 *  `sensorPoseInWorld`, seen at frame `frameIndex`: one answer per person,
 	 *  in their order. `regionMargin` [m] is grown on each side of a sighting's
-	 *  box to make its region box. */
+	 *  box to make its region box. Each person seen keeps, with their track,
+	 *  their shape at `shapeResolution` [m] (their region's resolution)
+	 *  within their region box: personShape(). */
 	std::vector<PersonObservation> observe(const mrpt::obs::CObservation3DRangeScan& obs,
 		const mrpt::poses::CPose3D& sensorPoseInWorld, const std::vector<PixelSet>& persons, std::size_t frameIndex,
-		const SightingOptions& sighting, double regionMargin);
+		const SightingOptions& sighting, double regionMargin, double shapeResolution);
 
 	/** Where the persons on the move are at the time of `obs`: for each
 	 *  moving track seen at most `horizon` [s] before the image, its last box
@@ -74,10 +76,10 @@ class PersonLayer
 	const std::vector<PersonTrack>& tracks() const { return m_tracker.tracks(); }
 
 	void serializeTo(mrpt::serialization::CArchive& out) const { m_tracker.serializeTo(out); }
-	/** `withMotion`: see PersonTracker::serializeFrom. */
-	void serializeFrom(mrpt::serialization::CArchive& in, bool withMotion = true)
+	/** `parts`: see PersonTracker::serializeFrom. */
+	void serializeFrom(mrpt::serialization::CArchive& in, const TrackStreamParts& parts = {})
 	{
-		m_tracker.serializeFrom(in, withMotion);
+		m_tracker.serializeFrom(in, parts);
 	}
 
    private:

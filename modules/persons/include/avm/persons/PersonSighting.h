@@ -47,6 +47,9 @@ struct PersonSighting
 	mrpt::math::TBoundingBox box;
 	std::size_t points = 0;  //!< depth pixels in the person's band
 	float depth = 0;         //!< [m] the person's robust depth
+	/** World frame: the person's shape (see personShape); empty until the
+	 *  person layer takes it. */
+	std::vector<mrpt::math::TPoint3Df> shape;
 };
 
 struct SightingEstimate
@@ -59,6 +62,16 @@ struct SightingEstimate
  *  image, with the depth sensor at `sensorPoseInWorld`. */
 SightingEstimate estimateSighting(const mrpt::obs::CObservation3DRangeScan& obs,
 	const mrpt::poses::CPose3D& sensorPoseInWorld, const PixelSet& pixels, const SightingOptions& options);
+
+/** The points of `sighting`'s person (the pixels within options.depthBand of
+ *  its depth), one per voxel of edge `resolution` [m] on octomap's grid
+ *  (voxel k spans [k, k+1) * resolution on each axis), given as the voxel's
+ *  centre, where that centre lies in `within`: the person's endpoints at
+ *  their region's resolution, as the region's tree would hold them. Sorted
+ *  (x, y, z), so the same pixels give the same shape. */
+std::vector<mrpt::math::TPoint3Df> personShape(const mrpt::obs::CObservation3DRangeScan& obs,
+	const mrpt::poses::CPose3D& sensorPoseInWorld, const PixelSet& pixels, const PersonSighting& sighting,
+	const SightingOptions& options, double resolution, const mrpt::math::TBoundingBox& within);
 
 /** The pixels of an axis-aligned pixel box [u0, u1) x [v0, v1), clipped to
  *  the image: a detector's box. */

@@ -57,6 +57,17 @@ struct PersonTrack
 	mrpt::math::TPoint3D settledAt;
 	double settledSince = 0;
 	bool still = false;  //!< settled for stillAfter, as of the last sighting
+	/** World frame: the person's last shape, their sighting's shape
+	 *  (PersonSighting::shape), replaced at each sighting. */
+	std::vector<mrpt::math::TPoint3Df> shape;
+};
+
+/** What a stream of tracks holds besides the tracks' sightings: the plugin
+ *  map's stream has the motion from its version 2 on, the shapes from 3 on. */
+struct TrackStreamParts
+{
+	bool motion = true;  //!< velocity and settling state
+	bool shape = true;   //!< PersonTrack::shape
 };
 
 /** The mean edge [m] of a box: the size a still person's motion is judged by. */
@@ -74,10 +85,10 @@ class PersonTracker
 	/** Every track so far, in order of id. */
 	const std::vector<PersonTrack>& tracks() const { return m_tracks; }
 
-	/** `withMotion`: the velocity and settling state too (the plugin map's
-	 *  stream from version 2 on; version 1 streams lack them). */
+	/** Writes every part; reads the `parts` the stream holds (a track read
+	 *  without motion is settled where last seen; without a shape, has none). */
 	void serializeTo(mrpt::serialization::CArchive& out) const;
-	void serializeFrom(mrpt::serialization::CArchive& in, bool withMotion = true);
+	void serializeFrom(mrpt::serialization::CArchive& in, const TrackStreamParts& parts = {});
 
    private:
 	TrackerOptions m_options;

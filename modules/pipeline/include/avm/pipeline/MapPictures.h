@@ -2,7 +2,7 @@
 // sees the result without a 3D viewer (and without a GL context on the
 // machine): a top view and a perspective view of the occupied voxels coloured
 // by resolution, with the camera trajectory, the high-resolution regions and
-// the persons seen (id at their last position).
+// the persons seen (id at their last position, their last shape).
 // World z is taken as up.
 #pragma once
 
@@ -28,6 +28,8 @@ struct PicturePerson
 {
 	std::uint32_t id = 0;
 	mrpt::math::TPoint3D position;  //!< last world position
+	/** Last shape: voxel centres at the high resolution (PersonTrack::shape). */
+	std::vector<mrpt::math::TPoint3Df> shape;
 };
 
 struct MapPictureContent

@@ -43,6 +43,11 @@ class CAdaptiveOctoMap : public CDualOctoMap
 	/** Every person seen so far. */
 	const std::vector<persons::PersonTrack>& personTracks() const { return m_persons.tracks(); }
 
+	/** The dual octree's visualization, and the persons' last shapes as one
+	 *  point cloud in the person colour, named kPersonShapesName. */
+	void getVisualizationInto(mrpt::opengl::CSetOfObjects& outObj) const override;
+	static constexpr const char* kPersonShapesName = "person_shapes";
+
 	MAP_DEFINITION_START(CAdaptiveOctoMap)
 	TCreationOptions creationOpts;
 	TInsertionOptions insertionOpts;

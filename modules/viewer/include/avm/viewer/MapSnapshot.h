@@ -53,6 +53,8 @@ struct SnapshotPerson
 	std::uint32_t id = 0;
 	mrpt::math::TPoint3D position;  //!< last world position
 	std::size_t lastFrame = 0;
+	/** Last shape: voxel centres at the high resolution (PersonTrack::shape). */
+	std::vector<mrpt::math::TPoint3Df> shape;
 };
 
 /** A person box in the colour image. */
