@@ -3,8 +3,8 @@
 // image shift a lateral error of that size would cause at that depth).
 // Its Jacobian is written out (ReprojectionCost.cpp): the per-frame
 // refinement evaluates it for every inlier in every iteration, and automatic
-// differentiation through the angle-axis rotation cost more than the rest of
-// the refinement together.
+// differentiation through the angle-axis rotation was the largest part of the
+// refinement's time (doc/odometry.md, "Speed on one core").
 #pragma once
 
 #include <ceres/sized_cost_function.h>
