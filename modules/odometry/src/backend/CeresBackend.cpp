@@ -101,29 +101,33 @@ Eigen::Matrix3d CeresBackend::centreCovariance(const Eigen::Isometry3d& T_cw,
 	const std::vector<Observation>& observations, const LandmarkMap& landmarks, const io::DepthCamera& K) const
 {
 	const Eigen::Matrix3d unknown = Eigen::Matrix3d::Identity() * std::numeric_limits<double>::infinity();
+	const int rows = 3 * int(observations.size());
+	if (rows <= 6) return unknown;
 	PoseParams pose = toParams(T_cw);
-	ceres::Problem::Options po;
-	po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-	ceres::Problem problem(po);
-	ceres::HuberLoss loss(m_options.huber_delta);
-	ceres::Problem::EvaluateOptions eo;
-	eo.residual_blocks = addObservations(problem, loss, pose, observations, landmarks, K, m_options.depth_weight);
-	double cost = 0;
-	std::vector<double> residuals;
-	ceres::CRSMatrix J;
-	if (!problem.Evaluate(eo, &cost, &residuals, nullptr, &J) || J.num_rows <= 6) return unknown;
+	// The robust problem's Jacobian and residuals as Ceres evaluates them, without
+	// building a Problem: each residual and its Jacobian scaled by sqrt(rho'),
+	// which is Ceres' correction for a loss whose rho'' <= 0, as Huber's is.
+	const ceres::HuberLoss loss(m_options.huber_delta);
 	Eigen::Matrix<double, 6, 6> JtJ = Eigen::Matrix<double, 6, 6>::Zero();
-	for (int row = 0; row < J.num_rows; ++row)
-	{
-		Eigen::Matrix<double, 6, 1> j = Eigen::Matrix<double, 6, 1>::Zero();
-		for (int k = J.rows[row]; k < J.rows[row + 1]; ++k) j[J.cols[k]] = J.values[k];
-		JtJ += j * j.transpose();
-	}
 	double squares = 0;
-	for (const double r : residuals) squares += r * r;
+	for (const auto& o : observations)
+	{
+		Eigen::Vector3d residual;
+		Eigen::Matrix<double, 3, 6, Eigen::RowMajor> J;
+		ReprojectionDepthCost(o, K, m_options.depth_weight)
+			.evaluate(pose.data(), landmarks.at(o.landmark).position.data(), residual.data(), J.data(), nullptr);
+		if (!residual.allFinite() || !J.allFinite()) return unknown;
+		double rho[3];
+		loss.Evaluate(Eigen::Map<const Eigen::VectorXd>(residual.data(), 3).squaredNorm(), rho);
+		const double scale = std::sqrt(rho[1]);
+		J *= scale;
+		residual *= scale;
+		for (int row = 0; row < 3; ++row) JtJ += J.row(row).transpose() * J.row(row);
+		for (int row = 0; row < 3; ++row) squares += residual[row] * residual[row];
+	}
 	const Eigen::FullPivLU<Eigen::Matrix<double, 6, 6>> lu(JtJ);
 	if (!lu.isInvertible()) return unknown;
-	const Eigen::Matrix<double, 6, 6> poseCovariance = squares / double(J.num_rows - 6) * lu.inverse();
+	const Eigen::Matrix<double, 6, 6> poseCovariance = squares / double(rows - 6) * lu.inverse();
 	// The centre's Jacobian in the pose parameters: the prior's cost at unit sigma is the centre itself.
 	const CentrePriorCost centre{CentrePrior{Eigen::Vector3d::Zero(), 1.0}};
 	ceres::AutoDiffCostFunction<CentrePriorCost, 3, 6> centreOf(new CentrePriorCost(centre));

@@ -1,12 +1,15 @@
 // Ceres residual of one observation: the reprojection error in pixels and,
 // weighted, the depth error in the same pixel units (fx * (z - d) / d, the
 // image shift a lateral error of that size would cause at that depth).
+// Its Jacobian is written out (ReprojectionCost.cpp): the per-frame
+// refinement evaluates it for every inlier in every iteration, and automatic
+// differentiation through the angle-axis rotation was the largest part of the
+// refinement's time (doc/odometry.md, "Speed on one core").
 #pragma once
 
-#include <ceres/autodiff_cost_function.h>
-#include <ceres/rotation.h>
+#include <ceres/sized_cost_function.h>
 
-#include <array>
+#include <Eigen/Core>
 
 #include "../Types.h"
 
@@ -20,34 +23,17 @@ class ReprojectionDepthCost
 	{
 	}
 
-	/** pose = T_cw as angle-axis (3) then translation (3); point in the world. */
-	template <typename T, typename P>
-	bool operator()(const T* const pose, const P* const point, T* residual) const
-	{
-		const T p[3] = {T(point[0]), T(point[1]), T(point[2])};
-		T pc[3];
-		ceres::AngleAxisRotatePoint(pose, p, pc);
-		pc[0] += pose[3];
-		pc[1] += pose[4];
-		pc[2] += pose[5];
-		if (pc[2] < T(1e-3)) pc[2] = T(1e-3);  // keeps a point that slipped behind finite
-		T pixel[2];
-		m_K.opticalPixelOf(pc, pixel);
-		residual[0] = pixel[0] - T(m_u);
-		residual[1] = pixel[1] - T(m_v);
-		residual[2] = T(m_depthWeight * m_K.fx / m_depth) * (pc[2] - T(m_depth));
-		return true;
-	}
+	/** The residual of `pose` = T_cw (angle-axis (3) then translation (3))
+	 *  and `point` in the world; each Jacobian (row-major, 3x6 and 3x3) is
+	 *  written when not null. */
+	void evaluate(
+		const double* pose, const double* point, double* residual, double* poseJacobian, double* pointJacobian) const;
 
 	/** The residual of a pose and a point that both move (bundle adjustment). */
-	static ceres::CostFunction* create(const Observation& obs, const io::DepthCamera& K, double depthWeight)
-	{
-		return new ceres::AutoDiffCostFunction<ReprojectionDepthCost, 3, 6, 3>(
-			new ReprojectionDepthCost(obs, K, depthWeight));
-	}
+	static ceres::CostFunction* create(const Observation& obs, const io::DepthCamera& K, double depthWeight);
 
 	/** The residual of a pose against a fixed point (tracking): Ceres then
-	 *  differentiates 6 parameters instead of 9, the same derivatives. */
+	 *  solves for 6 parameters instead of 9, the same derivatives. */
 	static ceres::CostFunction* createFixedPoint(
 		const Observation& obs, const Eigen::Vector3d& point, const io::DepthCamera& K, double depthWeight);
 
@@ -56,23 +42,4 @@ class ReprojectionDepthCost
 	io::DepthCamera m_K;
 	double m_depthWeight;
 };
-
-/** ReprojectionDepthCost with its point held in the functor. */
-struct FixedPointReprojectionDepthCost
-{
-	template <typename T>
-	bool operator()(const T* const pose, T* residual) const
-	{
-		return cost(pose, point.data(), residual);
-	}
-	ReprojectionDepthCost cost;
-	std::array<double, 3> point;
-};
-
-inline ceres::CostFunction* ReprojectionDepthCost::createFixedPoint(
-	const Observation& obs, const Eigen::Vector3d& point, const io::DepthCamera& K, double depthWeight)
-{
-	return new ceres::AutoDiffCostFunction<FixedPointReprojectionDepthCost, 3, 6>(new FixedPointReprojectionDepthCost{
-		ReprojectionDepthCost(obs, K, depthWeight), {point.x(), point.y(), point.z()}});
-}
 }  // namespace avm::odometry::detail
