@@ -132,7 +132,10 @@ TEST(MovingPersons, APersonWhoStaysStillIsMappedAndPaperMapsEveryPoint)
 		ASSERT_EQ(map.personTracks().size(), 1u);
 		person = map.personTracks()[0].box;
 		occupiedAfter[k] = occupiedIn(map, person);
-		if (k < 19 || k > 21) EXPECT_EQ(map.personTracks()[0].still, k > 20) << "after " << k * 0.1 << " s";
+		if (k < 19 || k > 21)
+		{
+			EXPECT_EQ(map.personTracks()[0].still, k > 20) << "after " << k * 0.1 << " s";
+		}
 	}
 	std::cout << "occupied voxels in the person's box: after 1 s " << occupiedAfter[10] << ", after 3 s "
 			  << occupiedAfter[30] << "\n";

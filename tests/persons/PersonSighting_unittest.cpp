@@ -164,7 +164,10 @@ TEST(PersonSighting, APersonsShapeIsOnePointPerVoxelOfTheirPointsInsideTheBox)
 		for (const double c : {double(p.x), double(p.y), double(p.z)})
 			EXPECT_NEAR(c / res - 0.5, std::round(c / res - 0.5), 1e-3) << "not a voxel centre: " << p;
 		EXPECT_TRUE(region.containsPoint(mrpt::math::TPoint3D(p))) << p;
-		if (i > 0) EXPECT_LT(std::tie(shape[i - 1].x, shape[i - 1].y, shape[i - 1].z), std::tie(p.x, p.y, p.z));
+		if (i > 0)
+		{
+			EXPECT_LT(std::tie(shape[i - 1].x, shape[i - 1].y, shape[i - 1].z), std::tie(p.x, p.y, p.z));
+		}
 	}
 	EXPECT_EQ(personShape(obs, {}, pixels, *est.sighting, {}, res, region), shape);
 	// A coarser grid, fewer points; a smaller box, only the points inside.
