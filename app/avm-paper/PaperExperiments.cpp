@@ -289,23 +289,27 @@ void writeRegionsTable(std::ostream& md, const std::vector<PerSource>& results)
 		  "person track), with `[pipeline] reference_maps = true`: in the same run, octomap's own "
 		  "`insertPointCloud(discretize = true)` builds a single 0.05 m and a single 0.20 m OctoMap from the same "
 		  "frames and poses. Memory is octomap's `memoryUsage()` (the adaptive map's low tree with its surface "
-		  "sketch), `.bt` is octomap's binary file. Detail: the occupied voxels inside the regions active at the end "
-		  "(adaptive high tree against the single 0.05 m map) and outside them (adaptive low tree against the single "
-		  "0.20 m map), as IoU of their voxel sets. Map stage: CPU time of the map's thread a frame (insertion and "
+		  "sketch), `.bt` is octomap's binary file; both shares are of the single 0.05 m map of all pixels. Detail: "
+		  "the occupied voxels inside the regions active at the end (adaptive high tree against the single 0.05 m map "
+		  "of all pixels, and against a third single 0.05 m OctoMap of the same frames whose moving-person pixels, "
+		  "the ones avm's map took as free-only in that frame, carve free space but are no endpoints) and outside "
+		  "them (adaptive low tree against the single 0.20 m map), as IoU of their voxel sets. Map stage: CPU time of "
+		  "the map's thread a frame (insertion and "
 		  "region updates), against octomap's 0.05 m insertion on the same thread.\n\n"
 	   << "| poses | map | memory [KiB] | share of single 0.05 m | .bt [KiB] | share | occupied voxels | "
-		  "IoU inside regions | IoU outside | map stage CPU [ms] | octomap 0.05 m [ms] | speed-up | persons | "
-		  "regions at the end |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+		  "IoU inside regions, all pixels | IoU inside, moving persons free-only | IoU outside | map stage CPU [ms] | "
+		  "octomap 0.05 m [ms] | speed-up | persons | regions at the end |\n"
+		  "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
 	for (const auto& r : results)
 	{
 		const auto& ref = r.regions.front().reference();
 		md << "| " << toString(r.poses) << " | single 0.05 m OctoMap | " << fmt("%.1f", ref.high.memoryBytes / 1024.0)
 		   << " | 1.00 | " << fmt("%.1f", ref.high.binaryBytes / 1024.0) << " | 1.00 | " << ref.high.occupiedLeaves
-		   << " | | | | " << fmt("%.1f", ref.high.meanInsertMs) << " | | | |\n";
+		   << " | | | | | " << fmt("%.1f", ref.high.meanInsertMs) << " | | | |\n";
 		md << "| " << toString(r.poses) << " | single 0.20 m OctoMap | " << fmt("%.1f", ref.low.memoryBytes / 1024.0)
 		   << " | " << fmt("%.2f", ref.memoryShare(ref.low.memoryBytes)) << " | "
 		   << fmt("%.1f", ref.low.binaryBytes / 1024.0) << " | " << fmt("%.2f", ref.binaryShare(ref.low.binaryBytes))
-		   << " | " << ref.low.occupiedLeaves << " | | | | " << fmt("%.1f", ref.low.meanInsertMs) << " | | | |\n";
+		   << " | " << ref.low.occupiedLeaves << " | | | | | " << fmt("%.1f", ref.low.meanInsertMs) << " | | | |\n";
 		for (const auto& row : r.regions)
 		{
 			const auto& c = row.reference();
@@ -317,9 +321,11 @@ void writeRegionsTable(std::ostream& md, const std::vector<PerSource>& results)
 			   << fmt("%.2f", c.binaryShare(c.adaptiveBinaryBytes)) << " | " << o.occupied() << " | ";
 			if (o.regionsAtEnd > 0)
 				md << fmt("%.2f", c.insideIoU) << " (" << c.insideAdaptive << " / " << c.insideReference << ") | "
-				   << fmt("%.2f", c.outsideIoU) << " (" << c.outsideAdaptive << " / " << c.outsideReference << ") | ";
+				   << fmt("%.2f", c.insideFreeOnlyIoU) << " (" << c.insideAdaptive << " / " << c.insideFreeOnlyReference
+				   << ") | " << fmt("%.2f", c.outsideIoU) << " (" << c.outsideAdaptive << " / " << c.outsideReference
+				   << ") | ";
 			else
-				md << "— | — | ";
+				md << "— | — | — | ";
 			md << fmt("%.2f", o.summary.mapCpu.meanMs) << " | " << fmt("%.1f", c.high.meanInsertMs) << " | "
 			   << fmt("%.1fx", c.speedup(o.summary.mapCpu.meanMs)) << " | " << o.summary.persons << " | "
 			   << o.regionsAtEnd << " |\n";
@@ -343,7 +349,8 @@ void writePersonsAndTargets(std::ostream& md, const std::vector<PerSource>& resu
 
 	// The targets of the per-person regions issue, decided from the rows above.
 	md << "\n### Against the targets (default configuration, follow)\n\n"
-	   << "| poses | memory ≤ 0.25 of single 0.05 m | .bt ≤ 0.25 | IoU inside ≥ 0.9 | IoU outside ≥ 0.9 | "
+	   << "| poses | memory ≤ 0.25 of single 0.05 m | .bt ≤ 0.25 | IoU inside (moving persons free-only) ≥ 0.9 | IoU "
+		  "outside ≥ 0.9 | "
 		  "map stage ≤ 5 ms CPU | ≥ 4x octomap 0.05 m |\n|---|---|---|---|---|---|---|\n";
 	for (const auto& r : results)
 	{
@@ -354,15 +361,17 @@ void writePersonsAndTargets(std::ostream& md, const std::vector<PerSource>& resu
 		{ return (met ? "met (" : "**not met** (") + value + ")"; };
 		const double memory = c.memoryShare(c.adaptiveMemoryBytes), bt = c.binaryShare(c.adaptiveBinaryBytes);
 		md << "| " << toString(r.poses) << " | " << verdict(memory <= 0.25, fmt("%.2f", memory)) << " | "
-		   << verdict(bt <= 0.25, fmt("%.2f", bt)) << " | " << verdict(c.insideIoU >= 0.9, fmt("%.2f", c.insideIoU))
-		   << " | " << verdict(c.outsideIoU >= 0.9, fmt("%.2f", c.outsideIoU)) << " | "
-		   << verdict(ms <= 5.0, fmt("%.2f ms", ms)) << " | "
-		   << verdict(c.speedup(ms) >= 4, fmt("%.1fx", c.speedup(ms))) << " |\n";
+		   << verdict(bt <= 0.25, fmt("%.2f", bt)) << " | "
+		   << verdict(c.insideFreeOnlyIoU >= 0.9, fmt("%.2f", c.insideFreeOnlyIoU)) << " | "
+		   << verdict(c.outsideIoU >= 0.9, fmt("%.2f", c.outsideIoU)) << " | " << verdict(ms <= 5.0, fmt("%.2f ms", ms))
+		   << " | " << verdict(c.speedup(ms) >= 4, fmt("%.1fx", c.speedup(ms))) << " |\n";
 	}
-	md << "\nWhy IoU inside the regions is low: the regions are where the people are, and the single 0.05 m map maps "
-		  "every pixel, so it holds each person wherever they walked, while avm maps a moving person's pixels as free "
-		  "space and only a person who stays still as a surface. This reference does not leave the moving people out, "
-		  "so the IoU counts them as detail avm lost. Besides, a region holds 0.05 m data only from when it reached "
+	md << "\nWhy there are two references inside the regions: the regions are where the people are, and the single "
+		  "0.05 m map of all pixels holds each person wherever they walked, while avm maps a moving person's pixels as "
+		  "free space and only a person who stays still as a surface; against it the IoU counts the moving people as "
+		  "detail avm lost. The free-only reference treats the same pixels the same way (octomap's own update: free "
+		  "along their rays, no occupied endpoint), so its IoU measures the detail kept; the target is judged on it. "
+		  "Besides, a region holds 0.05 m data only from when it reached "
 		  "that space; before that the low tree's surface sketch keeps where the surface was. A region that stays "
 		  "(persist) sees more of its space at 0.05 m. The map stage is CPU time on the map's thread while odometry "
 		  "and detection run beside it on a 2-core machine.\n";

@@ -262,14 +262,16 @@ std::vector<persons::PersonObservation> FrameProcessor::seePersons(const CObserv
 
 void FrameProcessor::insert(const io::RgbdFrame& frame, const CPose3D& pose)
 {
-	const auto work = [&maps = m_maps, reference = m_reference, obs = frame.observation, pose,
+	const auto work = [&maps = m_maps, &adaptive = m_adaptive, reference = m_reference, obs = frame.observation, pose,
 						  persons = std::exchange(m_personWork, {})]
 	{
 		mrpt::system::CTicTac timer;
 		const double cpu = io::threadCpuMs();
 		maps.insertObservation(*obs, pose);
 		const MapWork w{timer.Tac() * 1e3 + persons.wallMs, io::threadCpuMs() - cpu + persons.cpuMs};
-		if (reference) reference->insert(*obs, pose);  // outside the map stage's time
+		// Outside the map stage's time; with the free-only boxes this very
+		// insertion used (the same thread, right after it).
+		if (reference) reference->insert(*obs, pose, adaptive.lastFreeOnlyBoxes());
 		return w;
 	};
 	m_insertingFrame = frame.index;

@@ -73,7 +73,10 @@ CAdaptiveOctoMap::CAdaptiveOctoMap(const TCreationOptions& creation, const TInse
 }
 
 CAdaptiveOctoMap::CAdaptiveOctoMap(const CAdaptiveOctoMap& o)
-	: CDualOctoMap(o), personOptions(o.personOptions), m_persons(o.m_persons)
+	: CDualOctoMap(o),
+	  personOptions(o.personOptions),
+	  m_persons(o.m_persons),
+	  m_lastFreeOnlyBoxes(o.m_lastFreeOnlyBoxes)
 {
 }
 
@@ -83,6 +86,7 @@ CAdaptiveOctoMap& CAdaptiveOctoMap::operator=(const CAdaptiveOctoMap& o)
 	CDualOctoMap::operator=(o);
 	personOptions = o.personOptions;
 	m_persons = o.m_persons;
+	m_lastFreeOnlyBoxes = o.m_lastFreeOnlyBoxes;
 	return *this;
 }
 
@@ -90,6 +94,7 @@ void CAdaptiveOctoMap::internal_clear()
 {
 	CDualOctoMap::internal_clear();
 	m_persons = persons::PersonLayer(personOptions.tracking);
+	m_lastFreeOnlyBoxes.clear();
 }
 
 std::vector<persons::PersonObservation> CAdaptiveOctoMap::observePersons(const mrpt::obs::CObservation3DRangeScan& obs,
@@ -117,8 +122,11 @@ CDualOctoMap::FreeOnlyBoxes CAdaptiveOctoMap::beforeDepthImage(
 	// Algorithm 1 maps every point; the region policy knows who moves. A
 	// person unseen for as long as a region lasts unseen is no longer
 	// followed; the region margin is how far they may stray from their box.
-	if (insertionOptions.switchPolicy != SwitchPolicy::Region) return {};
-	return m_persons.movingPersonBoxes(scan, insertionOptions.regionEndAfterSeconds, personOptions.regionMargin);
+	m_lastFreeOnlyBoxes.clear();
+	if (insertionOptions.switchPolicy == SwitchPolicy::Region)
+		m_lastFreeOnlyBoxes =
+			m_persons.movingPersonBoxes(scan, insertionOptions.regionEndAfterSeconds, personOptions.regionMargin);
+	return m_lastFreeOnlyBoxes;
 }
 
 void CAdaptiveOctoMap::getVisualizationInto(mrpt::opengl::CSetOfObjects& outObj) const

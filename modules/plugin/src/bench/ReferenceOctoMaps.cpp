@@ -3,6 +3,7 @@
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <octomap/OcTree.h>
 
+#include <algorithm>
 #include <set>
 #include <tuple>
 
@@ -55,6 +56,22 @@ double iou(const std::set<Key>& a, const std::set<Key>& b)
 	return double(common) / double(a.size() + b.size() - common);
 }
 
+/** insertPointCloud(discretize = true) of `surface` and `freeOnly`, where the
+ *  free-only points' rays update their free cells as octomap's computeUpdate
+ *  makes them and their endpoint voxels are not marked occupied (a voxel both
+ *  free on some ray and an endpoint is occupied, as in computeUpdate). */
+void insertFreeOnly(octomap::OcTree& tree, const octomap::Pointcloud& surface, const octomap::Pointcloud& freeOnly,
+	const octomap::point3d& origin, double maxRange)
+{
+	octomap::KeySet freeCells, occupiedCells, passingFree, passingEnds;
+	tree.computeDiscreteUpdate(surface, origin, freeCells, occupiedCells, maxRange);
+	tree.computeDiscreteUpdate(freeOnly, origin, passingFree, passingEnds, maxRange);
+	for (const auto& k : passingFree)
+		if (!occupiedCells.count(k)) freeCells.insert(k);
+	for (const auto& k : freeCells) tree.updateNode(k, false);
+	for (const auto& k : occupiedCells) tree.updateNode(k, true);
+}
+
 TReferenceComparison::Tree sizesOf(const octomap::OcTree& t, double totalMs, std::size_t frames)
 {
 	TReferenceComparison::Tree s;
@@ -70,6 +87,7 @@ TReferenceComparison::Tree sizesOf(const octomap::OcTree& t, double totalMs, std
 ReferenceOctoMaps::ReferenceOctoMaps(double highRes, double lowRes, double highMaxRange, double lowMaxRange)
 	: m_high(std::make_unique<octomap::OcTree>(highRes)),
 	  m_low(std::make_unique<octomap::OcTree>(lowRes)),
+	  m_highFreeOnly(std::make_unique<octomap::OcTree>(highRes)),
 	  m_highMaxRange(highMaxRange),
 	  m_lowMaxRange(lowMaxRange)
 {
@@ -81,23 +99,32 @@ void ReferenceOctoMaps::clear()
 {
 	m_high = std::make_unique<octomap::OcTree>(m_high->getResolution());
 	m_low = std::make_unique<octomap::OcTree>(m_low->getResolution());
+	m_highFreeOnly = std::make_unique<octomap::OcTree>(m_high->getResolution());
 	m_highMs = m_lowMs = 0;
 	m_frames = 0;
 }
 
-void ReferenceOctoMaps::insert(const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& robotPose)
+void ReferenceOctoMaps::insert(const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& robotPose,
+	const std::vector<mrpt::math::TBoundingBox>& freeOnlyBoxes)
 {
 	mrpt::maps::CSimplePointsMap pts;
 	mrpt::obs::T3DPointsProjectionParams pp;
 	pp.takeIntoAccountSensorPoseOnRobot = true;
 	pp.robotPoseInTheWorld = robotPose;
 	const_cast<mrpt::obs::CObservation3DRangeScan&>(obs).unprojectInto(pts, pp);  // MRPT's is not const
-	octomap::Pointcloud cloud;
+	octomap::Pointcloud cloud, surface, freeOnly;
 	cloud.reserve(pts.size());
 	const auto& xs = pts.getPointsBufferRef_x();
 	const auto& ys = pts.getPointsBufferRef_y();
 	const auto& zs = pts.getPointsBufferRef_z();
-	for (std::size_t i = 0; i < pts.size(); i++) cloud.push_back(xs[i], ys[i], zs[i]);
+	for (std::size_t i = 0; i < pts.size(); i++)
+	{
+		cloud.push_back(xs[i], ys[i], zs[i]);
+		const mrpt::math::TPoint3D p(xs[i], ys[i], zs[i]);
+		const bool passing = std::any_of(
+			freeOnlyBoxes.begin(), freeOnlyBoxes.end(), [&](const auto& box) { return box.containsPoint(p); });
+		(passing ? freeOnly : surface).push_back(xs[i], ys[i], zs[i]);
+	}
 	const auto o = (robotPose + obs.sensorPose).translation();
 	const octomap::point3d origin(static_cast<float>(o.x), static_cast<float>(o.y), static_cast<float>(o.z));
 	double t0 = io::threadCpuMs();
@@ -106,6 +133,7 @@ void ReferenceOctoMaps::insert(const mrpt::obs::CObservation3DRangeScan& obs, co
 	t0 = io::threadCpuMs();
 	m_low->insertPointCloud(cloud, origin, m_lowMaxRange, false, true);
 	m_lowMs += io::threadCpuMs() - t0;
+	insertFreeOnly(*m_highFreeOnly, surface, freeOnly, origin, m_highMaxRange);
 	++m_frames;
 }
 
@@ -122,11 +150,14 @@ TReferenceComparison ReferenceOctoMaps::compare(const CAdaptiveOctoMap& map) con
 	std::set<Key> mineInside;
 	if (const auto* high = map.tree(Resolution::High)) mineInside = occupiedKeys(*high, map, true);
 	const auto refInside = occupiedKeys(*m_high, map, true);
+	const auto freeOnlyInside = occupiedKeys(*m_highFreeOnly, map, true);
 	const auto mineOutside = occupiedKeys(*map.tree(Resolution::Low), map, false);
 	const auto refOutside = occupiedKeys(*m_low, map, false);
 	c.insideAdaptive = mineInside.size();
 	c.insideReference = refInside.size();
 	c.insideIoU = iou(mineInside, refInside);
+	c.insideFreeOnlyReference = freeOnlyInside.size();
+	c.insideFreeOnlyIoU = iou(mineInside, freeOnlyInside);
 	c.outsideAdaptive = mineOutside.size();
 	c.outsideReference = refOutside.size();
 	c.outsideIoU = iou(mineOutside, refOutside);

@@ -42,6 +42,10 @@ class CAdaptiveOctoMap : public CDualOctoMap
 		const mrpt::poses::CPose3D& robotPose, const std::vector<persons::PixelSet>& persons, std::size_t frameIndex);
 	/** Every person seen so far. */
 	const std::vector<persons::PersonTrack>& personTracks() const { return m_persons.tracks(); }
+	/** The free-only boxes of the last depth image inserted (the moving
+	 *  persons' boxes; none under the paper policy): for a reference map that
+	 *  treats the same pixels the same way. Not serialized. */
+	const std::vector<mrpt::math::TBoundingBox>& lastFreeOnlyBoxes() const { return m_lastFreeOnlyBoxes; }
 
 	/** The dual octree's visualization, and the persons' last shapes as one
 	 *  point cloud in the person colour, named kPersonShapesName. */
@@ -71,5 +75,6 @@ class CAdaptiveOctoMap : public CDualOctoMap
    private:
 	/** Sightings and person tracks; it tells where the persons' regions go. */
 	persons::PersonLayer m_persons;
+	FreeOnlyBoxes m_lastFreeOnlyBoxes;
 };
 }  // namespace avm

@@ -2,17 +2,21 @@
 // at the high, one at the low resolution) built by octomap itself,
 // insertPointCloud(discretize = true), from the same frames and poses in the
 // same run. Against them the adaptive map's size, detail and speed are
-// measured: memory and .bt bytes against the single high-resolution map,
-// occupied voxels inside the person regions against it (IoU), outside them
-// against the single low-resolution map.
+// measured: memory and .bt bytes against the single high-resolution map of
+// all pixels, occupied voxels inside the person regions against it and against
+// a third map, the single high-resolution one that treats the pixels the
+// adaptive map took as free-only (moving persons) the same way (IoU), outside
+// them against the single low-resolution map.
 #pragma once
 
 #include <mrpt/obs/CObservation3DRangeScan.h>
+#include <mrpt/math/TBoundingBox.h>
 #include <mrpt/poses/CPose3D.h>
 
 #include <algorithm>
 #include <cstddef>
 #include <memory>
+#include <vector>
 
 namespace octomap
 {
@@ -34,9 +38,14 @@ struct TReferenceComparison
 	Tree high, low;                                                //!< the single-resolution maps
 	std::size_t adaptiveMemoryBytes = 0, adaptiveBinaryBytes = 0;  //!< both trees
 	/** Occupied finest voxels inside the active regions: the adaptive map's
-	 *  high tree against the single high-resolution map. */
+	 *  high tree against the single high-resolution map of all pixels. */
 	std::size_t insideAdaptive = 0, insideReference = 0;
 	double insideIoU = 0;  //!< 1 when neither has any
+	/** The same against the single high-resolution map whose free-only pixels
+	 *  (those the adaptive map took as free-only) carve free space but are no
+	 *  endpoints: the fair measure of the detail kept where persons move. */
+	std::size_t insideFreeOnlyReference = 0;
+	double insideFreeOnlyIoU = 0;
 	/** Occupied low voxels outside all regions: the adaptive map's low tree
 	 *  against the single low-resolution map. */
 	std::size_t outsideAdaptive = 0, outsideReference = 0;
@@ -61,16 +70,21 @@ class ReferenceOctoMaps
 	ReferenceOctoMaps(const ReferenceOctoMaps&) = delete;
 	ReferenceOctoMaps& operator=(const ReferenceOctoMaps&) = delete;
 
-	/** The scan's depth image, unprojected as MRPT does, into both maps
-	 *  (rays from the sensor at robotPose + obs.sensorPose). */
-	void insert(const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& robotPose);
+	/** The scan's depth image, unprojected as MRPT does, into the maps (rays
+	 *  from the sensor at robotPose + obs.sensorPose). `freeOnlyBoxes` are the
+	 *  ones the adaptive map used for this image
+	 *  (CAdaptiveOctoMap::lastFreeOnlyBoxes()): in the free-only map a point
+	 *  in one of them (bounds included) carves free space up to its voxel and
+	 *  marks nothing occupied; the all-pixels maps take every point. */
+	void insert(const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& robotPose,
+		const std::vector<mrpt::math::TBoundingBox>& freeOnlyBoxes);
 	/** Empty maps and timings, as constructed: for a map made again. */
 	void clear();
 
 	TReferenceComparison compare(const CAdaptiveOctoMap& adaptive) const;
 
    private:
-	std::unique_ptr<octomap::OcTree> m_high, m_low;
+	std::unique_ptr<octomap::OcTree> m_high, m_low, m_highFreeOnly;
 	double m_highMaxRange, m_lowMaxRange;
 	double m_highMs = 0, m_lowMs = 0;
 	std::size_t m_frames = 0;
