@@ -119,7 +119,7 @@ void fillVoxels(CViewVoxels& voxels, const MapSnapshot& s, const ViewToggles& t,
 	for (const auto& p : s.persons)
 		for (const auto& v : p.shape)
 			voxels.push_back_Voxel(
-				PersonShapes, COctoMapVoxels::TVoxel(v, static_cast<float>(s.highResolution), kPersonColour));
+				PersonShapes, COctoMapVoxels::TVoxel(v, static_cast<float>(s.highResolution), p.shapeColour));
 	voxels.showVoxels(LowOccupied, t.lowTree);
 	voxels.showVoxels(LowFree, t.lowTree && t.freeSpace);
 	voxels.showVoxels(HighOccupied, t.highTree);
