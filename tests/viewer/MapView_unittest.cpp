@@ -460,8 +460,9 @@ TEST(AvmMapGui, TheFinishedMapStaysOnScreenUntilTheUserEndsIt)
 // the view used to drop each redraw's objects (and re-added status texts) on
 // its own (567 MiB at 150 frames, 859 at 300). MRPT names every buffer it
 // leaks so when MRPT_REVEAL_OPENGL_BUFFER_LEAKS is set: none may come from a
-// draw. And the peak of the whole sub300 run stays within a margin of a third
-// of it (both past the switch, frame 74; the map itself grows between them).
+// draw. And the peak of the whole sub300 run stays close to that of its first
+// 100 frames (both past the switch, frame 74; the map itself grows between
+// them) and within issue 33's 300 MiB.
 TEST(AvmMapGui, PeakMemoryDoesNotGrowWithTheRunsLength)
 {
 	const auto& x = xserver();
@@ -480,5 +481,10 @@ TEST(AvmMapGui, PeakMemoryDoesNotGrowWithTheRunsLength)
 		peak[frames] = peakMemoryMb(out);
 	}
 	std::printf("avm-map --gui peak memory: %.0f MiB after 100 frames, %.0f MiB after 300\n", peak[100], peak[300]);
-	EXPECT_LT(peak[300], peak[100] + 80) << "the view's memory grows with the run";
+	// Measured (Xvfb, llvmpipe, AMD EPYC 2 cores, shared): 262 and 275 MiB;
+	// the view that made a new voxel object per draw: 313 and 362-365. The
+	// growth bound lies between the two growths (13 and ~50 MiB), twice the
+	// new one for a loaded machine's noise; the peak is issue 33's bound.
+	EXPECT_LT(peak[300], peak[100] + 30) << "the view's memory grows with the run";
+	EXPECT_LE(peak[300], 300) << "avm-map --gui peak above 300 MiB";
 }
