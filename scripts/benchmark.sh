@@ -3,7 +3,9 @@
 # + map, all 300 frames at 640x480, ini/default.ini, five times), each speed
 # setting of the default against its alternative (detector input, read-ahead,
 # mapping thread, a gzip rawlog with PNG colour), and a long run (the sequence
-# replayed 10 times, 3000 frames, ground-truth poses), written to
+# replayed 10 times, 3000 frames, ground-truth poses), with the live view
+# (--gui under xvfb-run: speed and peak memory against none, and the peak on
+# the whole sequence when it is there), written to
 # doc/performance.md with the commands and the machine. Where the whole
 # rgbd_bonn_crowd is in datasets/ (scripts/get-data.sh --whole-sequence), also
 # avm-map on it on one core (taskset -c 0), twice, and whether the two
@@ -98,15 +100,23 @@ tmp=$(mktemp "$root/doc/.performance.XXXX")
   echo
   echo "Three pairs under a virtual X server (\`xvfb-run -a\`, Mesa's software OpenGL draws the view), each the default with \`--gui\` (\`gui_fps = 5\`) and then without, so that both see the machine in the same mood:"
   echo
-  echo "| pair | fps with / without | CPU [ms a frame] with / without | map stage [ms] with / without | CPU time stolen [%] with / without |"
-  echo "|---|---:|---:|---:|---:|"
+  echo "| pair | fps with / without | CPU [ms a frame] with / without | map stage [ms] with / without | CPU time stolen [%] with / without | peak memory [MiB] with / without |"
+  echo "|---|---:|---:|---:|---:|---:|"
   for i in 1 2 3; do
     map_command "gui-$i" --gui --gui-no-wait  # a scripted run: no wait for the user at the end
     (cd "$root" && xvfb-run -a "${cmd[@]}" >/dev/null)
     quiet_run "no-gui-$i"
-    echo "| $i | $(pair_field "gui-$i" "no-gui-$i" fps 1) | $(pair_field "gui-$i" "no-gui-$i" cpu_ms_per_frame 1) | $(printf "%.1f / %.1f" "$(stage "gui-$i" map)" "$(stage "no-gui-$i" map)") | $(pair_field "gui-$i" "no-gui-$i" cpu_stolen_percent 0) |"
+    echo "| $i | $(pair_field "gui-$i" "no-gui-$i" fps 1) | $(pair_field "gui-$i" "no-gui-$i" cpu_ms_per_frame 1) | $(printf "%.1f / %.1f" "$(stage "gui-$i" map)" "$(stage "no-gui-$i" map)") | $(pair_field "gui-$i" "no-gui-$i" cpu_stolen_percent 0) | $(pair_field "gui-$i" "no-gui-$i" peak_memory_mb 0) |"
   done
   echo
+  if [ -f "$root/datasets/rgbd_bonn_crowd.rawlog" ]; then
+    # The view's memory must not grow with the run (issue 33): the whole
+    # sequence, three times sub300's frames, with the view.
+    map_command gui-whole --rawlog datasets/rgbd_bonn_crowd.rawlog --gui --gui-no-wait
+    (cd "$root" && xvfb-run -a "${cmd[@]}" >/dev/null)
+    echo "The whole \`rgbd_bonn_crowd\` (926 frames) with the view, \`xvfb-run -a ${cmd[*]}\`: peak memory $(field gui-whole peak_memory_mb | awk '{printf "%.0f", $1}') MiB, $(field gui-whole fps | awk '{printf "%.1f", $1}') fps."
+    echo
+  fi
   echo "The view draws on its own thread; the loop only takes a snapshot of the map when one is due (at most \`gui_fps\` a second, between two insertions): doc/viewer.md has its measured cost."
   echo
   echo "## Detection on every frame, synchronous (the slowest setting)"

@@ -1,5 +1,5 @@
-// avm-view: a finished avm-map run (both .bt, trajectory, persons, regions)
-// in the live view of avm-map --gui.
+// avm-view: a finished avm-map run (both .bt, trajectory, persons with their
+// last shapes, regions) in the live view of avm-map --gui.
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 
 #include <iostream>
@@ -10,8 +10,8 @@
 int main(int argc, char** argv)
 {
 	const int status = avm::io::runProgram("avm-view",
-		"Shows a finished avm-map run (map_low.bt, map_high.bt, trajectory.txt, persons.csv, stats.json) in a 3D "
-		"window.",
+		"Shows a finished avm-map run (map_low.bt, map_high.bt, trajectory.txt, persons.csv, person_shapes.ply, "
+		"stats.json) in a 3D window.",
 		[&](avm::io::CommandLine& cmd)
 		{
 			TCLAP::UnlabeledValueArg<std::string> argDir("OUTDIR", "avm-map output folder", true, "", "OUTDIR", cmd);

@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
+#include <fstream>
 #include <map>
 #include <regex>
 #include <set>
@@ -23,6 +24,8 @@
 #include "TestData.h"
 #include "Xvfb.h"
 #include "avm/io/RawlogFrameReader.h"
+#include "avm/maps/MapColours.h"
+#include "avm/persons/PersonShapesPly.h"
 #include "avm/plugin/CAdaptiveOctoMap.h"
 #include "ScreenGrab.h"
 #include "avm/viewer/MapView.h"
@@ -34,11 +37,12 @@ namespace
 {
 struct ScreenColours
 {
-	std::size_t pixels = 0, low = 0, high = 0, distinct = 0;
+	std::size_t pixels = 0, low = 0, high = 0, person = 0, distinct = 0;
 };
 
-/** Pixels of the low tree's blue (70,110,200) and the high tree's orange
- *  (235,90,30), lit or shaded, and the number of distinct colours. */
+/** Pixels of the low tree's blue (70,110,200), the high tree's orange
+ *  (235,90,30) and the persons' purple (160,0,160), lit or shaded, and the
+ *  number of distinct colours. */
 ScreenColours coloursOf(const fs::path& png)
 {
 	mrpt::img::CImage img;
@@ -53,6 +57,7 @@ ScreenColours coloursOf(const fs::path& png)
 			++c.pixels;
 			if (b > 90 && b > r + 50 && b > g + 20) ++c.low;
 			if (r > 120 && r > g + 60 && r > b + 80) ++c.high;
+			if (r > 60 && b > 60 && g < 50 && std::abs(r - b) < 40) ++c.person;
 			if (distinct.size() < 1000) distinct.insert(std::uint32_t(r) << 16 | g << 8 | b);
 		}
 	c.distinct = distinct.size();
@@ -308,7 +313,8 @@ TEST(MapViewLive, AMapBeingBuiltIsDrawnWithoutHoldingUpTheLoop)
 	EXPECT_FALSE(view.waitWhilePaused());  // a closed view never blocks
 }
 
-// avm-view on a finished run made by avm-map itself (ground-truth poses).
+// avm-view on a finished run made by avm-map itself (ground-truth poses),
+// the persons' last shapes included.
 TEST(AvmView, ShowsAFinishedRunInTheScreenshot)
 {
 	const auto& x = xserver();
@@ -322,12 +328,55 @@ TEST(AvmView, ShowsAFinishedRunInTheScreenshot)
 	ASSERT_EQ(run.exitCode, 0) << run.output;
 	ASSERT_TRUE(fs::exists(dir / "run" / "map_high.bt"));
 
-	const auto shot = dir / "avm-view.png";
-	const auto view = avm::test::runCommand("DISPLAY=" + x.display() + " " + avm::test::binary("avm-view").string() +
-												" " + (dir / "run").string() + " --screenshot " + shot.string(),
-		dir);
-	ASSERT_EQ(view.exitCode, 0) << view.output;
+	// The persons' last shapes come from person_shapes.ply, each point where
+	// the file has it, in the file's colour.
+	const auto snapshot = avm::viewer::snapshotOfRun(dir / "run");
+	const auto ply = avm::persons::readPersonShapesPly(dir / "run" / "person_shapes.ply");
+	ASSERT_FALSE(ply.empty()) << "no person's shape in 120 frames";
+	for (const auto& shape : ply)
+	{
+		const auto person = std::find_if(snapshot.persons.begin(), snapshot.persons.end(),
+			[&](const avm::viewer::SnapshotPerson& p) { return p.id == shape.id; });
+		ASSERT_NE(person, snapshot.persons.end()) << "person " << shape.id;
+		EXPECT_EQ(person->shape, shape.points) << "person " << shape.id;
+		EXPECT_EQ(person->shapeColour, avm::maps::kPersonColour) << "person " << shape.id;
+	}
+
+	// On screen: more of the persons' colour than the same run shows
+	// without its person_shapes.ply (the persons' dots and labels only).
+	const auto screenshotOf = [&](const fs::path& run, const std::string& name)
+	{
+		const auto shot = dir / name;
+		const auto view =
+			avm::test::runCommand("DISPLAY=" + x.display() + " " + avm::test::binary("avm-view").string() + " " +
+									  run.string() + " --screenshot " + shot.string(),
+				dir);
+		EXPECT_EQ(view.exitCode, 0) << view.output;
+		return shot;
+	};
+	const auto shot = screenshotOf(dir / "run", "avm-view.png");
 	expectMapOnScreen(shot);
+	fs::remove_all(dir / "run-without-shapes");
+	fs::copy(dir / "run", dir / "run-without-shapes");
+	fs::remove(dir / "run-without-shapes" / "person_shapes.ply");
+	const auto with = coloursOf(shot), without = coloursOf(screenshotOf(dir / "run-without-shapes", "no-shapes.png"));
+	EXPECT_GT(with.person, without.person + with.pixels / 2000)
+		<< "the persons' shapes: " << with.person << " pixels of their colour, " << without.person << " without them";
+
+	// A person_shapes.ply that is not one is named, with its line.
+	{
+		std::ofstream bad(dir / "run-without-shapes" / "person_shapes.ply");
+		bad << "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty double z\n";
+	}
+	const auto badPly =
+		avm::test::runCommand(avm::test::binary("avm-view").string() + " " + (dir / "run-without-shapes").string() +
+								  " --screenshot " + (dir / "bad.png").string(),
+			dir);
+	EXPECT_EQ(badPly.exitCode, 1);
+	EXPECT_NE(
+		badPly.output.find("person_shapes.ply:6: not a person_shapes.ply of avm-map: expected 'property float z'"),
+		std::string::npos)
+		<< badPly.output;
 
 	const auto missing =
 		avm::test::runCommand(avm::test::binary("avm-view").string() + " " + dir.string() + "/none", dir);
@@ -411,8 +460,9 @@ TEST(AvmMapGui, TheFinishedMapStaysOnScreenUntilTheUserEndsIt)
 // the view used to drop each redraw's objects (and re-added status texts) on
 // its own (567 MiB at 150 frames, 859 at 300). MRPT names every buffer it
 // leaks so when MRPT_REVEAL_OPENGL_BUFFER_LEAKS is set: none may come from a
-// draw. And the peak of the whole sub300 run stays within a margin of a third
-// of it (both past the switch, frame 74; the map itself grows between them).
+// draw. And the peak of the whole sub300 run stays close to that of its first
+// 100 frames (both past the switch, frame 74; the map itself grows between
+// them) and within issue 33's 300 MiB.
 TEST(AvmMapGui, PeakMemoryDoesNotGrowWithTheRunsLength)
 {
 	const auto& x = xserver();
@@ -431,5 +481,10 @@ TEST(AvmMapGui, PeakMemoryDoesNotGrowWithTheRunsLength)
 		peak[frames] = peakMemoryMb(out);
 	}
 	std::printf("avm-map --gui peak memory: %.0f MiB after 100 frames, %.0f MiB after 300\n", peak[100], peak[300]);
-	EXPECT_LT(peak[300], peak[100] + 80) << "the view's memory grows with the run";
+	// Measured (Xvfb, llvmpipe, AMD EPYC 2 cores, shared): 262 and 275 MiB;
+	// the view that made a new voxel object per draw: 313 and 362-365. The
+	// growth bound lies between the two growths (13 and ~50 MiB), twice the
+	// new one for a loaded machine's noise; the peak is issue 33's bound.
+	EXPECT_LT(peak[300], peak[100] + 30) << "the view's memory grows with the run";
+	EXPECT_LE(peak[300], 300) << "avm-map --gui peak above 300 MiB";
 }

@@ -3,6 +3,7 @@
 #include <mrpt/containers/yaml.h>
 #include <octomap/OcTree.h>
 
+#include <algorithm>
 #include <array>
 #include <sstream>
 #include <stdexcept>
@@ -12,6 +13,7 @@
 #include "avm/plugin/CAdaptiveOctoMap.h"
 #include "avm/maps/OcTreeFile.h"
 #include "avm/maps/VisibleLeaves.h"
+#include "avm/persons/PersonShapesPly.h"
 #include "avm/persons/PersonsCsv.h"
 
 namespace avm::viewer
@@ -111,6 +113,17 @@ MapSnapshot snapshotOfRun(const std::filesystem::path& outDir, const SnapshotOpt
 	}
 	if (const auto f = run.persons(); std::filesystem::exists(f))
 		for (const auto& t : persons::readPersonsCsv(f)) s.persons.push_back({t.id, t.position, t.lastFrame, t.shape});
+	if (const auto f = run.personShapes(); std::filesystem::exists(f))
+		for (auto& shape : persons::readPersonShapesPly(f))
+		{
+			const auto person = std::find_if(
+				s.persons.begin(), s.persons.end(), [&](const SnapshotPerson& p) { return p.id == shape.id; });
+			if (person == s.persons.end())
+				throw std::runtime_error(
+					f.string() + ": person " + std::to_string(shape.id) + " is not in " + run.persons().string());
+			person->shape = std::move(shape.points);
+			person->shapeColour = shape.colour;
+		}
 	if (const auto f = run.stats(); std::filesystem::exists(f))
 	{
 		try

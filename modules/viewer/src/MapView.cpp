@@ -20,6 +20,11 @@
 #include <cstdlib>
 #include <iostream>
 
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
+
+#include "CViewVoxels.h"
 #include "ScreenGrab.h"
 #include "avm/io/RgbdFrame.h"
 #include "avm/maps/MapColours.h"
@@ -96,34 +101,31 @@ mrpt::img::CImage annotatedImage(const MapSnapshot& s, bool features)
 	return img;
 }
 
-/** The snapshot's voxels, one set per tree and occupancy, shown as toggled,
- *  and the persons' last shapes. */
-mrpt::opengl::COctoMapVoxels::Ptr voxelsOf(
-	const MapSnapshot& s, const ViewToggles& t, const mrpt::math::TBoundingBox& box)
+/** Refills `voxels` with the snapshot's: one set per tree and occupancy,
+ *  shown as toggled, and the persons' last shapes. */
+void fillVoxels(CViewVoxels& voxels, const MapSnapshot& s, const ViewToggles& t, const mrpt::math::TBoundingBox& box)
 {
 	using mrpt::opengl::COctoMapVoxels;
-	auto voxels = COctoMapVoxels::Create();
-	voxels->resizeVoxelSets(VoxelSetCount);
-	const auto add = [&](VoxelSet set, const std::vector<SnapshotVoxel>& from, const mrpt::img::TColor& c)
+	const auto fill = [&](VoxelSet set, const std::vector<SnapshotVoxel>& from, const mrpt::img::TColor& c)
 	{
-		for (const auto& v : from) voxels->push_back_Voxel(set, COctoMapVoxels::TVoxel(v.centre, v.size, c));
+		voxels.clearVoxels(set);
+		for (const auto& v : from) voxels.push_back_Voxel(set, COctoMapVoxels::TVoxel(v.centre, v.size, c));
 	};
-	add(LowOccupied, s.lowOccupied, kLowColour);
-	add(HighOccupied, s.highOccupied, kHighColour);
-	add(LowFree, s.lowFree, kLowFreeColour);
-	add(HighFree, s.highFree, kHighFreeColour);
+	fill(LowOccupied, s.lowOccupied, kLowColour);
+	fill(HighOccupied, s.highOccupied, kHighColour);
+	fill(LowFree, s.lowFree, kLowFreeColour);
+	fill(HighFree, s.highFree, kHighFreeColour);
+	voxels.clearVoxels(PersonShapes);
 	for (const auto& p : s.persons)
 		for (const auto& v : p.shape)
-			voxels->push_back_Voxel(
-				PersonShapes, COctoMapVoxels::TVoxel(v, static_cast<float>(s.highResolution), kPersonColour));
-	voxels->showVoxels(LowOccupied, t.lowTree);
-	voxels->showVoxels(LowFree, t.lowTree && t.freeSpace);
-	voxels->showVoxels(HighOccupied, t.highTree);
-	voxels->showVoxels(HighFree, t.highTree && t.freeSpace);
-	voxels->showGridLines(false);
-	voxels->enableCubeTransparency(t.freeSpace);
-	voxels->setBoundingBox(box.min, box.max);
-	return voxels;
+			voxels.push_back_Voxel(
+				PersonShapes, COctoMapVoxels::TVoxel(v, static_cast<float>(s.highResolution), p.shapeColour));
+	voxels.showVoxels(LowOccupied, t.lowTree);
+	voxels.showVoxels(LowFree, t.lowTree && t.freeSpace);
+	voxels.showVoxels(HighOccupied, t.highTree);
+	voxels.showVoxels(HighFree, t.highTree && t.freeSpace);
+	voxels.enableCubeTransparency(t.freeSpace);
+	voxels.setBoundingBox(box.min, box.max);
 }
 
 /** The regions' boxes and the persons (a dot and the id) into `objects`. */
@@ -185,10 +187,9 @@ void insertCameraPath(mrpt::opengl::CSetOfObjects& objects, const MapSnapshot& s
 	}
 }
 
-/** Everything the 3D view shows of a snapshot: a floor grid under the map,
- *  the voxels, regions, persons and the camera. */
-mrpt::opengl::CSetOfObjects::Ptr sceneOf(
-	const MapSnapshot& s, const ViewToggles& t, const mrpt::math::TBoundingBox& box)
+/** What the 3D view shows of a snapshot besides the voxels: a floor grid
+ *  under the map, the regions, persons and the camera. */
+mrpt::opengl::CSetOfObjects::Ptr sceneOf(const MapSnapshot& s, const mrpt::math::TBoundingBox& box)
 {
 	using namespace mrpt::opengl;
 	auto objects = CSetOfObjects::Create();
@@ -199,7 +200,6 @@ mrpt::opengl::CSetOfObjects::Ptr sceneOf(
 		grid->setColor_u8(kGridColour);
 		objects->insert(grid);
 	}
-	objects->insert(voxelsOf(s, t, box));
 	insertRegionsAndPersons(*objects, s);
 	insertCameraPath(*objects, s);
 	return objects;
@@ -284,12 +284,24 @@ struct MapView::Windows
 	GlThreadRelease release;  //!< declared first: it outlives the window it observes
 	mrpt::gui::CDisplayWindow3D::Ptr view3D;
 	mrpt::gui::CDisplayWindow::Ptr image;       //!< opened with the first image
-	mrpt::opengl::CSetOfObjects::Ptr onScreen;  //!< the scene's objects, replaced by each draw
+	CViewVoxels::Ptr voxels;                    //!< in the scene for the view's life, refilled by each draw
+	mrpt::opengl::CSetOfObjects::Ptr onScreen;  //!< the scene's other objects, replaced by each draw
 };
 
 MapView::MapView(const TViewerOptions& options) : m_options(options), m_windows(std::make_unique<Windows>())
 {
 	m_options.validate("gui");
+#ifdef __GLIBC__
+	// The view's blocks of a few hundred kB to a few MB (each redraw's colour
+	// image as MRPT and wxWidgets copy it, the voxels' triangle buffers) are
+	// made and freed at every redraw, on three threads. glibc mmaps such
+	// blocks at first, but the first free of one raises its mmap threshold
+	// to that size (up to 32 MB), after which they come from the threads'
+	// malloc arenas, which keep the freed space: a sub300 run held 50-60 MB
+	// free in them. Fixed at glibc's own starting value, they are mmapped and
+	// go back to the system when freed.
+	mallopt(M_MMAP_THRESHOLD, 128 * 1024);
+#endif
 	m_windows->view3D = mrpt::gui::CDisplayWindow3D::Create(m_options.title, m_options.width, m_options.height);
 	if (!m_windows->view3D || !m_windows->view3D->isOpen())
 		throw std::runtime_error("cannot open the 3D window (is there a display? DISPLAY is " +
@@ -300,6 +312,10 @@ MapView::MapView(const TViewerOptions& options) : m_options(options), m_windows(
 		mrpt::gui::CDisplayWindow3DLocker lock(*m_windows->view3D, scene);
 		scene->getViewport()->setCustomBackgroundColor(kBackground);
 		m_windows->release.observeBegin(*scene->getViewport());
+		m_windows->voxels = std::make_shared<CViewVoxels>();
+		m_windows->voxels->resizeVoxelSets(VoxelSetCount);
+		m_windows->voxels->showGridLines(false);
+		scene->insert(m_windows->voxels);
 	}
 	m_thread = std::thread([this] { loop(); });
 }
@@ -506,7 +522,7 @@ void MapView::draw(const MapSnapshot& s, bool resetCamera)
 	bool isPaused = paused();
 	auto& win = *m_windows->view3D;
 	const auto box = occupiedBox(s);
-	const auto objects = sceneOf(s, t, box);
+	const auto objects = sceneOf(s, box);
 	{
 		mrpt::opengl::COpenGLScene::Ptr scene;
 		mrpt::gui::CDisplayWindow3DLocker lock(win, scene);
@@ -520,6 +536,7 @@ void MapView::draw(const MapSnapshot& s, bool resetCamera)
 		}
 		vp->insert(objects);
 		m_windows->onScreen = objects;
+		fillVoxels(*m_windows->voxels, s, t, box);
 		writeStatusText(*vp, s, t, isPaused);
 	}
 	// The view frames the map as it grows (a live run starts with a few

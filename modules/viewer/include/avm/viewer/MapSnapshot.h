@@ -8,6 +8,7 @@
 #pragma once
 
 #include <mrpt/img/CImage.h>
+#include <mrpt/img/TColor.h>
 #include <mrpt/img/TCamera.h>
 #include <mrpt/img/TPixelCoord.h>
 #include <mrpt/math/TBoundingBox.h>
@@ -22,6 +23,8 @@
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "avm/maps/MapColours.h"
 
 namespace octomap
 {
@@ -55,6 +58,9 @@ struct SnapshotPerson
 	std::size_t lastFrame = 0;
 	/** Last shape: voxel centres at the high resolution (PersonTrack::shape). */
 	std::vector<mrpt::math::TPoint3Df> shape;
+	/** The shape's colour: the map's person colour, or a finished run's
+	 *  person_shapes.ply's. */
+	mrpt::img::TColor shapeColour = maps::kPersonColour;
 };
 
 /** A person box in the colour image. */
@@ -123,7 +129,8 @@ MapSnapshot snapshotOfTrees(
 	const octomap::OcTree& low, const octomap::OcTree* high, const SnapshotOptions& options = {});
 
 /** A finished avm-map run in `outDir`: map_low.bt (required), map_high.bt,
- *  trajectory.txt, persons.csv and the regions and switch frame of stats.json,
+ *  trajectory.txt, persons.csv with the persons' last shapes of
+ *  person_shapes.ply, and the regions and switch frame of stats.json,
  *  each when present. Throws std::runtime_error naming the file on a missing
  *  map_low.bt or on any file it cannot read. */
 MapSnapshot snapshotOfRun(const std::filesystem::path& outDir, const SnapshotOptions& options = {});
