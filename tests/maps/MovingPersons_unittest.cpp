@@ -7,15 +7,12 @@
 #include <gtest/gtest.h>
 #include <octomap/OcTree.h>
 
-#include <algorithm>
 #include <map>
 
 #include "BonnFrames.h"
 #include "avm/detection/Detector.h"
 #include "avm/detection/PersonLabels.h"
 #include "avm/io/RgbdFrame.h"
-#include "avm/persons/PersonLayer.h"
-#include "avm/persons/PersonSighting.h"
 #include "avm/plugin/CAdaptiveOctoMap.h"
 #include "avm/plugin/ReferenceOctoMaps.h"
 #include "avm/plugin/TrailShare.h"
@@ -178,50 +175,4 @@ TEST(MovingPersons, TheFreeOnlyReferenceTreatsTheMovingPersonsAsTheMapDid)
 			  << r.insideFreeOnlyIoU << "); frames with free-only boxes " << framesWithFreeOnly << "\n";
 	EXPECT_LT(r.insideFreeOnlyReference, r.insideReference);
 	EXPECT_GT(r.insideFreeOnlyIoU, r.insideIoU);
-}
-
-TEST(MovingPersons, BetweenTwoSightingsAPersonsBoxIsCarriedFromOneToTheOther)
-{
-	// A map that waits for the detection after a frame (avm-map: every 3rd
-	// frame, applied 2 frames late) asks where the persons were at an image
-	// older than their last sighting: the box carried back towards the
-	// sighting before, not left where the person is now. Judged by each
-	// in-between image's own sighting of its person.
-	avm::persons::PersonLayer layer;
-	const avm::persons::SightingOptions sighting;
-	const auto sensorPose = [](const LabelledFrame& lf) { return lf.frame.pose + lf.labelled->sensorPose; };
-	std::vector<const LabelledFrame*> waiting;
-	std::size_t nearer = 0, notNearer = 0, i = 0;
-	for (const auto& lf : labelledFrames())
-	{
-		if (i++ % 3 != 0)
-		{
-			waiting.push_back(&lf);
-			continue;
-		}
-		layer.observe(*lf.labelled, sensorPose(lf), avm::persons::personPixelsFromLabels(*lf.labelled, "person", 200),
-			lf.frame.index, sighting, 0.0, 0.05);
-		for (const auto* w : waiting)
-		{
-			const auto boxes = layer.movingPersonBoxes(*w->labelled, 1.5, 0.0);
-			for (const auto& pixels : avm::persons::personPixelsFromLabels(*w->labelled, "person", 200))
-			{
-				const auto own = avm::persons::estimateSighting(*w->labelled, sensorPose(*w), pixels, sighting);
-				if (!own.sighting) continue;
-				const auto& p = own.sighting->position;
-				// The nearest carried box against the nearest track's last box.
-				double carried = 1e9, last = 1e9;
-				for (const auto& b : boxes) carried = std::min(carried, ((b.min + b.max) * 0.5 - p).norm());
-				for (const auto& t : layer.tracks())
-					if (!t.still) last = std::min(last, ((t.box.min + t.box.max) * 0.5 - p).norm());
-				if (carried > 1.0 || last > 1.0) continue;  // a person no track follows
-				(carried + 0.01 < last ? nearer : notNearer)++;
-			}
-		}
-		waiting.clear();
-	}
-	std::cout << "in-between sightings nearer the carried box than the last one: " << nearer << ", not: " << notNearer
-			  << "\n";
-	EXPECT_GE(nearer, 10u);
-	EXPECT_GT(nearer, 2 * notNearer);
 }

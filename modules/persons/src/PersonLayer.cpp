@@ -45,12 +45,9 @@ std::vector<mrpt::math::TBoundingBox> PersonLayer::movingPersonBoxes(
 	const mrpt::math::TPoint3D grow(margin, margin, margin);
 	for (const auto& t : tracks())
 	{
-		// Before the last sighting (a map that waits for the detections
-		// bracketing a frame) the same velocity carries the box back: between
-		// two sightings it moves from the one to the other.
 		const double since = time - t.lastTime;
 		if (t.still || since > horizon) continue;
-		const auto moved = t.velocity * since;
+		const auto moved = t.velocity * std::max(0.0, since);
 		boxes.emplace_back(t.box.min + moved - grow, t.box.max + moved + grow);
 	}
 	return boxes;

@@ -65,27 +65,7 @@ void FrameProcessor::mapFrame(const io::RgbdFrame& frame, const CPose3D& pose, b
 			[&](const viewer::SnapshotOptions& options) { return snapshot(frame, pose, options); }};
 		for (auto* o : m_observers) o->onFrameMapped(mapped);
 	}
-	m_waitingFrames.push_back({frame, pose});
-	insertBracketed(frame.index);
-}
-
-void FrameProcessor::insertBracketed(std::optional<std::size_t> current)
-{
-	// Frame k is bracketed by the detection of the first detection frame at
-	// or after it, applied detection_lag_frames later; without a detector
-	// nothing brackets a frame and none waits.
-	const auto bracketed = [&](std::size_t k)
-	{
-		if (!current || !m_detector || m_options.detectEveryN == 0) return true;
-		const std::size_t n = m_options.detectEveryN;
-		return (k + n - 1) / n * n + m_options.detectionLagFrames <= *current;
-	};
-	while (!m_waitingFrames.empty() && bracketed(m_waitingFrames.front().frame.index))
-	{
-		finishInsertion();
-		insert(m_waitingFrames.front().frame, m_waitingFrames.front().pose);
-		m_waitingFrames.pop_front();
-	}
+	insert(frame, pose);
 }
 
 viewer::MapSnapshot FrameProcessor::mapSnapshot(const viewer::SnapshotOptions& options) const
@@ -142,8 +122,6 @@ void FrameProcessor::finish()
 	finishInsertion();
 	applyDueDetections(std::numeric_limits<std::size_t>::max());
 	updatePersons();
-	insertBracketed(std::nullopt);
-	finishInsertion();
 }
 
 void FrameProcessor::startDetection(const io::RgbdFrame& frame)

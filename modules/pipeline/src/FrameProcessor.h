@@ -6,14 +6,6 @@
 //     3. updatePersons                          persons and their regions
 //     4. insert                                 the map (on the mapping thread)
 //
-// With a detector, a frame waits for step 4 until the detection at or after
-// it (every detect_every_n-th frame, applied detection_lag_frames later) is
-// applied: the persons seen before and after the frame then bracket it, so a
-// person walking in is known as one from their first mapped frame, and
-// between two sightings their box is carried from one to the other
-// (PersonLayer::movingPersonBoxes) instead of on from the older one. At most
-// detect_every_n + detection_lag_frames frames wait.
-//
 // Threads: a detection runs on a worker (async_detection) and is applied
 // detection_lag_frames after its frame, whether it finished early or late; a
 // frame's insertion runs on a worker (async_mapping) beside the next frame's
@@ -171,15 +163,10 @@ class FrameProcessor
 	std::vector<persons::PersonObservation> seePersons(const mrpt::obs::CObservation3DRangeScan& obs,
 		const mrpt::poses::CPose3D& pose, const std::vector<detection::Detection>& persons, std::size_t frameIndex);
 	/** Steps 3-4, the run's and the map rebuild's: the persons of the
-	 *  detections due, seen from their frames' poses, then the frame queued
-	 *  for insertion at `pose` and the queued frames the detections now
-	 *  bracket inserted; `shown`: the observers are told of it. */
+	 *  detections due, seen from their frames' poses, then the frame inserted
+	 *  at `pose`; `shown`: the observers are told of it. */
 	void mapFrame(const io::RgbdFrame& frame, const mrpt::poses::CPose3D& pose, bool shown);
 	// 4. The map.
-	/** The queued frames whose bracketing detection is applied by frame
-	 *  `current` (all of them when `current` is nothing: the run's end),
-	 *  inserted in order. */
-	void insertBracketed(std::optional<std::size_t> current);
 	void insert(const io::RgbdFrame& frame, const mrpt::poses::CPose3D& pose);
 	/** What the live view shows of this moment. */
 	viewer::MapSnapshot snapshot(
@@ -212,14 +199,6 @@ class FrameProcessor
 	odometry::OdometryEstimate m_lastEstimate;    // its features, for the observers
 	std::optional<std::size_t> m_lastFrame;       // the last frame given to process()
 	std::set<std::size_t> m_detectionsToRestart;  // after loadState: frames whose detection was pending
-	/** A mapped frame waiting for the detection that brackets it. */
-	struct WaitingFrame
-	{
-		io::RgbdFrame frame;
-		mrpt::poses::CPose3D pose;
-	};
-	std::deque<WaitingFrame> m_waitingFrames;
-	std::map<std::size_t, mrpt::poses::CPose3D> m_framesToRequeue;  // after loadState: frames that were waiting
 
 	// Last, so that they are joined first: the work in flight uses the above.
 	std::deque<PendingDetection> m_pendingDetections;

@@ -15,7 +15,7 @@ using mrpt::serialization::CArchive;
 
 namespace
 {
-constexpr std::uint8_t kStateVersion = 4;
+constexpr std::uint8_t kStateVersion = 3;
 
 void write(CArchive& out, const mrpt::math::TPoint3D& p) { out << p.x << p.y << p.z; }
 void read(CArchive& in, mrpt::math::TPoint3D& p) { in >> p.x >> p.y >> p.z; }
@@ -148,12 +148,6 @@ void FrameProcessor::saveState(CArchive& out)
 	out << m_personWork.wallMs << m_personWork.cpuMs;
 	write(out, m_pendingDetections.size());
 	for (const auto& p : m_pendingDetections) write(out, p.applyAt - m_options.detectionLagFrames);
-	write(out, m_waitingFrames.size());
-	for (const auto& w : m_waitingFrames)
-	{
-		write(out, w.frame.index);
-		out << w.pose;
-	}
 	out.WriteAs<std::uint8_t>(m_odometry.has_value());
 	if (m_odometry) m_odometry->saveState(out);
 }
@@ -198,12 +192,6 @@ void FrameProcessor::loadState(CArchive& in)
 	in >> m_personWork.wallMs >> m_personWork.cpuMs;
 	m_detectionsToRestart.clear();
 	for (std::size_t n = readSize(in); n > 0; --n) m_detectionsToRestart.insert(readSize(in));
-	m_framesToRequeue.clear();
-	for (std::size_t n = readSize(in); n > 0; --n)
-	{
-		const std::size_t index = readSize(in);
-		in >> m_framesToRequeue[index];
-	}
 	m_odometry.reset();
 	if (in.ReadAs<std::uint8_t>())
 	{
@@ -216,11 +204,6 @@ bool FrameProcessor::resumeThrough(const io::RgbdFrame& frame)
 {
 	if (!m_lastFrame || frame.index > *m_lastFrame) return false;
 	if (m_detectionsToRestart.erase(frame.index)) startDetection(frame);
-	if (const auto w = m_framesToRequeue.find(frame.index); w != m_framesToRequeue.end())
-	{
-		m_waitingFrames.push_back({frame, w->second});
-		m_framesToRequeue.erase(w);
-	}
 	return true;
 }
 }  // namespace avm::pipeline::detail

@@ -63,15 +63,12 @@ class PersonLayer
 		const SightingOptions& sighting, double regionMargin, double shapeResolution);
 
 	/** Where the persons on the move are at the time of `obs`: for each
-	 *  moving track seen at most `horizon` [s] before the image (or after it),
-	 *  its last box carried by its velocity to the image's time and grown by
-	 *  `margin` [m] on each side. The image's pixels whose points lie in such
-	 *  a box are the moving persons': their rays see free space up to the
-	 *  person, their endpoints are no surface. After the last detection the
-	 *  track carries the person forward this way; for an image before the
-	 *  track's last sighting (a map that waits for the next detection) back,
-	 *  from the last sighting towards the one before, and a person first seen
-	 *  after the image is taken to be where they were first seen. */
+	 *  moving track seen at most `horizon` [s] before the image, its last box
+	 *  carried on by its velocity to the image's time and grown by `margin`
+	 *  [m] on each side. The image's pixels whose points lie in such a box are
+	 *  the moving persons': their rays see free space up to the person, their
+	 *  endpoints are no surface. Between two detections the track carries the
+	 *  person forward this way. */
 	std::vector<mrpt::math::TBoundingBox> movingPersonBoxes(
 		const mrpt::obs::CObservation3DRangeScan& obs, double horizon, double margin) const;
 
