@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "avm/io/ProgramMain.h"
+#include "avm/plugin/TrailCauses.h"
 #include "avm/plugin/TrailShare.h"
 
 int main(int argc, char** argv)
@@ -24,6 +25,15 @@ int main(int argc, char** argv)
 				"", "max-range", "max range [m] of the references and single maps (default 5)", false, 5.0, "M", cmd);
 			TCLAP::ValueArg<double> argHigh("", "high", "fine resolution [m] (default 0.05)", false, 0.05, "M", cmd);
 			TCLAP::ValueArg<double> argLow("", "low", "coarse resolution [m] (default 0.20)", false, 0.20, "M", cmd);
+			TCLAP::SwitchArg argCauses("", "causes",
+				"also say for each map where its trail comes from (which pixels ended in each trail voxel, and "
+				"whether the run's person regions covered them then)",
+				cmd);
+			TCLAP::ValueArg<std::size_t> argLag(
+				"", "lag", "--causes: the maps' detection_lag_frames (default 2)", false, 2, "FRAMES", cmd);
+			TCLAP::ValueArg<double> argHorizon("", "horizon",
+				"--causes: the maps' region_end_after_s, how long a region follows its person unseen [s] (default 1.5)",
+				false, 1.5, "S", cmd);
 			cmd.parse(argc, argv);
 
 			avm::maps::TrailOptions opt;
@@ -38,9 +48,20 @@ int main(int argc, char** argv)
 				throw std::runtime_error("--high must be > 0 and --low above it");
 			avm::io::useImagesFolderOf(opt.rawlog);
 			avm::io::ProgressBar bar(false);
-			const auto result = avm::maps::measureTrails(opt, [&bar](std::size_t done, std::size_t total)
-				{ bar.show(double(done) / double(total), std::to_string(done) + "/" + std::to_string(total)); });
+			std::vector<avm::maps::TrailCauses> causes;
+			const auto result = avm::maps::measureTrails(
+				opt,
+				[&bar](std::size_t done, std::size_t total)
+				{ bar.show(double(done) / double(total), std::to_string(done) + "/" + std::to_string(total)); },
+				[&](const avm::maps::TrailReference& high, const avm::maps::TrailReference& low)
+				{
+					if (!argCauses.getValue()) return;
+					for (const auto& dir : opt.avmMaps)
+						causes.push_back(
+							avm::maps::explainTrails(opt, dir, high, low, argLag.getValue(), argHorizon.getValue()));
+				});
 			std::cout << avm::maps::toMarkdown(result);
+			for (const auto& c : causes) std::cout << "\n" << avm::maps::toMarkdown(c);
 			return 0;
 		});
 }

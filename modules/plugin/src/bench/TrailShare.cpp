@@ -80,8 +80,9 @@ TrailRow TrailReference::judge(const octomap::OcTree& map, const std::string& na
 	return row;
 }
 
-TrailResult measureTrails(
-	const TrailOptions& options, const std::function<void(std::size_t done, std::size_t total)>& progress)
+TrailResult measureTrails(const TrailOptions& options,
+	const std::function<void(std::size_t done, std::size_t total)>& progress,
+	const std::function<void(const TrailReference& high, const TrailReference& low)>& inspect)
 {
 	TrailReference high(options.highResolution, options.maxRange), low(options.lowResolution, options.maxRange);
 	TrailResult result;
@@ -111,6 +112,7 @@ TrailResult measureTrails(
 		row.trailM3 += lowRow.trailM3;
 		result.rows.push_back(row);
 	}
+	if (inspect) inspect(high, low);
 	return result;
 }
 

@@ -85,10 +85,12 @@ struct TrailResult
 };
 
 /** Builds the references and single maps over the rawlog and measures each
- *  map. Throws std::runtime_error naming the file on a missing or unreadable
- *  map, or a map of another resolution. */
-TrailResult measureTrails(
-	const TrailOptions& options, const std::function<void(std::size_t done, std::size_t total)>& progress = {});
+ *  map; `inspect`, if given, is shown the built references (high, low) before
+ *  they go. Throws std::runtime_error naming the file on a missing or
+ *  unreadable map, or a map of another resolution. */
+TrailResult measureTrails(const TrailOptions& options,
+	const std::function<void(std::size_t done, std::size_t total)>& progress = {},
+	const std::function<void(const TrailReference& high, const TrailReference& low)>& inspect = {});
 
 std::string toMarkdown(const TrailResult& result);
 }  // namespace avm::maps
