@@ -4,6 +4,7 @@
 #include <mrpt/system/datetime.h>
 
 #include <cmath>
+#include <cstdint>
 #include <stdexcept>
 
 namespace avm::io
@@ -20,13 +21,13 @@ cv::Mat depthInMetres(const mrpt::obs::CObservation3DRangeScan& obs)
 {
 	if (!obs.hasRangeImage) throw std::runtime_error("observation has no depth image");
 	const auto& r = obs.rangeImage;
-	cv::Mat depth(static_cast<int>(r.rows()), static_cast<int>(r.cols()), CV_32F);
-	const float units = obs.rangeUnits;
-	for (int y = 0; y < depth.rows; ++y)
-	{
-		auto* row = depth.ptr<float>(y);
-		for (int x = 0; x < depth.cols; ++x) row[x] = static_cast<float>(r(y, x)) * units;
-	}
+	if (r.rows() == 0 || r.cols() == 0) return cv::Mat(static_cast<int>(r.rows()), static_cast<int>(r.cols()), CV_32F);
+	// The matrix is row-major and contiguous: one vectorised conversion, each
+	// value the float product of the 16-bit count and the unit, as a loop gives.
+	const cv::Mat counts(
+		static_cast<int>(r.rows()), static_cast<int>(r.cols()), CV_16U, const_cast<std::uint16_t*>(r.data()));
+	cv::Mat depth;
+	counts.convertTo(depth, CV_32F, obs.rangeUnits);
 	return depth;
 }
 

@@ -54,7 +54,9 @@ class CommandLine : public TCLAP::CmdLine
 void useImagesFolderOf(const std::filesystem::path& rawlog);
 
 /** Runs `body` with the program's command line and returns its exit status:
- *  0 after --help or --version, 1 after reporting what it threw. */
+ *  0 after --help or --version, 1 after reporting what it threw. First it
+ *  sets glibc's malloc to keep freed blocks for reuse (a frame's large
+ *  buffers are freed and allocated again every frame). */
 int runProgram(const std::string& name, const std::string& description, const std::function<int(CommandLine&)>& body);
 
 /** The progress bar of every avm program, on stderr: redrawn in place in a
