@@ -51,7 +51,8 @@ void printNested(std::ostream& out, const std::exception& e)
  *  each); by default glibc maps each block above 128 KB afresh and returns
  *  the freed top of the heap, so the kernel zero-fills those pages again on
  *  every frame (about 570 page faults a frame in avm-map). What memory holds is
- *  unchanged, so the outputs are too. */
+ *  unchanged, so the outputs are too. A live view (viewer::MapView) puts
+ *  glibc's defaults back: there memory comes first. */
 void keepFreedBlocksForReuse()
 {
 #if defined(__GLIBC__)

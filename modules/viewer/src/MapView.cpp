@@ -298,9 +298,12 @@ MapView::MapView(const TViewerOptions& options) : m_options(options), m_windows(
 	// blocks at first, but the first free of one raises its mmap threshold
 	// to that size (up to 32 MB), after which they come from the threads'
 	// malloc arenas, which keep the freed space: a sub300 run held 50-60 MB
-	// free in them. Fixed at glibc's own starting value, they are mmapped and
-	// go back to the system when freed.
+	// free in them. Fixed at glibc's own starting values, they are mmapped and
+	// go back to the system when freed. This undoes, for a run with a view,
+	// io::runProgram's setting for speed (keep freed blocks for reuse): with a
+	// view open, memory is the scarcer of the two.
 	mallopt(M_MMAP_THRESHOLD, 128 * 1024);
+	mallopt(M_TRIM_THRESHOLD, 128 * 1024);
 #endif
 	m_windows->view3D = mrpt::gui::CDisplayWindow3D::Create(m_options.title, m_options.width, m_options.height);
 	if (!m_windows->view3D || !m_windows->view3D->isOpen())
