@@ -279,7 +279,7 @@ TEST(ResolutionPolicy, PersistKeepsEveryPlaceAndMergesExactly)
 	EXPECT_FALSE(policy.inHighResolutionSpace({2.0, 2.0, 1.0}));
 }
 
-TEST(ResolutionPolicy, PaperPolicyTakesPersonsAsTriggersAndSerializes)
+TEST(ResolutionPolicy, PaperPolicySwitchesAtTheFirstPersonAndSerializes)
 {
 	ResolutionPolicy paper(SwitchPolicy::Paper, 1.5);
 	EXPECT_FALSE(paper.hasSwitched());

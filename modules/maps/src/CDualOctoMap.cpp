@@ -134,7 +134,7 @@ const octomap::OcTree* CDualOctoMap::tree(Resolution which) const
 
 detail::ScanTargets CDualOctoMap::prepareInsertion()
 {
-	m_policy->beforeIntegration(m_insertions, insertionOptions.switchAtFrame, insertionOptions.switchAtFraction,
+	m_policy->beforeIntegration(m_insertions, insertionOptions.switchAtInsertion, insertionOptions.switchAtFraction,
 		insertionOptions.expectedFrameCount);
 	applyRegionChanges();
 	detail::ScanTargets t;

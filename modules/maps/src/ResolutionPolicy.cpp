@@ -160,10 +160,10 @@ bool ResolutionPolicy::endRegion(std::uint32_t personId)
 }
 
 void ResolutionPolicy::beforeIntegration(
-	std::size_t index, std::int64_t switchAt, double switchAtFraction, std::size_t expectedFrames)
+	std::size_t index, std::int64_t switchAtInsertion, double switchAtFraction, std::size_t expectedFrames)
 {
 	if (m_policy != SwitchPolicy::Paper || m_switchIndex) return;
-	if (switchAt >= 0 && index >= static_cast<std::size_t>(switchAt)) markSwitched(index);
+	if (switchAtInsertion >= 0 && index >= static_cast<std::size_t>(switchAtInsertion)) markSwitched(index);
 	if (switchAtFraction >= 0)
 	{
 		if (expectedFrames == 0)

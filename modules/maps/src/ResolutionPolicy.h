@@ -85,10 +85,10 @@ class ResolutionPolicy
 	/** Removes the person's region; false if it has none. */
 	bool endRegion(std::uint32_t personId);
 	/** Called before integrating insertion `index`: the forced switch of the
-	 *  paper's ratio experiment, at insertion `switchAt` or at `switchAtFraction`
-	 *  of `expectedFrames` (-1: not forced). */
+	 *  paper's ratio experiment, at insertion `switchAtInsertion` or at
+	 *  `switchAtFraction` of `expectedFrames` (-1: not forced). */
 	void beforeIntegration(
-		std::size_t index, std::int64_t switchAt, double switchAtFraction, std::size_t expectedFrames);
+		std::size_t index, std::int64_t switchAtInsertion, double switchAtFraction, std::size_t expectedFrames);
 
 	/** Paper: switched. Region: a region exists. */
 	bool hasSwitched() const;

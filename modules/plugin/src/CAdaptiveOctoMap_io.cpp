@@ -28,8 +28,8 @@ void CAdaptiveOctoMap::serializeTo(mrpt::serialization::CArchive& out) const
 	out.WriteAs<uint8_t>(static_cast<uint8_t>(i.regionLifetime));
 	out << p.regionEndAfterSeconds << p.personLabel << p.sighting.depthBand << p.sighting.percentile
 		<< static_cast<uint64_t>(p.sighting.minPixels) << p.sighting.minDepthFraction << p.tracking.gate
-		<< p.tracking.gateGrowth << p.tracking.maxGate << i.switchAtFrame << i.switchAtFraction << i.expectedFrameCount
-		<< i.insertionThreads << p.tracking.stillFraction << p.tracking.stillAfter;
+		<< p.tracking.gateGrowth << p.tracking.maxGate << i.switchAtInsertion << i.switchAtFraction
+		<< i.expectedFrameCount << i.insertionThreads << p.tracking.stillFraction << p.tracking.stillAfter;
 	out << likelihoodOptions.decimation << renderingOptions.showFreeSpace << renderingOptions.showRegions;
 	writeRegions(out, [this](auto& ar, std::uint32_t id) { m_regionClocks.writeClock(ar, id); });
 	m_persons.serializeTo(out);
@@ -54,7 +54,7 @@ void CAdaptiveOctoMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t 
 	uint64_t minPixels = 0;
 	in >> p.regionEndAfterSeconds >> p.personLabel >> p.sighting.depthBand >> p.sighting.percentile >> minPixels >>
 		p.sighting.minDepthFraction >> p.tracking.gate >> p.tracking.gateGrowth >> p.tracking.maxGate >>
-		i.switchAtFrame >> i.switchAtFraction >> i.expectedFrameCount >> i.insertionThreads;
+		i.switchAtInsertion >> i.switchAtFraction >> i.expectedFrameCount >> i.insertionThreads;
 	p.sighting.minPixels = minPixels;
 	if (version >= 2) in >> p.tracking.stillFraction >> p.tracking.stillAfter;
 	in >> likelihoodOptions.decimation >> renderingOptions.showFreeSpace >> renderingOptions.showRegions;
