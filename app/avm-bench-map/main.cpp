@@ -27,7 +27,7 @@ int main(int argc, char** argv)
 				"the caches cold as in avm-map; e.g. 10: warm, as when a process only maps)",
 				false, 1, "N", cmd);
 			TCLAP::SwitchArg argPlain(
-				"", "with-plain", "also time insertPointCloud without discretize at the fine resolution (slow)", cmd);
+				"", "with-plain", "also time insertPointCloud without discretize at the high resolution (slow)", cmd);
 			cmd.parse(argc, argv);
 
 			avm::maps::MapBenchmarkOptions opt;

@@ -143,7 +143,7 @@ Table1Row table1(Experiments& e, PoseSource poses, const std::string& policy, do
 	Table1Row row;
 	row.label = policy + " policy, " + std::string(res);
 	const std::string tag = std::string(res);
-	// No trigger: everything stays in the low tree.
+	// No detection, so no switch: everything stays in the low tree.
 	row.lowOnly = e.run("low_only_" + tag, poses, with({{"pipeline", "detect_every_n", "0"}}));
 	// Switched before the first frame: one high-resolution OctoMap.
 	row.highOnly = e.run("high_only_" + tag, poses,

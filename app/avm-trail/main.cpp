@@ -23,8 +23,8 @@ int main(int argc, char** argv)
 				"", "frames", "use the first N frames with ground truth (default all)", false, 0, "N", cmd);
 			TCLAP::ValueArg<double> argRange(
 				"", "max-range", "max range [m] of the references and single maps (default 5)", false, 5.0, "M", cmd);
-			TCLAP::ValueArg<double> argHigh("", "high", "fine resolution [m] (default 0.05)", false, 0.05, "M", cmd);
-			TCLAP::ValueArg<double> argLow("", "low", "coarse resolution [m] (default 0.20)", false, 0.20, "M", cmd);
+			TCLAP::ValueArg<double> argHigh("", "high", "high resolution [m] (default 0.05)", false, 0.05, "M", cmd);
+			TCLAP::ValueArg<double> argLow("", "low", "low resolution [m] (default 0.20)", false, 0.20, "M", cmd);
 			TCLAP::SwitchArg argCauses("", "causes",
 				"also say for each map where its trail comes from (which pixels ended in each trail voxel, and "
 				"whether the run's person regions covered them then)",

@@ -282,9 +282,10 @@ std::vector<avm::persons::PixelSet> personAtCentre(const MapFrame& f)
 
 /** A map whose person regions have seen the first 6 frames, the person
  *  sighted in each. */
-CAdaptiveOctoMap mapWithPersonRegions(const CAdaptiveOctoMap::TInsertionOptions& ins)
+CAdaptiveOctoMap mapWithPersonRegions(
+	const CAdaptiveOctoMap::TInsertionOptions& ins, const avm::persons::TPersonLayerOptions& people = {})
 {
-	CAdaptiveOctoMap map(resolutions(0.2, 0.05), ins, {});
+	CAdaptiveOctoMap map(resolutions(0.2, 0.05), ins, {}, people);
 	for (std::size_t i = 0; i < 6; i++)
 	{
 		const auto& f = frames().at(i);
@@ -344,9 +345,10 @@ TEST(CAdaptiveOctoMapBonn, AnEndingRegionIsCoarsenedNeverDropped)
 TEST(CAdaptiveOctoMapBonn, AFollowRegionEndsOnlyWhileInViewAndUnseen)
 {
 	CAdaptiveOctoMap::TInsertionOptions ins;
-	ins.regionEndAfterSeconds = 0.3;  // frames() are 5 source frames (0.17 s) apart
+	avm::persons::TPersonLayerOptions people;
+	people.regionEndAfterSeconds = 0.3;  // frames() are 5 source frames (0.17 s) apart
 	{
-		auto map = mapWithPersonRegions(ins);
+		auto map = mapWithPersonRegions(ins, people);
 		ASSERT_FALSE(map.highResolutionRegions().empty());
 		// Turned away: the same frames, the camera looking backwards.
 		for (std::size_t i = 6; i < 12; i++)
@@ -356,7 +358,7 @@ TEST(CAdaptiveOctoMapBonn, AFollowRegionEndsOnlyWhileInViewAndUnseen)
 		}
 		EXPECT_FALSE(map.highResolutionRegions().empty()) << "a person out of view keeps the region";
 	}
-	auto map = mapWithPersonRegions(ins);
+	auto map = mapWithPersonRegions(ins, people);
 	const auto& f6 = frames().at(6);
 	ASSERT_TRUE(map.insertObservation(*f6.obs, f6.pose));
 	EXPECT_FALSE(map.highResolutionRegions().empty()) << "0.17 s unseen is not enough";
@@ -365,7 +367,7 @@ TEST(CAdaptiveOctoMapBonn, AFollowRegionEndsOnlyWhileInViewAndUnseen)
 	EXPECT_TRUE(map.highResolutionRegions().empty()) << "0.33 s in view and unseen";
 	// Persist: the same run keeps every region.
 	ins.regionLifetime = avm::RegionLifetime::Persist;
-	auto kept = mapWithPersonRegions(ins);
+	auto kept = mapWithPersonRegions(ins, people);
 	const auto before = kept.highResolutionRegions().size();
 	for (std::size_t i = 6; i < 10; i++) ASSERT_TRUE(kept.insertObservation(*frames().at(i).obs, frames().at(i).pose));
 	EXPECT_EQ(kept.highResolutionRegions().size(), before);

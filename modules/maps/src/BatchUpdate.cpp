@@ -10,70 +10,21 @@ namespace avm::detail
 {
 namespace
 {
+/** The tree's depth: a key's bits per axis (OcTreeKeys.h). */
 constexpr unsigned kDepth = kKeyBits;
-
-/** Spreads the 16 bits of v to every third bit. */
-inline std::uint64_t spread3(std::uint64_t v)
-{
-	v &= kKeyMask;
-	v = (v | (v << 16)) & 0x0000FF0000FFull;
-	v = (v | (v << 8)) & 0x00F00F00F00Full;
-	v = (v | (v << 4)) & 0x0C30C30C30C3ull;
-	v = (v | (v << 2)) & 0x249249249249ull;
-	return v;
-}
-
-/** Inverse of spread3: every third bit, from bit 0, packed into 16 bits. */
-inline std::uint64_t compact3(std::uint64_t v)
-{
-	v &= 0x249249249249ull;
-	v = (v | (v >> 2)) & 0x0C30C30C30C3ull;
-	v = (v | (v >> 4)) & 0x00F00F00F00Full;
-	v = (v | (v >> 8)) & 0x0000FF0000FFull;
-	v = (v | (v >> 16)) & kKeyMask;
-	return v;
-}
-
-/** Bits of level b of the three key components form octomap's child index
- *  (k0 -> 1, k1 -> 2, k2 -> 4) in group b, most significant level first. */
-inline std::uint64_t mortonOf(const octomap::OcTreeKey& k)
-{
-	return spread3(k[0]) | (spread3(k[1]) << 1) | (spread3(k[2]) << 2);
-}
-
-inline octomap::OcTreeKey keyOfMorton(std::uint64_t morton)
-{
-	return octomap::OcTreeKey(static_cast<octomap::key_type>(compact3(morton)),
-		static_cast<octomap::key_type>(compact3(morton >> 1)), static_cast<octomap::key_type>(compact3(morton >> 2)));
-}
-
-/** Child index at `depth` (root = 0) of the key with this Morton code. */
-inline unsigned childAt(std::uint64_t morton, unsigned depth)
-{
-	return static_cast<unsigned>((morton >> (3 * (kDepth - 1 - depth))) & 7u);
-}
-
-/** Deepest depth whose node both keys pass through. */
-inline unsigned sharedDepth(std::uint64_t a, std::uint64_t b)
-{
-	const std::uint64_t x = a ^ b;
-	if (x == 0) return kDepth;
-	const unsigned highest = 63u - static_cast<unsigned>(__builtin_clzll(x));
-	return kDepth - 1 - highest / 3;
-}
 }  // namespace
 
 void BatchUpdate::add(std::uint64_t packed, bool hit) { m_updates.push_back(mortonOf(unpackKey(packed)) << 1 | hit); }
 
 void BatchUpdate::sortByMorton()
 {
-	// LSD radix sort on the 48-bit codes (above the hit bit), 8 bits a
+	// LSD radix sort on the Morton codes (above the hit bit), 8 bits a
 	// pass. The keys of one scan share most high bits: passes over digits
 	// that no two codes differ in are skipped.
 	std::uint64_t varying = 0;
 	for (const auto u : m_updates) varying |= u ^ m_updates.front();
 	m_scratch.resize(m_updates.size());
-	for (unsigned shift = 1; shift < 49; shift += 8)
+	for (unsigned shift = 1; shift < 1 + kMortonBits; shift += 8)
 	{
 		if (((varying >> shift) & 0xFF) == 0) continue;
 		std::array<std::size_t, 257> count{};

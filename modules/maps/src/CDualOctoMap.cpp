@@ -17,7 +17,6 @@
 #include "SurfaceSketch.h"
 #include "OcTreeKeys.h"
 #include "TreeOps.h"
-#include "avm/io/DepthCamera.h"
 
 using namespace avm;
 
@@ -57,7 +56,6 @@ void CDualOctoMap::copyFrom(const CDualOctoMap& o)
 	m_high = o.m_high ? std::make_unique<octomap::OcTree>(*o.m_high) : nullptr;
 	m_policy = std::make_unique<detail::ResolutionPolicy>(*o.m_policy);
 	m_sketch = std::make_unique<detail::SurfaceSketch>(*o.m_sketch);
-	m_lastScanTime = o.m_lastScanTime;
 	m_insertions = o.m_insertions;
 	m_pointsCacheValid = false;
 }
@@ -69,7 +67,6 @@ void CDualOctoMap::internal_clear()
 	m_policy = std::make_unique<detail::ResolutionPolicy>(insertionOptions.switchPolicy, m_creation.low.resolution);
 	m_sketch = std::make_unique<detail::SurfaceSketch>(
 		static_cast<unsigned>(std::lround(m_creation.low.resolution / m_creation.high.resolution)));
-	m_lastScanTime.reset();
 	if (!m_integrator) m_integrator = std::make_unique<detail::RayIntegrator>();
 	m_insertions = 0;
 	m_pointsCacheValid = false;
@@ -97,12 +94,12 @@ void CDualOctoMap::addHighResolutionRegion(const mrpt::math::TBoundingBox& world
 	applyRegionChanges();
 }
 
-void CDualOctoMap::placeRegions(const std::vector<TRegionPlacement>& placements, double time)
+void CDualOctoMap::placeRegions(const std::vector<TRegionPlacement>& placements)
 {
 	for (const auto& p : placements)
 	{
 		if (p.id == 0) throw std::invalid_argument("CDualOctoMap::placeRegions: region id 0 is reserved");
-		m_policy->personSeen(p.id, p.box, time, insertionOptions.regionLifetime, m_insertions);
+		m_policy->personSeen(p.id, p.box, insertionOptions.regionLifetime, m_insertions);
 	}
 	applyRegionChanges();
 }
@@ -112,26 +109,6 @@ bool CDualOctoMap::endRegion(std::uint32_t id)
 	if (!m_policy->endRegion(id)) return false;
 	applyRegionChanges();
 	return true;
-}
-
-void CDualOctoMap::ageRegions(const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& sensorPose)
-{
-	const double now = mrpt::Clock::toDouble(obs.timestamp);
-	// A gap in the stream (a paused recording) is not time spent looking.
-	constexpr double kMaxStep = 1.0;  // [s]
-	const double from = m_lastScanTime ? std::max(*m_lastScanTime, now - kMaxStep) : now;
-	m_lastScanTime = now;
-	if (insertionOptions.regionLifetime != RegionLifetime::Follow || now <= from) return;
-	const auto camera = io::DepthCamera::of(obs);
-	const double range = m_creation.low.maxRange;
-	// In view: the centre of the person's latest box is in the image and
-	// within the sensor's range (occlusion is not considered).
-	const auto inView = [&](const mrpt::math::TBoundingBox& box)
-	{
-		const auto p = sensorPose.inverseComposePoint((box.min + box.max) * 0.5);
-		return p.x <= range && camera.project(p).has_value();
-	};
-	if (!m_policy->age(from, now, insertionOptions.regionEndAfterSeconds, inView).empty()) applyRegionChanges();
 }
 
 void CDualOctoMap::switchToHighResolution()
@@ -157,7 +134,7 @@ const octomap::OcTree* CDualOctoMap::tree(Resolution which) const
 
 detail::ScanTargets CDualOctoMap::prepareInsertion()
 {
-	m_policy->beforeIntegration(m_insertions, insertionOptions.switchAtFrame, insertionOptions.switchAtFraction,
+	m_policy->beforeIntegration(m_insertions, insertionOptions.switchAtInsertion, insertionOptions.switchAtFraction,
 		insertionOptions.expectedFrameCount);
 	applyRegionChanges();
 	detail::ScanTargets t;
@@ -216,7 +193,6 @@ bool CDualOctoMap::internal_insertObservation(
 		if (!scan->hasRangeImage || scan->rangeImage.rows() == 0 || scan->cameraParams.fx() <= 0) return false;
 		const mrpt::poses::CPose3D sensorPose = robot + scan->sensorPose;
 		const auto freeOnly = beforeDepthImage(*scan, robot);
-		ageRegions(*scan, sensorPose);
 		m_integrator->setThreads(insertionOptions.insertionThreads);
 		m_integrator->integrateDepthImage(*scan, sensorPose, prepareInsertion(), freeOnly);
 		finishInsertion();

@@ -78,24 +78,29 @@ void CDualOctoMap::readTreeOptions(mrpt::serialization::CArchive& in)
 	readTreeOptionsOf(in, m_creation.high);
 }
 
-void CDualOctoMap::writeRegions(mrpt::serialization::CArchive& out) const
+void CDualOctoMap::writeRegions(mrpt::serialization::CArchive& out, const RegionRecord& record) const
 {
 	out.WriteAs<uint64_t>(m_insertions);
-	m_policy->serializeTo(out);
+	m_policy->serializeTo(out, record);
 }
 
-void CDualOctoMap::readRegions(mrpt::serialization::CArchive& in)
+void CDualOctoMap::readRegions(mrpt::serialization::CArchive& in, const RegionRecord& record)
 {
 	m_insertions = in.ReadAs<uint64_t>();
 	m_policy = std::make_unique<detail::ResolutionPolicy>(insertionOptions.switchPolicy, m_creation.low.resolution);
-	m_policy->serializeFrom(in);
+	m_policy->serializeFrom(in, record);
+}
+
+void CDualOctoMap::writeSketch(mrpt::serialization::CArchive& out) const { m_sketch->serializeTo(out); }
+
+void CDualOctoMap::readSketch(mrpt::serialization::CArchive& in)
+{
+	m_sketch = std::make_unique<detail::SurfaceSketch>();
+	m_sketch->serializeFrom(in);
 }
 
 void CDualOctoMap::writeTrees(mrpt::serialization::CArchive& out) const
 {
-	m_sketch->serializeTo(out);
-	out.WriteAs<uint8_t>(m_lastScanTime.has_value());
-	out << m_lastScanTime.value_or(0.0);
 	writeTree(out, m_low.get());
 	out.WriteAs<uint8_t>(m_high != nullptr);
 	if (m_high) writeTree(out, m_high.get());
@@ -103,12 +108,6 @@ void CDualOctoMap::writeTrees(mrpt::serialization::CArchive& out) const
 
 void CDualOctoMap::readTrees(mrpt::serialization::CArchive& in)
 {
-	m_sketch = std::make_unique<detail::SurfaceSketch>();
-	m_sketch->serializeFrom(in);
-	const bool hasScanTime = in.ReadAs<uint8_t>() != 0;
-	double scanTime = 0;
-	in >> scanTime;
-	m_lastScanTime = hasScanTime ? std::optional<double>(scanTime) : std::nullopt;
 	m_low = readTree(in, m_creation.low);
 	m_high = in.ReadAs<uint8_t>() ? readTree(in, m_creation.high) : nullptr;
 	if (!m_integrator) m_integrator = std::make_unique<detail::RayIntegrator>();

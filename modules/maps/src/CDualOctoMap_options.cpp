@@ -130,14 +130,11 @@ io::IniKeys<CDualOctoMap::TInsertionOptions> CDualOctoMap::TInsertionOptions::in
 			"sighting of the person; out of view it stays) | persist (every place a person has been stays high "
 			"resolution)",
 			"expected follow or persist")
-		.number("region_end_after_s", &O::regionEndAfterSeconds, "s",
-			"follow: in-view time with no sighting after which a region ends, its detail folded into the low tree",
-			{[](double v) { return v > 0; }, "must be > 0 seconds"})
-		.number("switch_at_frame", &O::switchAtFrame, "",
+		.number("switch_at_frame", &O::switchAtInsertion, "",
 			"paper policy: force the switch at this insertion index; -1 = off",
 			{[](std::int64_t v) { return v >= -1; }, "must be -1 (off) or >= 0"})
 		.check(
-			"switch_at_frame", [=](const O& o) { return o.switchAtFrame == -1 || forcedSwitchNeedsPaper(o); },
+			"switch_at_frame", [=](const O& o) { return o.switchAtInsertion == -1 || forcedSwitchNeedsPaper(o); },
 			"a forced switch needs switch_policy = paper")
 		.number("switch_at_fraction", &O::switchAtFraction, "",
 			"paper policy: force the switch at this fraction of the run; -1 = off",

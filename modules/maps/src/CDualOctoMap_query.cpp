@@ -8,6 +8,7 @@
 #include "ResolutionPolicy.h"
 #include "SurfaceSketch.h"
 #include "TreeOps.h"
+#include "avm/io/DepthCamera.h"
 #include "avm/maps/CDualOctoMap.h"
 #include "avm/maps/OcTreeFile.h"
 
@@ -97,6 +98,13 @@ std::optional<mrpt::math::TBoundingBox> CDualOctoMap::knownSpaceBoundingBox() co
 	forEachLeaf(Resolution::Low, grow);
 	forEachLeaf(Resolution::High, grow);
 	return box;
+}
+
+bool CDualOctoMap::inCameraView(const mrpt::math::TBoundingBox& box, const mrpt::obs::CObservation3DRangeScan& scan,
+	const mrpt::poses::CPose3D& sensorPose) const
+{
+	const auto p = sensorPose.inverseComposePoint((box.min + box.max) * 0.5);
+	return p.x <= m_creation.low.maxRange && io::DepthCamera::of(scan).project(p).has_value();
 }
 
 CDualOctoMap::TTreeStats CDualOctoMap::statsOf(Resolution which) const

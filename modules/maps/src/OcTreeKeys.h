@@ -1,6 +1,7 @@
 // Octree keys as the map's hot paths use them: octomap's depth-16 keys
 // (floor(coordinate / resolution) + 32768 on each axis), packed three into one
-// word, and boxes of keys. The one place that knows the key layout.
+// word, their Morton codes, and boxes of keys. The one place that knows the
+// key layout.
 #pragma once
 
 #include <mrpt/math/TPoint3D.h>
@@ -106,6 +107,64 @@ inline std::uint64_t coarserKeyOf(std::uint64_t packed, unsigned ratio)
 	{ return static_cast<octomap::key_type>(pow2 ? (v + bias) >> shift : (v + bias) / ratio); };
 	return packKey(octomap::OcTreeKey(coarse(k[0]), coarse(k[1]), coarse(k[2])));
 }
+
+/** @name Morton codes: a key's three axes interleaved bit by bit, so that
+ *  sorted codes visit the tree depth first (BatchUpdate)
+ * @{ */
+constexpr unsigned kMortonBits = 3 * kKeyBits;
+static_assert(kKeyBits == 16, "spreadBits3 and compactBits3 interleave 16-bit axes");
+
+/** Spreads the 16 bits of v to every third bit. */
+inline std::uint64_t spreadBits3(std::uint64_t v)
+{
+	v &= kKeyMask;
+	v = (v | (v << 16)) & 0x0000FF0000FFull;
+	v = (v | (v << 8)) & 0x00F00F00F00Full;
+	v = (v | (v << 4)) & 0x0C30C30C30C3ull;
+	v = (v | (v << 2)) & 0x249249249249ull;
+	return v;
+}
+
+/** Inverse of spreadBits3: every third bit, from bit 0, packed into 16 bits. */
+inline std::uint64_t compactBits3(std::uint64_t v)
+{
+	v &= 0x249249249249ull;
+	v = (v | (v >> 2)) & 0x0C30C30C30C3ull;
+	v = (v | (v >> 4)) & 0x00F00F00F00Full;
+	v = (v | (v >> 8)) & 0x0000FF0000FFull;
+	v = (v | (v >> 16)) & kKeyMask;
+	return v;
+}
+
+/** Bits of level b of the three key components form octomap's child index
+ *  (k0 -> 1, k1 -> 2, k2 -> 4) in group b, most significant level first. */
+inline std::uint64_t mortonOf(const octomap::OcTreeKey& k)
+{
+	return spreadBits3(k[0]) | (spreadBits3(k[1]) << 1) | (spreadBits3(k[2]) << 2);
+}
+
+inline octomap::OcTreeKey keyOfMorton(std::uint64_t morton)
+{
+	return octomap::OcTreeKey(static_cast<octomap::key_type>(compactBits3(morton)),
+		static_cast<octomap::key_type>(compactBits3(morton >> 1)),
+		static_cast<octomap::key_type>(compactBits3(morton >> 2)));
+}
+
+/** Child index at `depth` (root = 0) of the key with this Morton code. */
+inline unsigned childAt(std::uint64_t morton, unsigned depth)
+{
+	return static_cast<unsigned>((morton >> (3 * (kKeyBits - 1 - depth))) & 7u);
+}
+
+/** Deepest depth whose node both keys pass through. */
+inline unsigned sharedDepth(std::uint64_t a, std::uint64_t b)
+{
+	const std::uint64_t x = a ^ b;
+	if (x == 0) return kKeyBits;
+	const unsigned highest = 63u - static_cast<unsigned>(__builtin_clzll(x));
+	return kKeyBits - 1 - highest / 3;
+}
+/** @} */
 
 /** A box of finest-level keys, half-open: [lo, hi) on each axis. */
 struct KeyRange

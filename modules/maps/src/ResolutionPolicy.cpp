@@ -102,8 +102,8 @@ void ResolutionPolicy::addFixedRegion(const mrpt::math::TBoundingBox& box, std::
 	regionsChanged();
 }
 
-void ResolutionPolicy::personSeen(std::uint32_t personId, const mrpt::math::TBoundingBox& box, double time,
-	RegionLifetime lifetime, std::size_t insertionIndex)
+void ResolutionPolicy::personSeen(
+	std::uint32_t personId, const mrpt::math::TBoundingBox& box, RegionLifetime lifetime, std::size_t insertionIndex)
 {
 	requireValid(box);
 	markSwitched(insertionIndex);
@@ -113,12 +113,10 @@ void ResolutionPolicy::personSeen(std::uint32_t personId, const mrpt::math::TBou
 		m_regions.begin(), m_regions.end(), [&](const THighResolutionRegion& r) { return r.personId == personId; });
 	if (it == m_regions.end())
 	{
-		m_regions.push_back(THighResolutionRegion{personId, {}, 0, time});
+		m_regions.push_back(THighResolutionRegion{personId, {}});
 		it = std::prev(m_regions.end());
 	}
 	auto& region = *it;
-	region.unseenInViewSeconds = 0;
-	region.lastSeenTime = std::max(region.lastSeenTime, time);
 	if (lifetime == RegionLifetime::Follow)
 	{
 		if (region.boxes.size() == 1 && contains(region.boxes.front(), aligned) &&
@@ -151,20 +149,6 @@ void ResolutionPolicy::personSeen(std::uint32_t personId, const mrpt::math::TBou
 	regionsChanged();
 }
 
-std::vector<std::uint32_t> ResolutionPolicy::age(
-	double from, double to, double endAfter, const std::function<bool(const mrpt::math::TBoundingBox&)>& inView)
-{
-	std::vector<std::uint32_t> ended;
-	for (auto& r : m_regions)
-	{
-		if (r.personId == 0 || r.boxes.empty() || !inView(r.boxes.back())) continue;
-		r.unseenInViewSeconds += std::max(0.0, to - std::max(from, r.lastSeenTime));
-		if (r.unseenInViewSeconds >= endAfter) ended.push_back(r.personId);
-	}
-	for (const auto id : ended) endRegion(id);
-	return ended;
-}
-
 bool ResolutionPolicy::endRegion(std::uint32_t personId)
 {
 	const auto it = std::find_if(
@@ -176,10 +160,10 @@ bool ResolutionPolicy::endRegion(std::uint32_t personId)
 }
 
 void ResolutionPolicy::beforeIntegration(
-	std::size_t index, std::int64_t switchAt, double switchAtFraction, std::size_t expectedFrames)
+	std::size_t index, std::int64_t switchAtInsertion, double switchAtFraction, std::size_t expectedFrames)
 {
 	if (m_policy != SwitchPolicy::Paper || m_switchIndex) return;
-	if (switchAt >= 0 && index >= static_cast<std::size_t>(switchAt)) markSwitched(index);
+	if (switchAtInsertion >= 0 && index >= static_cast<std::size_t>(switchAtInsertion)) markSwitched(index);
 	if (switchAtFraction >= 0)
 	{
 		if (expectedFrames == 0)
@@ -272,20 +256,21 @@ SpaceChange ResolutionPolicy::takeSpaceChange()
 	return c;
 }
 
-void ResolutionPolicy::serializeTo(mrpt::serialization::CArchive& out) const
+void ResolutionPolicy::serializeTo(mrpt::serialization::CArchive& out, const RegionRecord& record) const
 {
 	out.WriteAs<uint8_t>(m_switchIndex.has_value());
 	out.WriteAs<uint64_t>(m_switchIndex.value_or(0));
 	out.WriteAs<uint32_t>(m_regions.size());
 	for (const auto& r : m_regions)
 	{
-		out << r.personId << r.unseenInViewSeconds << r.lastSeenTime;
+		out << r.personId;
+		if (record) record(out, r.personId);
 		out.WriteAs<uint32_t>(r.boxes.size());
 		for (const auto& b : r.boxes) out << b.min.x << b.min.y << b.min.z << b.max.x << b.max.y << b.max.z;
 	}
 }
 
-void ResolutionPolicy::serializeFrom(mrpt::serialization::CArchive& in)
+void ResolutionPolicy::serializeFrom(mrpt::serialization::CArchive& in, const RegionRecord& record)
 {
 	const bool switched = in.ReadAs<uint8_t>() != 0;
 	const auto index = in.ReadAs<uint64_t>();
@@ -293,7 +278,8 @@ void ResolutionPolicy::serializeFrom(mrpt::serialization::CArchive& in)
 	m_regions.resize(in.ReadAs<uint32_t>());
 	for (auto& r : m_regions)
 	{
-		in >> r.personId >> r.unseenInViewSeconds >> r.lastSeenTime;
+		in >> r.personId;
+		if (record) record(in, r.personId);
 		r.boxes.resize(in.ReadAs<uint32_t>());
 		for (auto& b : r.boxes)
 		{

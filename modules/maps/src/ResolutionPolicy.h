@@ -79,23 +79,16 @@ class ResolutionPolicy
 	void addFixedRegion(const mrpt::math::TBoundingBox& box, std::size_t insertionIndex);
 	/** Region policy: the person was seen with this box (world frame, margin
 	 *  included). Follow: the person's region moves to the box. Persist: the
-	 *  box joins the person's region. Either way its in-view clock restarts.
-	 *  Paper policy: a switch. */
-	void personSeen(std::uint32_t personId, const mrpt::math::TBoundingBox& box, double time, RegionLifetime lifetime,
+	 *  box joins the person's region. Paper policy: a switch. */
+	void personSeen(std::uint32_t personId, const mrpt::math::TBoundingBox& box, RegionLifetime lifetime,
 		std::size_t insertionIndex);
-	/** Follow lifetime: the camera looked from `from` to `to` [s] at each
-	 *  person region for which `inView(latest box)` holds; what of that came
-	 *  after the person's last sighting counts, and a region whose count
-	 *  reaches `endAfter` ends (its person is returned). */
-	std::vector<std::uint32_t> age(
-		double from, double to, double endAfter, const std::function<bool(const mrpt::math::TBoundingBox&)>& inView);
 	/** Removes the person's region; false if it has none. */
 	bool endRegion(std::uint32_t personId);
 	/** Called before integrating insertion `index`: the forced switch of the
-	 *  paper's ratio experiment, at insertion `switchAt` or at `switchAtFraction`
-	 *  of `expectedFrames` (-1: not forced). */
+	 *  paper's ratio experiment, at insertion `switchAtInsertion` or at
+	 *  `switchAtFraction` of `expectedFrames` (-1: not forced). */
 	void beforeIntegration(
-		std::size_t index, std::int64_t switchAt, double switchAtFraction, std::size_t expectedFrames);
+		std::size_t index, std::int64_t switchAtInsertion, double switchAtFraction, std::size_t expectedFrames);
 
 	/** Paper: switched. Region: a region exists. */
 	bool hasSwitched() const;
@@ -109,8 +102,11 @@ class ResolutionPolicy
 	/** What the high-resolution space gained and lost since the last call. */
 	SpaceChange takeSpaceChange();
 
-	void serializeTo(mrpt::serialization::CArchive& out) const;
-	void serializeFrom(mrpt::serialization::CArchive& in);
+	/** What the map's owner keeps with each region in the stream, after its
+	 *  id (CDualOctoMap::RegionRecord); nothing when empty. */
+	using RegionRecord = std::function<void(mrpt::serialization::CArchive&, std::uint32_t personId)>;
+	void serializeTo(mrpt::serialization::CArchive& out, const RegionRecord& record = {}) const;
+	void serializeFrom(mrpt::serialization::CArchive& in, const RegionRecord& record = {});
 
    private:
 	void markSwitched(std::size_t insertionIndex);

@@ -23,7 +23,7 @@ AVM_ROW_PASS void rowDepth(const std::uint16_t* row, const float* rangeScale, fl
 		for (int u = 0; u < cols; u++) depth[u] = row[u] * units;
 }
 
-/** Keys (octomap's floor(coord / res) + 32768, on floats as octomap) of
+/** Keys (octomap's floor(coord / res) + kKeyOffset, on floats as octomap) of
  *  the points of a row; -1 where there is no depth or below the tree. */
 AVM_ROW_PASS void pointRowKeys(const RowRays& r, const float* depth, float inverse, int cols, RowKeys out)
 {

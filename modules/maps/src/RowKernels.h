@@ -43,7 +43,7 @@ struct RowKeys
 /** The depth of each pixel of a row (range images: scaled to depth). */
 void rowDepth(const std::uint16_t* row, const float* rangeScale, float units, int cols, float* depth);
 
-/** Keys (octomap's floor(coord / res) + 32768, on floats as octomap) of
+/** Keys (octomap's floor(coord / res) + kKeyOffset, on floats as octomap) of
  *  the points of a row; -1 where there is no depth or below the tree. */
 void pointRowKeys(const RowRays& r, const float* depth, float inverse, int cols, RowKeys out);
 

@@ -61,6 +61,9 @@ io::IniKeys<TPersonLayerOptions> TPersonLayerOptions::iniKeys()
 	io::IniKeys<O> keys;
 	keys.number("region_margin", &O::regionMargin, "m", "grown on each side of a person's box to make its region",
 			{[](double v) { return v >= 0; }, "must be >= 0 metres"})
+		.number("region_end_after_s", &O::regionEndAfterSeconds, "s",
+			"follow: in-view time with no sighting after which a region ends, its detail folded into the low tree",
+			{[](double v) { return v > 0; }, "must be > 0 seconds"})
 		.text("person_label", &O::personLabel,
 			"pixelLabels name of persons: \"person\" may hold many (one per 4-connected blob), \"person/<k>\" one each",
 			{[](const std::string& v) { return !v.empty(); }, "must not be empty"})

@@ -7,6 +7,7 @@
 #include <mrpt/opengl/CSetOfObjects.h>
 #include <mrpt/rtti/CObject.h>
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "avm/io/RgbdFrame.h"
@@ -76,6 +77,7 @@ CAdaptiveOctoMap::CAdaptiveOctoMap(const CAdaptiveOctoMap& o)
 	: CDualOctoMap(o),
 	  personOptions(o.personOptions),
 	  m_persons(o.m_persons),
+	  m_regionClocks(o.m_regionClocks),
 	  m_lastFreeOnlyBoxes(o.m_lastFreeOnlyBoxes)
 {
 }
@@ -86,6 +88,7 @@ CAdaptiveOctoMap& CAdaptiveOctoMap::operator=(const CAdaptiveOctoMap& o)
 	CDualOctoMap::operator=(o);
 	personOptions = o.personOptions;
 	m_persons = o.m_persons;
+	m_regionClocks = o.m_regionClocks;
 	m_lastFreeOnlyBoxes = o.m_lastFreeOnlyBoxes;
 	return *this;
 }
@@ -94,6 +97,7 @@ void CAdaptiveOctoMap::internal_clear()
 {
 	CDualOctoMap::internal_clear();
 	m_persons = persons::PersonLayer(personOptions.tracking);
+	m_regionClocks = {};
 	m_lastFreeOnlyBoxes.clear();
 }
 
@@ -106,11 +110,32 @@ std::vector<persons::PersonObservation> CAdaptiveOctoMap::observePersons(const m
 	if (obs.hasRangeImage && obs.rangeImage_isExternallyStored()) obs.load();
 	auto seen = m_persons.observe(obs, robotPose + obs.sensorPose, persons, frameIndex, personOptions.sighting,
 		personOptions.regionMargin, creationOptions().high.resolution);
+	const double time = mrpt::Clock::toDouble(obs.timestamp);
+	const auto& regions = highResolutionRegions();
 	std::vector<TRegionPlacement> placements;
 	for (const auto& o : seen)
-		if (o.regionBox) placements.push_back({o.personId, *o.regionBox});
-	placeRegions(placements, mrpt::Clock::toDouble(obs.timestamp));
+	{
+		if (!o.regionBox) continue;
+		placements.push_back({o.personId, *o.regionBox});
+		const bool newRegion = std::none_of(
+			regions.begin(), regions.end(), [&](const THighResolutionRegion& r) { return r.personId == o.personId; });
+		m_regionClocks.seen(o.personId, time, newRegion);
+	}
+	placeRegions(placements);
 	return seen;
+}
+
+void CAdaptiveOctoMap::endRegionsUnseenInView(
+	const mrpt::obs::CObservation3DRangeScan& scan, const mrpt::poses::CPose3D& robotPose)
+{
+	std::vector<persons::RegionInView> regions;
+	for (const auto& r : highResolutionRegions())
+		if (r.personId != 0 && !r.boxes.empty()) regions.push_back({r.personId, r.boxes.back()});
+	const auto sensorPose = robotPose + scan.sensorPose;
+	const auto ended = m_regionClocks.age(mrpt::Clock::toDouble(scan.timestamp),
+		insertionOptions.regionLifetime == RegionLifetime::Follow, regions, personOptions.regionEndAfterSeconds,
+		[&](const mrpt::math::TBoundingBox& box) { return inCameraView(box, scan, sensorPose); });
+	for (const auto id : ended) endRegion(id);
 }
 
 CDualOctoMap::FreeOnlyBoxes CAdaptiveOctoMap::beforeDepthImage(
@@ -119,13 +144,14 @@ CDualOctoMap::FreeOnlyBoxes CAdaptiveOctoMap::beforeDepthImage(
 	observePersons(scan, robotPose,
 		persons::personPixelsFromLabels(scan, personOptions.personLabel, personOptions.sighting.minPixels),
 		insertionCount());
+	endRegionsUnseenInView(scan, robotPose);
 	// Algorithm 1 maps every point; the region policy knows who moves. A
 	// person unseen for as long as a region lasts unseen is no longer
 	// followed; the region margin is how far they may stray from their box.
 	m_lastFreeOnlyBoxes.clear();
 	if (insertionOptions.switchPolicy == SwitchPolicy::Region)
 		m_lastFreeOnlyBoxes =
-			m_persons.movingPersonBoxes(scan, insertionOptions.regionEndAfterSeconds, personOptions.regionMargin);
+			m_persons.movingPersonBoxes(scan, personOptions.regionEndAfterSeconds, personOptions.regionMargin);
 	return m_lastFreeOnlyBoxes;
 }
 

@@ -1,7 +1,7 @@
 // The plugin map's MRPT serialization: checkpoints, CMultiMetricMap copies and
 // maps saved by stock MRPT apps. Version 1 is the stream of the map before the
-// person layer moved out of it: the person layer's options and tracks keep
-// their places between the dual octree's parts.
+// person layer moved out of it: the person layer's options, tracks and region
+// clocks keep their places between the dual octree's parts.
 #include <mrpt/serialization/CArchive.h>
 
 #include <stdexcept>
@@ -26,13 +26,15 @@ void CAdaptiveOctoMap::serializeTo(mrpt::serialization::CArchive& out) const
 	out.WriteAs<uint8_t>(static_cast<uint8_t>(i.switchPolicy));
 	out << p.regionMargin;
 	out.WriteAs<uint8_t>(static_cast<uint8_t>(i.regionLifetime));
-	out << i.regionEndAfterSeconds << p.personLabel << p.sighting.depthBand << p.sighting.percentile
+	out << p.regionEndAfterSeconds << p.personLabel << p.sighting.depthBand << p.sighting.percentile
 		<< static_cast<uint64_t>(p.sighting.minPixels) << p.sighting.minDepthFraction << p.tracking.gate
-		<< p.tracking.gateGrowth << p.tracking.maxGate << i.switchAtFrame << i.switchAtFraction << i.expectedFrameCount
-		<< i.insertionThreads << p.tracking.stillFraction << p.tracking.stillAfter;
+		<< p.tracking.gateGrowth << p.tracking.maxGate << i.switchAtInsertion << i.switchAtFraction
+		<< i.expectedFrameCount << i.insertionThreads << p.tracking.stillFraction << p.tracking.stillAfter;
 	out << likelihoodOptions.decimation << renderingOptions.showFreeSpace << renderingOptions.showRegions;
-	writeRegions(out);
+	writeRegions(out, [this](auto& ar, std::uint32_t id) { m_regionClocks.writeClock(ar, id); });
 	m_persons.serializeTo(out);
+	writeSketch(out);
+	m_regionClocks.writeImageTime(out);
 	writeTrees(out);
 }
 
@@ -50,17 +52,20 @@ void CAdaptiveOctoMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t 
 		throw std::runtime_error("CAdaptiveOctoMap: corrupt region lifetime in the serialized map");
 	i.regionLifetime = static_cast<RegionLifetime>(lifetime);
 	uint64_t minPixels = 0;
-	in >> i.regionEndAfterSeconds >> p.personLabel >> p.sighting.depthBand >> p.sighting.percentile >> minPixels >>
+	in >> p.regionEndAfterSeconds >> p.personLabel >> p.sighting.depthBand >> p.sighting.percentile >> minPixels >>
 		p.sighting.minDepthFraction >> p.tracking.gate >> p.tracking.gateGrowth >> p.tracking.maxGate >>
-		i.switchAtFrame >> i.switchAtFraction >> i.expectedFrameCount >> i.insertionThreads;
+		i.switchAtInsertion >> i.switchAtFraction >> i.expectedFrameCount >> i.insertionThreads;
 	p.sighting.minPixels = minPixels;
 	if (version >= 2) in >> p.tracking.stillFraction >> p.tracking.stillAfter;
 	in >> likelihoodOptions.decimation >> renderingOptions.showFreeSpace >> renderingOptions.showRegions;
 	creationOptions().validate("serialized creationOpts");
 	insertionOptions.validate("serialized insertOpts");
 	personOptions.validate("serialized insertOpts");
-	readRegions(in);
+	m_regionClocks = {};
+	readRegions(in, [this](auto& ar, std::uint32_t id) { m_regionClocks.readClock(ar, id); });
 	m_persons = persons::PersonLayer(p.tracking);
 	m_persons.serializeFrom(in, {version >= 2, version >= 3});
+	readSketch(in);
+	m_regionClocks.readImageTime(in);
 	readTrees(in);
 }

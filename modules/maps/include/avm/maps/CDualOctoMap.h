@@ -6,7 +6,8 @@
 // (modules/plugin) is that layer for persons and the registered MRPT map.
 //
 // Where things live: src/ResolutionPolicy.cpp decides which space goes to
-// which tree (Algorithm 1, the regions and their lifetime),
+// which tree (Algorithm 1 and the regions; when a region ends is the layer
+// above's call),
 // src/RegionSpace.cpp refines space that enters a region and coarsens space
 // that leaves one, src/RayIntegrator.cpp turns a
 // scan into per-tree free/occupied key sets (the hot path, and Algorithm 2),
@@ -84,11 +85,10 @@ class CDualOctoMap : public mrpt::maps::CMetricMap
 	{
 		SwitchPolicy switchPolicy = SwitchPolicy::Region;
 		RegionLifetime regionLifetime = RegionLifetime::Follow;
-		/** [s] follow: a region ends after its space was in view this long with
-		 *  no sighting of its person. */
-		double regionEndAfterSeconds = 1.5;
-		/** paper policy: switch at this insertion index (-1 = off). */
-		std::int64_t switchAtFrame = -1;
+		/** paper policy: switch at this insertion index (-1 = off); ini key
+		 *  `switch_at_frame` (an insertion is a frame in avm-map, but not
+		 *  every frame is inserted). */
+		std::int64_t switchAtInsertion = -1;
 		/** paper policy: switch at this fraction of the run (-1 = off); needs
 		 *  expectedFrameCount or setExpectedFrameCount(). */
 		double switchAtFraction = -1;
@@ -155,15 +155,14 @@ class CDualOctoMap : public mrpt::maps::CMetricMap
 	 *  Throws std::invalid_argument on an empty or non-finite box. */
 	void addHighResolutionRegion(const mrpt::math::TBoundingBox& worldBox);
 	/** Region policy: each region moves to its placement's box (world frame,
-	 *  grown to the low tree's voxel grid) or, for a new id, is made there;
-	 *  `time` [s] is when its owner was there (the follow lifetime's clock).
+	 *  grown to the low tree's voxel grid) or, for a new id, is made there.
 	 *  Persist lifetime: the box joins the region. Paper policy: switches.
 	 *  Placed together, so space one region leaves and another enters in the
 	 *  same call stays in the high tree. */
-	void placeRegions(const std::vector<TRegionPlacement>& placements, double time);
-	/** Ends the region now, as its lifetime would (its detail folded into the
-	 *  low tree): e.g. its person has been attended to. False if there is no
-	 *  region of that id. */
+	void placeRegions(const std::vector<TRegionPlacement>& placements);
+	/** Ends the region now (its detail folded into the low tree): the layer
+	 *  above decides when, e.g. its follow lifetime is over or its person has
+	 *  been attended to. False if there is no region of that id. */
 	bool endRegion(std::uint32_t id);
 	/** Paper policy: every later insertion goes to the high tree (filtered by
 	 *  Algorithm 2). Region policy: std::logic_error (a region is needed). */
@@ -195,6 +194,11 @@ class CDualOctoMap : public mrpt::maps::CMetricMap
 		const mrpt::math::TPoint3D& origin, const mrpt::math::TPoint3D& direction, double maxRange) const;
 	/** Box of all known (free or occupied) visible voxels; nothing when empty. */
 	std::optional<mrpt::math::TBoundingBox> knownSpaceBoundingBox() const;
+	/** Whether the camera of `scan`, at `sensorPose` (world), looks at the box:
+	 *  its centre projects into the image within the low tree's max range
+	 *  (occlusion is not considered). */
+	bool inCameraView(const mrpt::math::TBoundingBox& box, const mrpt::obs::CObservation3DRangeScan& scan,
+		const mrpt::poses::CPose3D& sensorPose) const;
 	/** Calls `visit` for every leaf of `tree` that the map shows: in region
 	 *  policy all leaves (the low tree holds no region space); in paper policy
 	 *  the high tree's leaves where the low tree has no node (Algorithm 2). */
@@ -236,8 +240,8 @@ class CDualOctoMap : public mrpt::maps::CMetricMap
 	 *  them (bounds included) is free-only. */
 	using FreeOnlyBoxes = std::vector<mrpt::math::TBoundingBox>;
 	/** Called with each depth image about to be inserted (after its checks,
-	 *  before regions age and rays are cast): where the layer above reads it,
-	 *  e.g. places the regions of the persons it shows. Returns the image's
+	 *  before rays are cast): where the layer above reads it, e.g. places the
+	 *  regions of the persons it shows and ends those it is done with. Returns the image's
 	 *  free-only boxes: the rays of the pixels whose points lie in them carve
 	 *  free space as any other, but their endpoints are not marked occupied
 	 *  (something there is passing through); the map does not ask what they
@@ -255,11 +259,18 @@ class CDualOctoMap : public mrpt::maps::CMetricMap
 	/** Both trees' creation options. */
 	void writeTreeOptions(mrpt::serialization::CArchive& out) const;
 	void readTreeOptions(mrpt::serialization::CArchive& in);
+	/** What the layer above keeps with each region in the stream, after its
+	 *  id (the plugin: the region's follow-lifetime clock); written and read
+	 *  the same way. */
+	using RegionRecord = std::function<void(mrpt::serialization::CArchive&, std::uint32_t regionId)>;
 	/** The insertion count, the switch and the regions (read after
 	 *  insertionOptions.switchPolicy). */
-	void writeRegions(mrpt::serialization::CArchive& out) const;
-	void readRegions(mrpt::serialization::CArchive& in);
-	/** The surface sketch, the last depth image's time and both trees. */
+	void writeRegions(mrpt::serialization::CArchive& out, const RegionRecord& record) const;
+	void readRegions(mrpt::serialization::CArchive& in, const RegionRecord& record);
+	/** The surface sketch. */
+	void writeSketch(mrpt::serialization::CArchive& out) const;
+	void readSketch(mrpt::serialization::CArchive& in);
+	/** Both trees. */
 	void writeTrees(mrpt::serialization::CArchive& out) const;
 	void readTrees(mrpt::serialization::CArchive& in);
 	/** @} */
@@ -279,9 +290,6 @@ class CDualOctoMap : public mrpt::maps::CMetricMap
 	void finishInsertion();
 	/** Applies the region changes the policy reports to the trees. */
 	void applyRegionChanges();
-	/** Follow lifetime: the time since the last insertion counts for the
-	 *  regions the camera now looks at; those past region_end_after_s end. */
-	void ageRegions(const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& sensorPose);
 	TTreeStats statsOf(Resolution which) const;
 	/** The options and a deep copy of the trees, regions and sketch. */
 	void copyFrom(const CDualOctoMap& other);
@@ -291,8 +299,6 @@ class CDualOctoMap : public mrpt::maps::CMetricMap
 	std::unique_ptr<detail::ResolutionPolicy> m_policy;
 	/** Where in each low voxel the surface was (region policy). */
 	std::unique_ptr<detail::SurfaceSketch> m_sketch;
-	/** [s] timestamp of the last depth image inserted (for region ageing). */
-	std::optional<double> m_lastScanTime;
 	/** Scratch buffers of the insertion hot path; not part of the map state. */
 	std::unique_ptr<detail::RayIntegrator> m_integrator;
 	std::size_t m_insertions = 0;

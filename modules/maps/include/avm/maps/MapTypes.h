@@ -39,9 +39,9 @@ SwitchPolicy switchPolicyFromString(const std::string& s);
 /** How long a person's high-resolution region lives (region policy). */
 enum class RegionLifetime
 {
-	/** The region moves with the person; it ends once its space has been in
-	 *  view for `region_end_after_s` with no sighting of that person. A person
-	 *  out of view keeps the region. */
+	/** The region moves with the person; the layer above ends it (the
+	 *  plugin: once its space has been in view for `region_end_after_s` with
+	 *  no sighting of that person; a person out of view keeps it). */
 	Follow,
 	/** Every place a person has been stays high resolution. */
 	Persist
@@ -63,9 +63,6 @@ struct THighResolutionRegion
 {
 	std::uint32_t personId = 0;                   //!< 0: given with addHighResolutionRegion(), never ends
 	std::vector<mrpt::math::TBoundingBox> boxes;  //!< follow: one; persist: all it has covered
-	/** [s] time in view since the person was last seen in it. */
-	double unseenInViewSeconds = 0;
-	double lastSeenTime = 0;  //!< [s] UNIX time of the person's last sighting
 };
 
 /** Where a region goes (CDualOctoMap::placeRegions). */

@@ -28,6 +28,9 @@ struct TPersonLayerOptions : public io::CIniKeyOptions<TPersonLayerOptions>
 {
 	/** [m] grown on each side of a person's box to make its region. */
 	double regionMargin = 0.20;
+	/** [s] follow lifetime: a region ends after its space was in view this
+	 *  long with no sighting of its person (RegionClocks). */
+	double regionEndAfterSeconds = 1.5;
 	/** Label name of the pixels that are persons (labelled rawlogs). */
 	std::string personLabel = kPersonLabel;
 	SightingOptions sighting;

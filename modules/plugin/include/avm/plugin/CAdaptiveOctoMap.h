@@ -1,8 +1,9 @@
 // avm::CAdaptiveOctoMap — the MRPT plugin map "adaptiveOctoMap": the dual octree
 // (avm::CDualOctoMap, modules/maps) joined with the person layer
 // (avm::persons::PersonLayer, modules/persons). It reads the person pixel labels
-// of each depth image it inserts, turns them into person tracks and moves each
-// person's high-resolution region with it, so stock MRPT apps that load
+// of each depth image it inserts, turns them into person tracks, moves each
+// person's high-resolution region with it and ends the regions whose lifetime
+// is over (persons::RegionClocks), so stock MRPT apps that load
 // libavm-adaptive-octomap.so map people at high resolution with no avm code of
 // their own. It owns the map's MRPT serialization (checkpoints, CMultiMetricMap
 // copies) and the `.ini` map definition.
@@ -14,6 +15,7 @@
 #include "avm/maps/CDualOctoMap.h"
 #include "avm/persons/PersonLabels.h"
 #include "avm/persons/PersonLayer.h"
+#include "avm/persons/RegionClocks.h"
 
 namespace avm
 {
@@ -42,6 +44,8 @@ class CAdaptiveOctoMap : public CDualOctoMap
 		const mrpt::poses::CPose3D& robotPose, const std::vector<persons::PixelSet>& persons, std::size_t frameIndex);
 	/** Every person seen so far. */
 	const std::vector<persons::PersonTrack>& personTracks() const { return m_persons.tracks(); }
+	/** The follow lifetime's clock of each person region. */
+	const persons::RegionClocks& regionClocks() const { return m_regionClocks; }
 	/** The free-only boxes of the last depth image inserted (the moving
 	 *  persons' boxes; none under the paper policy): for a reference map that
 	 *  treats the same pixels the same way. Not serialized. */
@@ -66,15 +70,22 @@ class CAdaptiveOctoMap : public CDualOctoMap
    protected:
 	void internal_clear() override;
 	/** The persons labelled in the image are observed before it is inserted, so
-	 *  the image is mapped with their regions in place. Region policy: the
+	 *  the image is mapped with their regions in place; then the regions whose
+	 *  follow lifetime is over end. Region policy: the
 	 *  pixels of the persons on the move are free only (a person walking
 	 *  through leaves no trail); a still person is mapped like any surface. */
 	FreeOnlyBoxes beforeDepthImage(
 		const mrpt::obs::CObservation3DRangeScan& scan, const mrpt::poses::CPose3D& robotPose) override;
 
    private:
+	/** Follow lifetime: the time until `scan` (taken at `robotPose`) counts
+	 *  for the person regions its camera looks at; those unseen for
+	 *  region_end_after_s in view end. */
+	void endRegionsUnseenInView(const mrpt::obs::CObservation3DRangeScan& scan, const mrpt::poses::CPose3D& robotPose);
+
 	/** Sightings and person tracks; it tells where the persons' regions go. */
 	persons::PersonLayer m_persons;
+	persons::RegionClocks m_regionClocks;
 	FreeOnlyBoxes m_lastFreeOnlyBoxes;
 };
 }  // namespace avm
