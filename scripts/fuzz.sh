@@ -27,7 +27,7 @@ for t in "${targets[@]}"; do
   mkdir -p "$work" "$artifacts"
   cp -n "$root/tests/fuzz/corpus/$t/"* "$work/" 2>/dev/null || true
   echo "fuzz: $t for ${seconds}s"
-  ASAN_OPTIONS=detect_leaks=1 "$build/bin/fuzz-$t" "$work" -max_total_time="$seconds" -fork=1 \
+  ASAN_OPTIONS=detect_leaks=1:intercept_tls_get_addr=0 "$build/bin/fuzz-$t" "$work" -max_total_time="$seconds" -fork=1 \
     -ignore_ooms=1 -timeout=20 -rss_limit_mb=4096 -artifact_prefix="$artifacts" \
     > "$build/fuzz-$t.log" 2>&1 || true
   # Fork mode's last status line: "#EXECS: cov: .. corp: N .. oom/timeout/crash: O/T/C ..."

@@ -18,7 +18,7 @@ cd "$root"
 cmd=("$build/bin/avm-map" -q -c ini/default.ini -r datasets/bonn_crowd_sub300.rawlog -o "$out" --poses gt
      --set "pipeline:repeat=$replays")
 echo "${cmd[*]}"
-ASAN_OPTIONS=detect_leaks=1:halt_on_error=1 \
+ASAN_OPTIONS=detect_leaks=1:halt_on_error=1:intercept_tls_get_addr=0 \
 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:suppressions=$root/tests/sanitizers/ubsan.supp \
   "${cmd[@]}"
 echo "exit status 0: no AddressSanitizer, LeakSanitizer or UndefinedBehaviorSanitizer report"
