@@ -2,7 +2,9 @@
 # The trail moving people leave (issue 32): labels every frame with avm-detect
 # (--every 1, whole detector boxes), runs avm-map with ground-truth poses, and
 # prints avm-trail's table: occupied volume that an octomap reference built
-# without the person boxes says is free, for avm and single OctoMaps.
+# without the persons' pixels says is free, for avm and single OctoMaps, with
+# both yardsticks (the persons' own pixels, their depth band as the ini's person
+# layer takes it; whole boxes).
 #   scripts/trail-share.sh RAWLOG INI OUTDIR [avm-trail options, e.g. --causes]
 set -euo pipefail
 rawlog=$(realpath "$1"); ini=$(realpath "$2"); out=$3
@@ -14,4 +16,4 @@ cd "$out"
 # The map's folder is named after the ini: avm-trail's row says which avm it was.
 name=$(basename "$ini" .ini)
 "$root/build/bin/avm-map" -q -c "$ini" -p gt -r "$rawlog" -o "$out/$name" > avm-map.log
-"$root/build/bin/avm-trail" -m "$name" "$@" labelled.rawlog
+"$root/build/bin/avm-trail" -c "$ini" -m "$name" "$@" labelled.rawlog

@@ -1,12 +1,15 @@
 // avm-trail: the trail moving people leave in a map: occupied volume where a
 // reference built without the people's pixels says the space is free, for
-// avm-map outputs and for single OctoMaps of the same frames.
+// avm-map outputs and for single OctoMaps of the same frames, against both
+// yardsticks (the persons' own pixels, whole boxes: avm/plugin/TrailShare.h).
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 
 #include <iostream>
 
+#include "avm/io/IniOptions.h"
 #include "avm/io/ProgramMain.h"
 #include "avm/plugin/TrailCauses.h"
+#include "avm/persons/PersonLayer.h"
 #include "avm/plugin/TrailShare.h"
 
 int main(int argc, char** argv)
@@ -25,10 +28,18 @@ int main(int argc, char** argv)
 				"", "max-range", "max range [m] of the references and single maps (default 5)", false, 5.0, "M", cmd);
 			TCLAP::ValueArg<double> argHigh("", "high", "high resolution [m] (default 0.05)", false, 0.05, "M", cmd);
 			TCLAP::ValueArg<double> argLow("", "low", "low resolution [m] (default 0.20)", false, 0.20, "M", cmd);
+			TCLAP::ValueArg<std::string> argIni("c", "config",
+				"the maps' ini: the person mask takes the person layer's keys (person_label, person_depth_band, "
+				"min_person_pixels, ...) from [map_adaptiveOctoMap_00_insertOpts] (default: their built-in defaults)",
+				false, "", "INI", cmd);
 			TCLAP::SwitchArg argCauses("", "causes",
 				"also say for each map where its trail comes from (which pixels ended in each trail voxel, and "
 				"whether the run's person regions covered them then)",
 				cmd);
+			TCLAP::ValueArg<std::string> argAgainst("", "causes-against",
+				"--causes: the yardstick whose trail is explained, person (the persons' own pixels cut) or box (whole "
+				"boxes cut) (default person)",
+				false, "person", "person|box", cmd);
 			TCLAP::ValueArg<std::size_t> argLag(
 				"", "lag", "--causes: the maps' detection_lag_frames (default 2)", false, 2, "FRAMES", cmd);
 			TCLAP::ValueArg<double> argHorizon("", "horizon",
@@ -46,6 +57,19 @@ int main(int argc, char** argv)
 			if (!(opt.maxRange > 0)) throw std::runtime_error("--max-range must be > 0");
 			if (!(opt.highResolution > 0) || !(opt.lowResolution > opt.highResolution))
 				throw std::runtime_error("--high must be > 0 and --low above it");
+			if (argAgainst.getValue() != "person" && argAgainst.getValue() != "box")
+				throw std::runtime_error("--causes-against must be person or box");
+			const auto against =
+				argAgainst.getValue() == "box" ? avm::maps::Yardstick::Boxes : avm::maps::Yardstick::PersonMask;
+			if (argIni.isSet())
+			{
+				// The section also holds the map's own keys: no warning for them.
+				std::vector<std::string> notPersonKeys;
+				const auto people = avm::io::loadOptionsFromFile<avm::persons::TPersonLayerOptions>(
+					argIni.getValue(), "map_adaptiveOctoMap_00_insertOpts", notPersonKeys);
+				opt.personLabel = people.personLabel;
+				opt.sighting = people.sighting;
+			}
 			avm::io::useImagesFolderOf(opt.rawlog);
 			avm::io::ProgressBar bar(false);
 			std::vector<avm::maps::TrailCauses> causes;
@@ -57,8 +81,8 @@ int main(int argc, char** argv)
 				{
 					if (!argCauses.getValue()) return;
 					for (const auto& dir : opt.avmMaps)
-						causes.push_back(
-							avm::maps::explainTrails(opt, dir, high, low, argLag.getValue(), argHorizon.getValue()));
+						causes.push_back(avm::maps::explainTrails(
+							opt, dir, high, low, argLag.getValue(), argHorizon.getValue(), against));
 				});
 			std::cout << avm::maps::toMarkdown(result);
 			for (const auto& c : causes) std::cout << "\n" << avm::maps::toMarkdown(c);

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <octomap/OcTree.h>
 
+#include <algorithm>
 #include <map>
 
 #include "BonnFrames.h"
@@ -51,15 +52,37 @@ const std::vector<LabelledFrame>& labelledFrames()
 }
 
 /** The trail (low + high) of a map built from the frames, labels on every
- *  3rd frame as avm-map detects, against references without any person box. */
+ *  3rd frame as avm-map detects, against references without the persons. */
 avm::maps::TrailRow trailOf(const CAdaptiveOctoMap& map, const avm::maps::TrailReference& high,
 	const avm::maps::TrailReference& low, const std::string& name)
 {
 	auto row = high.judge(*map.tree(avm::Resolution::High), name);
-	const auto coarse = low.judge(*map.tree(avm::Resolution::Low), name);
-	row.occupiedM3 += coarse.occupiedM3;
-	row.trailM3 += coarse.trailM3;
+	row += low.judge(*map.tree(avm::Resolution::Low), name);
 	return row;
+}
+
+/** The cuts of a labelled frame, the persons' depth band as a map of default
+ *  options takes it. */
+avm::maps::PersonCuts cutsOf(const LabelledFrame& lf)
+{
+	return avm::maps::personCuts(*lf.labelled, lf.frame.pose + lf.labelled->sensorPose, avm::maps::TrailOptions{});
+}
+
+/** The person labels of `obs` that hold pixels (avm-detect also names an
+ *  empty plain "person" label). */
+std::size_t labelledPersons(const mrpt::obs::CObservation3DRangeScan& obs)
+{
+	const auto labels = avm::persons::readPersonLabels(obs);
+	return static_cast<std::size_t>(
+		std::count_if(labels.begin(), labels.end(), [](const auto& l) { return !l.pixels.empty(); }));
+}
+
+std::size_t depthPixels(const mrpt::obs::CObservation3DRangeScan& obs, const std::vector<std::uint8_t>& cut)
+{
+	std::size_t n = 0;
+	const auto cols = static_cast<std::size_t>(obs.rangeImage.cols());
+	for (std::size_t i = 0; i < cut.size(); ++i) n += cut[i] && obs.rangeImage(i / cols, i % cols) != 0;
+	return n;
 }
 
 CAdaptiveOctoMap regionMap(double stillAfter)
@@ -91,9 +114,9 @@ TEST(MovingPersons, AMovingPersonLeavesNoTrail)
 	std::size_t i = 0;
 	for (const auto& lf : labelledFrames())
 	{
-		const auto cut = avm::maps::personPixelMask(*lf.labelled, "person");
-		high.insert(*lf.frame.obs, lf.frame.pose, cut);
-		low.insert(*lf.frame.obs, lf.frame.pose, cut);
+		const auto cuts = cutsOf(lf);
+		high.insert(*lf.frame.obs, lf.frame.pose, cuts);
+		low.insert(*lf.frame.obs, lf.frame.pose, cuts);
 		const auto& input = i++ % 3 == 0 ? *lf.labelled : *lf.frame.obs;
 		ASSERT_TRUE(objects.insertObservation(input, lf.frame.pose));
 		ASSERT_TRUE(walls.insertObservation(input, lf.frame.pose));
@@ -101,12 +124,69 @@ TEST(MovingPersons, AMovingPersonLeavesNoTrail)
 	ASSERT_GE(objects.personTracks().size(), 1u);
 	const auto o = trailOf(objects, high, low, "objects"), w = trailOf(walls, high, low, "walls");
 	const auto single = high.judge(high.single(), "single 0.05 m");
-	std::cout << "trail share: persons as objects " << o.share() << " (" << o.trailM3 << " m3), as walls " << w.share()
-			  << " (" << w.trailM3 << " m3), single 0.05 m OctoMap " << single.share() << "\n";
-	EXPECT_LT(o.trailM3, 0.5 * w.trailM3);
-	EXPECT_LT(o.share(), single.share());
+	for (const auto y : {avm::maps::Yardstick::PersonMask, avm::maps::Yardstick::Boxes})
+	{
+		std::cout << "trail share without " << avm::maps::describe(y) << ": persons as objects " << o.share(y) << " ("
+				  << o.trail(y) << " m3), as walls " << w.share(y) << " (" << w.trail(y)
+				  << " m3), single 0.05 m OctoMap " << single.share(y) << "\n";
+		EXPECT_LT(o.trail(y), 0.5 * w.trail(y));
+		EXPECT_LT(o.share(y), single.share(y));
+	}
+	// What the boxes' reference never saw behind the persons and the map
+	// rightly mapped is no trail against the person mask.
+	EXPECT_LT(o.trail(avm::maps::Yardstick::PersonMask), o.trail(avm::maps::Yardstick::Boxes));
 	// The rest of the scene is still mapped: most of the walls' occupied volume.
 	EXPECT_GT(o.occupiedM3, 0.8 * w.occupiedM3);
+}
+
+TEST(MovingPersons, ThePersonMaskCutsThePersonsOwnPixelsAndNoMore)
+{
+	// Every pixel the sighting counts as the person's is cut, and the part of
+	// the boxes left in the reference is the scene behind the persons.
+	const avm::persons::SightingOptions sighting;
+	std::size_t maskPixels = 0, boxPixels = 0, behind = 0, keptInBoxes = 0, onePersonFrames = 0;
+	for (const auto& lf : labelledFrames())
+	{
+		const auto& obs = *lf.labelled;
+		const auto cuts = cutsOf(lf);
+		ASSERT_EQ(cuts.personMask.size(), cuts.boxes.size());
+		for (std::size_t i = 0; i < cuts.boxes.size(); ++i) ASSERT_LE(cuts.personMask[i], cuts.boxes[i]) << i;
+		maskPixels += depthPixels(obs, cuts.personMask);
+		boxPixels += depthPixels(obs, cuts.boxes);
+		const auto persons = avm::persons::personPixelsFromLabels(obs, "person", sighting.minPixels);
+		const auto cols = static_cast<std::size_t>(obs.rangeImage.cols());
+		for (const auto& pixels : persons)
+		{
+			const auto s =
+				avm::persons::estimateSighting(obs, lf.frame.pose + obs.sensorPose, pixels, sighting).sighting;
+			if (!s) continue;
+			std::size_t cutWithDepth = 0;
+			for (const auto i : pixels)
+			{
+				const auto raw = obs.rangeImage(i / cols, i % cols);
+				if (raw == 0) continue;
+				cutWithDepth += cuts.personMask[i];
+				if (cuts.personMask[i]) continue;
+				++keptInBoxes;
+				behind += raw * obs.rangeUnits > s->depth;
+			}
+			// Another person's band may hold more of these pixels: only alone
+			// are they exactly the person's.
+			EXPECT_GE(cutWithDepth, s->points);
+			if (persons.size() == 1 && labelledPersons(obs) == 1)
+			{
+				EXPECT_EQ(cutWithDepth, s->points) << "frame " << lf.frame.index;
+				++onePersonFrames;
+			}
+		}
+	}
+	std::cout << "depth pixels cut: person mask " << maskPixels << ", boxes " << boxPixels << "; of the boxes' pixels "
+			  << "kept, " << behind << " of " << keptInBoxes << " behind the person; " << onePersonFrames
+			  << " one-person frames\n";
+	EXPECT_GT(onePersonFrames, 0u);
+	EXPECT_GT(maskPixels, 0u);
+	EXPECT_LT(maskPixels, boxPixels);
+	EXPECT_GT(behind, keptInBoxes / 2);
 }
 
 TEST(MovingPersons, APersonWhoStaysStillIsMappedAndPaperMapsEveryPoint)

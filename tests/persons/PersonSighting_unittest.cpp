@@ -5,6 +5,7 @@
 #include <cmath>
 #include <tuple>
 
+#include "avm/persons/PersonBand.h"
 #include "avm/persons/PersonLabels.h"
 #include "avm/persons/PersonSighting.h"
 
@@ -62,6 +63,22 @@ TEST(PersonSighting, ThePersonNotTheWallBehindIt)
 	// Width: 120 px at 2 m is 0.457 m; the percentiles trim 2 % each side.
 	EXPECT_NEAR(s.box.max.y - s.box.min.y, 0.457 * 0.96, 0.01);
 	EXPECT_NEAR(s.box.max.z - s.box.min.z, 300 * 2.0 / kF * 0.96, 0.01);
+}
+
+TEST(PersonSighting, ThePersonsBandPixelsAreThePersonNotTheWall)
+{
+	const auto obs = personBeforeAWall();
+	const auto box = pixelsOfBox(230, 90, 410, 410, kCols, kRows);
+	const auto est = estimateSighting(obs, {}, box, {});
+	ASSERT_TRUE(est.sighting) << est.skipReason;
+	const auto band = personBandPixels(obs, box, *est.sighting, {});
+	EXPECT_EQ(band.size(), est.sighting->points);
+	for (const auto i : band)
+	{
+		const auto u = i % kCols, v = i / kCols;
+		ASSERT_TRUE(u >= 260 && u < 380 && v >= 100 && v < 400) << u << ", " << v;
+	}
+	EXPECT_FALSE(inPersonBand(0.f, *est.sighting, {}));
 }
 
 TEST(PersonSighting, ASightingIsPlacedByTheSensorPose)

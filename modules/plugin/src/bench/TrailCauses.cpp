@@ -25,7 +25,7 @@ namespace
 /** What ended in a trail voxel on one frame: a person pixel whose point no
  *  region box of the run held then, one a region box held, another pixel,
  *  a person pixel whose ray passed through a region box to end beyond it
- *  (background in the person's image box). */
+ *  (with the boxes: background in the person's image box). */
 constexpr unsigned char kPersonOutsideRegions = 1, kPersonInRegion = 2, kOtherPixel = 4, kPersonPastRegion = 8;
 
 struct TrailVoxel
@@ -162,11 +162,11 @@ std::string describe(TrailCause cause)
 		case TrailCause::NeverInRegion:
 			return "person pixels outside the regions, no region box ever covered it";
 		case TrailCause::PastRegion:
-			return "person-box pixels past a region box (background beside or behind the person)";
+			return "person pixels past a region box (with the boxes: background beside or behind the person)";
 		case TrailCause::InsideRegion:
 			return "person pixels, each inside a region box then";
 		case TrailCause::OtherPixelsOnly:
-			return "only pixels outside every person box";
+			return "only pixels the yardstick does not cut";
 		case TrailCause::Count:
 			break;
 	}
@@ -174,14 +174,14 @@ std::string describe(TrailCause cause)
 }
 
 TrailCauses explainTrails(const TrailOptions& options, const std::filesystem::path& avmDir, const TrailReference& high,
-	const TrailReference& low, std::size_t lagFrames, double horizon)
+	const TrailReference& low, std::size_t lagFrames, double horizon, Yardstick yardstick)
 {
 	const io::RunFolder run(avmDir);
 	const auto files = run.map();
 	const auto highTree = readBinaryTree(files.highTree), lowTree = readBinaryTree(files.lowTree);
 	std::vector<TrailVoxels> trees(2);
-	trees[0].collect(*highTree, high.reference());
-	trees[1].collect(*lowTree, low.reference());
+	trees[0].collect(*highTree, high.reference(yardstick));
+	trees[1].collect(*lowTree, low.reference(yardstick));
 
 	const auto regions = readRegions(run.detections());
 	io::RawlogFrameReader reader(options.rawlog);
@@ -192,9 +192,10 @@ TrailCauses explainTrails(const TrailOptions& options, const std::filesystem::pa
 		if (!frame->groundTruth) continue;
 		++frames;
 		const auto& obs = *frame->observation;
-		const auto cut = personPixelMask(obs, options.personLabel);
 		const auto camera = io::DepthCamera::of(obs);
 		const mrpt::poses::CPose3D sensor = *frame->groundTruth + obs.sensorPose;
+		const auto cuts = personCuts(obs, sensor, options);
+		const auto& cut = cuts.of(yardstick);
 		for (int v = 0; v < camera.height; v++)
 			for (int u = 0; u < camera.width; u++)
 			{
@@ -218,6 +219,7 @@ TrailCauses explainTrails(const TrailOptions& options, const std::filesystem::pa
 
 	TrailCauses out;
 	out.map = avmDir.string();
+	out.yardstick = yardstick;
 	for (const auto& t : trees)
 		for (const auto& v : t.voxels)
 		{
@@ -261,7 +263,8 @@ std::string toMarkdown(const TrailCauses& causes)
 	double total = 0;
 	for (const auto& c : causes.counts) total += c.m3;
 	std::ostringstream out;
-	out << "trail of " << causes.map << " by cause (" << total << " m³)\n\n";
+	out << "trail of " << causes.map << " against the reference without " << describe(causes.yardstick)
+		<< ", by cause (" << total << " m³)\n\n";
 	out << "| cause | voxels | trail [m³] | share of the trail | of it, non-person pixels too [m³] |\n"
 		   "|---|---:|---:|---:|---:|\n";
 	for (std::size_t i = 0; i < causes.counts.size(); ++i)

@@ -1,23 +1,32 @@
 // The trail a map keeps of people who walked through it: its occupied volume
 // where a reference that never saw the people says the space is free. The
-// reference is built by octomap itself (insertPointCloud, discretize = true)
-// from the same frames and ground-truth poses with every labelled person's
-// pixels cut out of the depth image (avm-detect --every 1 labels whole
-// detector boxes), at each resolution the maps use; each occupied voxel is
-// judged at its own resolution. Single OctoMaps of all pixels are built beside
-// it, so a map can be set against what plain OctoMap does (octomap #183, #411).
+// references are built by octomap itself (insertPointCloud, discretize = true)
+// from the same frames and ground-truth poses with the persons' pixels cut out
+// of the depth image, at each resolution the maps use; each occupied voxel is
+// judged at its own resolution. Two yardsticks, each a reference of its own:
+// the person mask cuts only each labelled person's own pixels, those of their
+// depth band as the person layer takes them (avm/persons/PersonBand.h), so
+// the background a detector's box also shows is in the reference, as it is in
+// the map; the boxes cut every labelled pixel (avm-detect --every 1 labels
+// whole detector boxes), the yardstick issue 32 first measured with, which
+// never sees what lies behind a person and so counts a map that rightly maps
+// it as trail. Single OctoMaps of all pixels are built beside them, so a map
+// can be set against what plain OctoMap does (octomap #183, #411).
 #pragma once
 
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/poses/CPose3D.h>
 
 #include <cstddef>
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <memory>
 #include <string>
 #include <vector>
+
+#include "avm/persons/PersonSighting.h"
 
 namespace octomap
 {
@@ -37,18 +46,52 @@ struct TrailOptions
 	double maxRange = 5.0;                               //!< [m] of the references and single maps
 	std::size_t maxFrames = 0;                           //!< 0 = all frames with ground truth
 	std::string personLabel = "person";                  //!< pixel label of persons (person/<k> too)
+	/** How the person mask finds a person's depth band: the maps' own keys
+	 *  (person_depth_band, min_person_pixels, ...). */
+	persons::SightingOptions sighting;
 };
+
+/** Which pixels a reference cuts out of the depth image. */
+enum class Yardstick
+{
+	PersonMask,  //!< each sighted person's own pixels (their depth band); a person with no sighting, all its pixels
+	Boxes,       //!< every labelled pixel: whole detector boxes
+	Count
+};
+
+std::string describe(Yardstick yardstick);
+
+/** The pixels each yardstick cuts from one depth image, one byte per pixel
+ *  (row * cols + col; empty: none). */
+struct PersonCuts
+{
+	std::vector<std::uint8_t> personMask, boxes;
+	const std::vector<std::uint8_t>& of(Yardstick y) const { return y == Yardstick::Boxes ? boxes : personMask; }
+};
+
+/** The cuts of `obs`'s `options.personLabel` labels, its depth sensor at
+ *  `sensorPoseInWorld`: each person of the labels (personPixelsFromLabels)
+ *  whose pixels give a sighting (estimateSighting, `options.sighting`) is cut
+ *  by the person mask only where personBandPixels says it is the person; a
+ *  pixel another person's band holds stays cut, and so does every pixel of a
+ *  label that gives no sighting (the layer does not know which are the
+ *  person's). */
+PersonCuts personCuts(const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& sensorPoseInWorld,
+	const TrailOptions& options);
 
 struct TrailRow
 {
 	std::string map;
-	double occupiedM3 = 0, trailM3 = 0;  //!< occupied volume; the part the reference says is free
-	double share() const { return occupiedM3 > 0 ? trailM3 / occupiedM3 : 0; }
+	double occupiedM3 = 0;
+	/** Of it, the part each yardstick's reference says is free. */
+	std::array<double, static_cast<std::size_t>(Yardstick::Count)> trailM3{};
+	double trail(Yardstick y) const { return trailM3[static_cast<std::size_t>(y)]; }
+	double share(Yardstick y) const { return occupiedM3 > 0 ? trail(y) / occupiedM3 : 0; }
+	TrailRow& operator+=(const TrailRow& other);
 };
 
-/** One resolution's yardsticks: the reference without the persons' pixels
- *  and the single OctoMap of all pixels, built by octomap's
- *  insertPointCloud(discretize = true). */
+/** One resolution's references, one per yardstick, and the single OctoMap
+ *  of all pixels, built by octomap's insertPointCloud(discretize = true). */
 class TrailReference
 {
    public:
@@ -57,20 +100,20 @@ class TrailReference
 	TrailReference(const TrailReference&) = delete;
 	TrailReference& operator=(const TrailReference&) = delete;
 
-	/** The depth image at `robotPose` + obs.sensorPose; `cut` (one byte per
-	 *  pixel, row * cols + col; empty: none) marks the persons' pixels, which
-	 *  the reference does not see at all. */
-	void insert(const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& robotPose,
-		const std::vector<std::uint8_t>& cut);
+	/** The depth image at `robotPose` + obs.sensorPose; each reference does
+	 *  not see the pixels its yardstick cuts at all. */
+	void insert(
+		const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& robotPose, const PersonCuts& cuts);
 	/** `map`'s occupied volume (a tree of this resolution) and the part of it
-	 *  the reference holds as free, each leaf judged at its own size. Throws
+	 *  each reference holds as free, each leaf judged at its own size. Throws
 	 *  std::invalid_argument on a tree of another resolution. */
 	TrailRow judge(const octomap::OcTree& map, const std::string& name) const;
 	const octomap::OcTree& single() const { return *m_single; }
-	const octomap::OcTree& reference() const { return *m_reference; }
+	const octomap::OcTree& reference(Yardstick y) const { return *m_references[static_cast<std::size_t>(y)]; }
 
    private:
-	std::unique_ptr<octomap::OcTree> m_reference, m_single;
+	std::array<std::unique_ptr<octomap::OcTree>, static_cast<std::size_t>(Yardstick::Count)> m_references;
+	std::unique_ptr<octomap::OcTree> m_single;
 	double m_maxRange;
 };
 
@@ -81,6 +124,8 @@ std::vector<std::uint8_t> personPixelMask(const mrpt::obs::CObservation3DRangeSc
 struct TrailResult
 {
 	std::size_t frames = 0, framesWithPersons = 0;
+	/** Depth pixels each yardstick cut, over all frames. */
+	std::array<std::size_t, static_cast<std::size_t>(Yardstick::Count)> cutPixels{};
 	std::vector<TrailRow> rows;
 };
 
