@@ -96,13 +96,8 @@ OdometryEstimate VisualOdometry::Impl::track(const FrameFeatures& f)
 
 	const Eigen::Isometry3d predicted = velocity * T_cw;
 	mrpt::system::CTimeLoggerEntry matchTimer(stageTimer, "2 matching + PnP");
-	auto matches = frontend.matchByProjection(f, landmarks, predicted);
-	auto pnp = frontend.solvePnp(f, landmarks, matches, predicted);
-	if (!pnp)
-	{
-		matches = frontend.matchByDescriptor(f, landmarks);
-		pnp = frontend.solvePnp(f, landmarks, matches, T_cw);
-	}
+	std::vector<Match> matches;
+	const auto pnp = frontend.locate(f, landmarks, predicted, T_cw, matches);
 	matchTimer.stop();
 	if (!pnp) return lost(f, std::to_string(matches.size()) + " matches, PnP found no consistent pose");
 
