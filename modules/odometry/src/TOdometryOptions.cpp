@@ -131,8 +131,8 @@ void addPlaceKeys(io::IniKeys<TOdometryOptions>& keys)
 			"map keyframes a new keyframe is checked against for a loop, most similar words first",
 			{[](int v) { return v >= 1; }, "must be >= 1"})
 		.number("loop_neighbours", &O::loop_neighbours, "keyframes",
-			"keyframes that share the most of a verified loop candidate's view (its points in their image, theirs in "
-			"its own) whose points, with the candidate's, the loop's pose is refined on",
+			"keyframes on each side of a loop candidate whose points, with the candidate's, the loop is measured "
+			"against",
 			{[](int v) { return v >= 0; }, "must be >= 0"})
 		.number("loop_min_inliers", &O::loop_min_inliers, "", "inliers after the refinement that accept a loop")
 		.check(

@@ -96,8 +96,13 @@ OdometryEstimate VisualOdometry::Impl::track(const FrameFeatures& f)
 
 	const Eigen::Isometry3d predicted = velocity * T_cw;
 	mrpt::system::CTimeLoggerEntry matchTimer(stageTimer, "2 matching + PnP");
-	std::vector<Match> matches;
-	const auto pnp = frontend.locate(f, landmarks, predicted, T_cw, matches);
+	auto matches = frontend.matchByProjection(f, landmarks, predicted);
+	auto pnp = frontend.solvePnp(f, landmarks, matches, predicted);
+	if (!pnp)
+	{
+		matches = frontend.matchByDescriptor(f, landmarks);
+		pnp = frontend.solvePnp(f, landmarks, matches, T_cw);
+	}
 	matchTimer.stop();
 	if (!pnp) return lost(f, std::to_string(matches.size()) + " matches, PnP found no consistent pose");
 

@@ -82,7 +82,8 @@ void VisualOdometry::Impl::joinPlace(const LoopMeasurement& loop)
 	// the drifted copy the local map made of it.
 	if (loop.inlierMatches.empty()) return;
 	Keyframe& newest = window.back();
-	const LandmarkMap place = placeOf(loop.place, keyframeMap);
+	const LandmarkMap place =
+		placeAround(loop.candidate, newest.id - options.loop_min_separation, keyframeMap, options.loop_neighbours);
 	for (const auto& m : loop.inlierMatches)
 	{
 		const auto o = std::find_if(newest.observations.begin(), newest.observations.end(),

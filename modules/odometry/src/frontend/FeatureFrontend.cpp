@@ -279,17 +279,6 @@ std::optional<FeatureFrontend::PnpResult> FeatureFrontend::solvePnp(const FrameF
 	if (consistent < m_options.min_inliers) out.T_cw = guess;
 	return out;
 }
-
-std::optional<FeatureFrontend::PnpResult> FeatureFrontend::locate(const FrameFeatures& frame,
-	const LandmarkMap& landmarks, const Eigen::Isometry3d& predicted, const Eigen::Isometry3d& fallback,
-	std::vector<Match>& matches) const
-{
-	matches = matchByProjection(frame, landmarks, predicted);
-	if (auto pnp = solvePnp(frame, landmarks, matches, predicted)) return pnp;
-	matches = matchByDescriptor(frame, landmarks);
-	return solvePnp(frame, landmarks, matches, fallback);
-}
-
 Observation observationOf(const FrameFeatures& f, int feature, int landmark)
 {
 	return {landmark, feature, Eigen::Vector2d(f.keypoints[feature].pt.x, f.keypoints[feature].pt.y),

@@ -49,12 +49,6 @@ class FeatureFrontend
 	std::optional<PnpResult> solvePnp(const FrameFeatures& frame, const LandmarkMap& landmarks,
 		const std::vector<Match>& matches, const Eigen::Isometry3d& guess) const;
 
-	/** PnP on the matches by projection at `predicted`; when they give no
-	 *  pose (the prediction too far off), on the matches by descriptor, from
-	 *  `fallback`. `matches` are the matches of the last try. */
-	std::optional<PnpResult> locate(const FrameFeatures& frame, const LandmarkMap& landmarks,
-		const Eigen::Isometry3d& predicted, const Eigen::Isometry3d& fallback, std::vector<Match>& matches) const;
-
    private:
 	/** 255 where a person box masks the image: the whole grown box, or only
 	 *  the pixels nearer than the box's background depth. */

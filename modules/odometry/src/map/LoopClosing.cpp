@@ -4,11 +4,9 @@
 
 #include <Eigen/Eigenvalues>
 
-#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <functional>
 #include <limits>
 
 #include "../TrackQuality.h"
@@ -22,52 +20,18 @@ Eigen::Vector3d cameraCentre(const Eigen::Isometry3d& T_cw)
 	return -(T_cw.rotation().transpose() * T_cw.translation());
 }
 
-/** The share of keyframe a's points that keyframe b's camera sees: in front
- *  of it and inside its image. */
-double shareSeen(const MapKeyframe& a, const MapKeyframe& b, const io::DepthCamera& K, cv::Size image)
-{
-	if (a.points.empty()) return 0;
-	const Eigen::Isometry3d T_ba = b.T_cw * a.T_cw.inverse();
-	std::size_t seen = 0;
-	for (const auto& p : a.points)
-	{
-		const Eigen::Vector3d pb = T_ba * p;
-		if (pb.z() <= 0) continue;
-		const Eigen::Vector2d px = K.opticalPixelOf(pb);
-		seen += px.x() >= 0 && px.y() >= 0 && px.x() < image.width && px.y() < image.height;
-	}
-	return double(seen) / double(a.points.size());
-}
-
 }  // namespace
 
-std::vector<int> covisibleWith(
-	int candidate, int newestId, const KeyframeMap& map, const io::DepthCamera& K, cv::Size image, int count)
-{
-	const MapKeyframe& c = *map.find(candidate);
-	std::vector<std::pair<double, int>> shared;  // (share, id)
-	for (const auto& [id, kf] : map.keyframes())
-	{
-		if (id > newestId) break;
-		if (id == candidate) continue;
-		const double share = std::min(shareSeen(c, kf, K, image), shareSeen(kf, c, K, image));
-		if (share > 0) shared.emplace_back(share, id);
-	}
-	std::sort(shared.begin(), shared.end(), std::greater<>());
-	std::vector<int> place{candidate};
-	for (std::size_t i = 0; i < shared.size() && int(i) < count; ++i) place.push_back(shared[i].second);
-	return place;
-}
-
-LandmarkMap placeOf(const std::vector<int>& keyframes, const KeyframeMap& map)
+LandmarkMap placeAround(int candidate, int newestId, const KeyframeMap& map, int neighbours)
 {
 	LandmarkMap place;
 	int next = 0;
-	for (const int id : keyframes)
+	const auto& keyframes = map.keyframes();
+	for (auto it = keyframes.lower_bound(candidate - neighbours);
+		 it != keyframes.end() && it->first <= std::min(candidate + neighbours, newestId); ++it)
 	{
-		const MapKeyframe& kf = *map.find(id);
-		addKeyframePoints(kf.T_cw, kf.descriptors, kf.points, next, place);
-		next += kf.descriptors.rows;
+		addKeyframePoints(it->second.T_cw, it->second.descriptors, it->second.points, next, place);
+		next += it->second.descriptors.rows;
 	}
 	return place;
 }
@@ -81,24 +45,29 @@ std::optional<LoopMeasurement> measureLoop(const FrameFeatures& f, const Eigen::
 	std::optional<LoopMeasurement> best;
 	for (const auto& c : map.candidates(f.descriptors, std::size_t(options.loop_candidates), newestId))
 	{
-		// Where the odometry thinks the camera is, the candidate's points
-		// should project close to its features; when it has drifted too far
-		// for that, descriptor matching from the candidate's pose.
-		const MapKeyframe& kf = *map.find(c.keyframe);
-		std::vector<Match> matches;
-		const auto verified = frontend.locate(f, pointsOf(kf), T_cw, kf.T_cw, matches);
-		if (!verified) continue;
-		LoopMeasurement m;
-		m.candidate = c.keyframe;
-		m.place = covisibleWith(c.keyframe, newestId, map, f.K, f.imageSize, options.loop_neighbours);
-		const LandmarkMap place = placeOf(m.place, map);
-		matches = frontend.matchByProjection(f, place, verified->T_cw);
-		const auto pnp = frontend.solvePnp(f, place, matches, verified->T_cw);
-		if (!pnp) continue;
+		const LandmarkMap place = placeAround(c.keyframe, newestId, map, options.loop_neighbours);
+		if (place.empty()) continue;
+		// Where the odometry thinks the camera is, the place should project
+		// close to its features; when it has drifted too far for that, the
+		// candidate's own features by descriptor give the starting pose.
+		auto matches = frontend.matchByProjection(f, place, T_cw);
+		auto pnp = frontend.solvePnp(f, place, matches, T_cw);
+		if (!pnp || int(pnp->inliers.size()) < options.loop_min_inliers)
+		{
+			const MapKeyframe& kf = *map.find(c.keyframe);
+			const LandmarkMap own = pointsOf(kf);
+			const auto start = frontend.solvePnp(f, own, frontend.matchByDescriptor(f, own), kf.T_cw);
+			if (!start) continue;
+			matches = frontend.matchByProjection(f, place, start->T_cw);
+			pnp = frontend.solvePnp(f, place, matches, start->T_cw);
+			if (!pnp) continue;
+		}
 		auto refined = backend.refinePnp(f, *pnp, matches, place);
 		if (!refined || int(refined->inliers.size()) < options.loop_min_inliers ||
 			(best && refined->inliers.size() <= best->inliers))
 			continue;
+		LoopMeasurement m;
+		m.candidate = c.keyframe;
 		m.T_cw = refined->T_cw;
 		m.inliers = refined->inliers.size();
 		m.centreCovariance = refined->centreCovariance;

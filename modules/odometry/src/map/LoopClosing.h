@@ -1,17 +1,14 @@
 // Loop closing: a new keyframe that sees again a place an older keyframe saw
-// is measured against that place (the candidate keyframe and the keyframes
-// that share its view, in their current world poses), and the verified
-// measurement enters a pose graph over all map keyframes
-// (backend/PoseGraph.h) whose solution moves the drifted keyframes back.
+// is measured against that place (the candidate keyframe and its neighbours,
+// in their current world poses), and the verified measurement enters a pose
+// graph over all map keyframes (backend/PoseGraph.h) whose solution moves the
+// drifted keyframes back.
 //
-// Why two steps, as ORB-SLAM does: the candidate alone verifies the loop and
-// gives its pose; at that pose the points of the keyframes that saw the same
-// view (from any pass over it, not only the candidate's time neighbours)
-// project where the new keyframe's features are, and the loop's pose is
-// refined on all of them. One keyframe's own depth points are noisy at the
-// centimetre level and cover only its view; more keyframes of the same view
-// give more inliers, and the loops with many inliers are the accurate ones
-// (doc/odometry.md, "How good a loop is").
+// Why the neighbours: one keyframe's own depth points are noisy at the
+// centimetre level and cover only its view; a place seen by several
+// keyframes gives more points over a wider view, so the loop's pose is as
+// good as the odometry's own (a loop off by more than the drift it corrects
+// would make the trajectory worse).
 #pragma once
 
 #include <Eigen/Geometry>
@@ -42,34 +39,19 @@ struct LoopMeasurement
 	 *  (CeresBackend::RefinedPose); zero for a loop measured elsewhere
 	 *  (offerLoop), which has loop_sigma alone. */
 	Eigen::Matrix3d centreCovariance = Eigen::Matrix3d::Zero();
-	/** The keyframes whose points the loop was measured against, the candidate first. */
-	std::vector<int> place;
 	/** The inliers: the new keyframe's features and the place's points
-	 *  (numbered as placeOf numbers them). */
+	 *  (numbered as placeAround numbers them). */
 	std::vector<Match> inlierMatches;
 };
 
-/** The candidate and up to `count` other keyframes of ids up to newestId
- *  that share the most of its view, most first (of equal shares the newest):
- *  the smaller of the share of the candidate's points that a keyframe's
- *  camera sees (in front, inside the image of camera K) and the share of its
- *  own points that the candidate's camera sees, so that a keyframe far
- *  behind, which sees all of the candidate's view as a small part of its
- *  own, counts as little as one that sees a corner of it. A keyframe that
- *  shares none is left out. */
-std::vector<int> covisibleWith(
-	int candidate, int newestId, const KeyframeMap& map, const io::DepthCamera& K, cv::Size image, int count);
-
-/** The points of these keyframes in the world at their current poses,
- *  numbered in the list's order and feature order. */
-LandmarkMap placeOf(const std::vector<int>& keyframes, const KeyframeMap& map);
+/** The place around `candidate`: its features and those of up to
+ *  `neighbours` keyframes on each side (ids up to newestId), in the world at
+ *  the keyframes' current poses, numbered in keyframe and feature order. */
+LandmarkMap placeAround(int candidate, int newestId, const KeyframeMap& map, int neighbours);
 
 /** The best verified loop of the keyframe with features `f` at its tracked
  *  pose T_cw, among the place index's loop_candidates most similar keyframes
- *  of ids up to newestId: each verified against its own points (PnP), then
- *  measured against its place (covisibleWith, loop_neighbours keyframes) by
- *  projection at the verified pose, PnP and the Ceres refinement; nothing
- *  when none has loop_min_inliers. */
+ *  of ids up to newestId; nothing when none has loop_min_inliers. */
 std::optional<LoopMeasurement> measureLoop(const FrameFeatures& f, const Eigen::Isometry3d& T_cw, int newestId,
 	const KeyframeMap& map, const FeatureFrontend& frontend, const CeresBackend& backend,
 	const TOdometryOptions& options);

@@ -91,10 +91,8 @@ struct TOdometryOptions : public io::CIniKeyOptions<TOdometryOptions>
 	bool loop_closure = false;
 	/** A loop candidate is at least this many keyframes older than the new one. */
 	int loop_min_separation = 15;
-	int loop_candidates = 3;  //!< map keyframes a new keyframe is checked against, most similar words first
-	/** Keyframes that share the most of a verified candidate's view whose
-	 *  points, with the candidate's, the loop's pose is refined on. */
-	int loop_neighbours = 4;
+	int loop_candidates = 3;    //!< map keyframes a new keyframe is checked against, most similar words first
+	int loop_neighbours = 2;    //!< keyframes on each side of a candidate whose points the loop is measured against
 	int loop_min_inliers = 80;  //!< inliers after the refinement that accept a loop
 	/** [m] Standard deviation of a loop's measured camera centre on each axis
 	 *  (and [rad] of its rotation): the loop check's scale (a loop moves the
