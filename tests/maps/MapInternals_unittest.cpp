@@ -54,6 +54,38 @@ TEST(OcTreeKeys, PackedKeysAreOctomapsKeys)
 	EXPECT_EQ(gridKeyOf(0.4 - 1e-12, 0.2), kKeyOffset + 2);
 }
 
+// A fine voxel's coarse voxel, its first fine key and its place in it, a
+// packed key's steps and a node's span, against octomap's own keys of two
+// trees ratio times finer than each other, on both sides of the origin.
+TEST(OcTreeKeys, FinerAndCoarserKeysAreOctomapsKeysOfTheTwoGrids)
+{
+	std::mt19937 rng(11);
+	std::uniform_real_distribution<double> coord(-5, 5);
+	for (const unsigned ratio : {3u, 4u})
+	{
+		const octomap::OcTree coarse(0.2), fine(0.2 / ratio);
+		for (int i = 0; i < 2000; i++)
+		{
+			const auto k = fine.coordToKey(coord(rng), coord(rng), coord(rng));
+			const auto expected = coarse.coordToKey(fine.keyToCoord(k));
+			ASSERT_EQ(unpackKey(coarserKeyOf(packKey(k), ratio)), expected);
+			ASSERT_TRUE(KeyRange::finerKeysOf(expected, ratio).contains(k));
+			for (int a = 0; a < 3; a++)
+			{
+				ASSERT_LT(placeInCoarser(k[a], ratio), ratio);
+				ASSERT_EQ(firstFinerKey(expected[a], ratio) + placeInCoarser(k[a], ratio), k[a]);
+				auto before = k;
+				before[a]--;
+				ASSERT_EQ(packKey(k) + packedStep(a, -1), packKey(before));
+				ASSERT_EQ(packKey(before) + packedStep(a, 1), packKey(k));
+			}
+		}
+	}
+	const octomap::OcTree tree(0.05);
+	for (unsigned depth = 0; depth <= tree.getTreeDepth(); depth++)
+		EXPECT_DOUBLE_EQ(tree.getNodeSize(depth), 0.05 * keySpanAtDepth(depth)) << depth;
+}
+
 TEST(KeySets, InsertContainsClearAndGrow)
 {
 	KeySet set;
@@ -360,8 +392,9 @@ TEST(SurfaceSketch, BitsNameTheHighVoxelsOfTheirLowVoxel)
 TEST(SurfaceSketch, SameEntriesSameBytesWhateverTheHistory)
 {
 	SurfaceSketch grown(4);
-	for (unsigned i = 0; i < 1000; i++) grown.set(packKey(octomap::OcTreeKey(32768 + i, 32768, 32768)), 1 + i);
-	for (unsigned i = 0; i < 600; i++) grown.take(packKey(octomap::OcTreeKey(32768 + i, 32768, 32768)));
+	for (unsigned i = 0; i < 1000; i++)
+		grown.set(packKey(octomap::OcTreeKey(kKeyOffset + i, kKeyOffset, kKeyOffset)), 1 + i);
+	for (unsigned i = 0; i < 600; i++) grown.take(packKey(octomap::OcTreeKey(kKeyOffset + i, kKeyOffset, kKeyOffset)));
 	SurfaceSketch pruned = grown;
 	pruned.prune([](std::uint64_t, std::uint64_t) { return true; });
 	const auto bytesOf = [](const SurfaceSketch& s)
@@ -513,11 +546,12 @@ TEST(KeyRange, TheCubeOfAPrunedLeafIsWalkedOnlyWhereItOverlaps)
 // voxels in the range go, the rest of the leaf stays with its value.
 TEST(TreeOps, ErasingARangeThatCutsAPrunedLeafKeepsTheRestOfIt)
 {
-	const octomap::OcTreeKey first(32768, 32768, 32768);
+	const octomap::OcTreeKey first(kKeyOffset, kKeyOffset, kKeyOffset);
 	auto tree = treeWithPrunedCube(0.05, first);
 	ASSERT_EQ(leafCount(tree), 1u) << "the cube is one pruned leaf";
 	// Reaches out of the cube in y.
-	const KeyRange range{{32770, 32772, 32769}, {32772, 32780, 32770}};
+	const KeyRange range{
+		{kKeyOffset + 2, kKeyOffset + 4, kKeyOffset + 1}, {kKeyOffset + 4, kKeyOffset + 12, kKeyOffset + 2}};
 	eraseKeyRange(tree, range);
 	std::size_t kept = 0;
 	for (unsigned x = 0; x < 8; x++)
@@ -541,7 +575,7 @@ TEST(TreeOps, ErasingARangeThatCutsAPrunedLeafKeepsTheRestOfIt)
 // leaves the high tree.
 TEST(RegionSpace, CoarseningTakesALowVoxelsPartOfAPrunedHighLeaf)
 {
-	const octomap::OcTreeKey first(32768, 32768, 32768);
+	const octomap::OcTreeKey first(kKeyOffset, kKeyOffset, kKeyOffset);
 	auto high = treeWithPrunedCube(0.05, first);
 	octomap::OcTree low(0.2);
 	SurfaceSketch sketch(4);
@@ -556,7 +590,8 @@ TEST(RegionSpace, CoarseningTakesALowVoxelsPartOfAPrunedHighLeaf)
 	{
 		const auto c = it.getCoordinate();
 		EXPECT_FALSE(c.x() > 0.2 && c.x() < 0.4 && c.y() < 0.2 && c.z() > 0.2 && c.z() < 0.4) << "left the high tree";
-		kept += std::size_t(1) << (3 * (high.getTreeDepth() - it.getDepth()));
+		const std::size_t span = keySpanAtDepth(it.getDepth());
+		kept += span * span * span;
 	}
 	EXPECT_EQ(kept, 512u - 64u);
 }
@@ -582,13 +617,14 @@ TEST(TreeOps, SetNodeValuesGivesOctomapsTreeKeyByKey)
 	for (int trial = 0; trial < 20; trial++)
 	{
 		octomap::OcTree reference(0.05);
-		std::uniform_int_distribution<int> near(32760, 32791), value(0, 3);
+		std::uniform_int_distribution<int> near(kKeyOffset - 8, kKeyOffset + 23), value(0, 3);
 		// Seven of the eight 8-cubes of a 16-cube, all at 1.0: pruned blocks.
 		for (unsigned x = 0; x < 16; x++)
 			for (unsigned y = 0; y < 16; y++)
 				for (unsigned z = 0; z < 16; z++)
 					if (x >= 8 || y >= 8 || z >= 8)
-						reference.setNodeValue(octomap::OcTreeKey(32768 + x, 32768 + y, 32768 + z), 1.0f);
+						reference.setNodeValue(
+							octomap::OcTreeKey(kKeyOffset + x, kKeyOffset + y, kKeyOffset + z), 1.0f);
 		for (int i = 0; i < 300 * (trial % 3); i++)
 			reference.setNodeValue(octomap::OcTreeKey(near(rng), near(rng), near(rng)), 0.5f * value(rng) - 0.7f);
 		reference.prune();
@@ -599,7 +635,8 @@ TEST(TreeOps, SetNodeValuesGivesOctomapsTreeKeyByKey)
 		};
 		for (unsigned x = 0; x < 8; x++)
 			for (unsigned y = 0; y < 8; y++)
-				for (unsigned z = 0; z < 8; z++) addIfUnknown(octomap::OcTreeKey(32768 + x, 32768 + y, 32768 + z));
+				for (unsigned z = 0; z < 8; z++)
+					addIfUnknown(octomap::OcTreeKey(kKeyOffset + x, kKeyOffset + y, kKeyOffset + z));
 		for (int i = 0; i < 40 * trial; i++) addIfUnknown(octomap::OcTreeKey(near(rng), near(rng), near(rng)));
 		auto batched = reference;
 		const float v = trial == 0 ? 1.0f : 0.5f * value(rng) - 0.7f;
@@ -660,7 +697,7 @@ TEST(RegionSpace, AFreeLowVoxelGivesBackItsSketchedSurfaceAndFreeSpace)
 	std::size_t occupied = 0, free = 0;
 	for (auto it = high.begin_leafs(), end = high.end_leafs(); it != end; ++it)
 	{
-		const std::size_t voxels = std::size_t(1) << 3 * (high.getTreeDepth() - it.getDepth());
+		const std::size_t span = keySpanAtDepth(it.getDepth()), voxels = span * span * span;
 		(high.isNodeOccupied(*it) ? occupied : free) += voxels;
 	}
 	EXPECT_EQ(occupied, 1u);

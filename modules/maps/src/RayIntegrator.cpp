@@ -38,7 +38,7 @@ bool forEachRayKey(
 	for (unsigned i = 0; i < 3; ++i)
 	{
 		const int step = direction(i) > 0.0 ? 1 : (direction(i) < 0.0 ? -1 : 0);
-		move[i] = step * kPackedUnit[i];  // -unit wraps: adding it subtracts
+		move[i] = packedStep(static_cast<int>(i), step);
 		if (step != 0)
 		{
 			double border = tree.keyToCoord(first[i]);

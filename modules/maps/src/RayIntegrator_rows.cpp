@@ -166,7 +166,7 @@ void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band
 		pointRowKeys(rays, depth, outsideInverse, cols, outside);
 		// Free-only pixels are keyed as any other, their keys tagged.
 		const auto [freeFrom, freeTo] = markFreeOnlyPixels(rs, v, band);
-		if (freeFrom < freeTo) tagFreeOnly(band.freeOnly.data(), 0, freeFrom, freeTo, outside.x);
+		if (freeFrom < freeTo) tagFreeOnly(band.freeOnly.data(), false, freeFrom, freeTo, outside.x);
 
 		// Columns of this row whose rays can reach a region (empty: none).
 		const auto [nearFrom, nearEnd] = columnsOnRow(m_regionRects, v, cols);
@@ -184,15 +184,15 @@ void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band
 			}
 			insideRowKeys(rays, depth, insideF, crossTo, insideInverse, nearFrom, nearEnd, inside, outside.x);
 			if (std::max(nearFrom, freeFrom) < std::min(nearEnd, freeTo))
-				tagFreeOnly(band.freeOnly.data(), kInsideTag, std::max(nearFrom, freeFrom), std::min(nearEnd, freeTo),
-					inside.x);
+				tagFreeOnly(
+					band.freeOnly.data(), true, std::max(nearFrom, freeFrom), std::min(nearEnd, freeTo), inside.x);
 			flagNewVoxels(inside, insideAbove, nearFrom, nearEnd, flags);
 			forEachFlagged(flags, nearFrom, nearEnd,
 				[&](int u)
 				{
 					const int tagged = inside.x[u];
-					KeySet* const set = tagged >= kFreeOnlyTag ? band.freeOnlyInside
-															   : (tagged >= kInsideTag ? band.inside : band.crossing);
+					KeySet* const set = hasFreeOnlyTag(tagged) ? band.freeOnlyInside
+															   : (hasInsideTag(tagged) ? band.inside : band.crossing);
 					if (const auto key = packedOrNone(untagged(tagged), inside.y[u], inside.z[u])) set->insert(key);
 				});
 			std::fill(flags + nearFrom, flags + nearEnd, 0);
@@ -204,7 +204,7 @@ void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band
 			{
 				const int tagged = outside.x[u];
 				if (const auto key = packedOrNone(untagged(tagged), outside.y[u], outside.z[u]))
-					(tagged >= kFreeOnlyTag ? band.freeOnlyOutside : band.outside)->insert(key);
+					(hasFreeOnlyTag(tagged) ? band.freeOnlyOutside : band.outside)->insert(key);
 			});
 		if (m_targets.sketch)
 		{
