@@ -149,6 +149,7 @@ void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band
 	float* const insideF = depth + n;    // 1: the point lies in a region
 	float* const crossTo = insideF + n;  // >= 0: depth where its ray leaves the farthest region it crosses
 	std::uint8_t* const flags = band.flags.data();
+	EndpointSets& ends = *band.ends;
 
 	for (int v = v0; v < v1; v++)
 	{
@@ -191,9 +192,9 @@ void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band
 				[&](int u)
 				{
 					const int tagged = inside.x[u];
-					KeySet* const set = hasFreeOnlyTag(tagged) ? band.freeOnlyInside
-															   : (hasInsideTag(tagged) ? band.inside : band.crossing);
-					if (const auto key = packedOrNone(untagged(tagged), inside.y[u], inside.z[u])) set->insert(key);
+					KeySet& set = hasFreeOnlyTag(tagged) ? ends.freeOnlyInside
+														 : (hasInsideTag(tagged) ? ends.inside : ends.crossing);
+					if (const auto key = packedOrNone(untagged(tagged), inside.y[u], inside.z[u])) set.insert(key);
 				});
 			std::fill(flags + nearFrom, flags + nearEnd, 0);
 		}
@@ -204,7 +205,7 @@ void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band
 			{
 				const int tagged = outside.x[u];
 				if (const auto key = packedOrNone(untagged(tagged), outside.y[u], outside.z[u]))
-					(hasFreeOnlyTag(tagged) ? band.freeOnlyOutside : band.outside)->insert(key);
+					(hasFreeOnlyTag(tagged) ? ends.freeOnlyOutside : ends.outside).insert(key);
 			});
 		if (m_targets.sketch)
 		{
@@ -217,7 +218,7 @@ void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band
 			forEachFlagged(flags, 0, cols,
 				[&](int u)
 				{
-					if (const auto key = packedOrNone(sketch.x[u], sketch.y[u], sketch.z[u])) band.sketch->insert(key);
+					if (const auto key = packedOrNone(sketch.x[u], sketch.y[u], sketch.z[u])) ends.sketch.insert(key);
 				});
 		}
 	}
