@@ -148,7 +148,7 @@ Table1Row table1(Experiments& e, PoseSource poses, const std::string& policy, do
 	// Switched before the first frame: one high-resolution OctoMap.
 	row.highOnly = e.run("high_only_" + tag, poses,
 		with({{"pipeline", "detect_every_n", "0"}, {kInsertion, "switch_policy", "paper"},
-			{kInsertion, "switch_at_frame", "0"}}));
+			{kInsertion, "switch_at_insertion", "0"}}));
 	row.adaptive = e.run("adaptive_" + policy + "_" + tag, poses, with({{kInsertion, "switch_policy", policy}}));
 	return row;
 }
@@ -166,7 +166,7 @@ std::vector<Table2Column> table2(Experiments& e, PoseSource poses)
 	{
 		std::vector<Override> o = {{"pipeline", "detect_every_n", "0"}};
 		if (share == 100)
-			o.push_back({kInsertion, "switch_at_frame", "0"});
+			o.push_back({kInsertion, "switch_at_insertion", "0"});
 		else if (share > 0)
 			o.push_back({kInsertion, "switch_at_fraction", std::to_string((100 - share) / 100.0)});
 		out.push_back({share, e.run("share_" + std::to_string(share), poses, o)});
@@ -258,7 +258,7 @@ void writeTable2(std::ostream& md, const std::vector<PerSource>& results)
 {
 	md << "\n## Table 2: map size against the high-resolution share of the run\n\n"
 	   << "Paper policy, 1.5 m / 0.5 m, the switch forced at 100, 70, 50, 30 and 0 % of the frames "
-		  "(`switch_at_fraction`, `switch_at_frame = 0`), no detector.\n\n"
+		  "(`switch_at_fraction`, `switch_at_insertion = 0`), no detector.\n\n"
 	   << "| high-resolution share | 0 % | 30 % | 50 % | 70 % | 100 % |\n|---|---:|---:|---:|---:|---:|\n"
 	   << "| (paper) map size [KB] | 0.454 | 1.1 | 1.4 | 1.6 | 1.7 |\n";
 	for (const auto& r : results)

@@ -5,6 +5,9 @@
 #include <mrpt/config/CConfigFileMemory.h>
 
 #include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
 
 #include "avm/io/IniKeys.h"
 
@@ -136,4 +139,32 @@ TEST(IniKeys, DocumentationGivesUnitAndDefault)
 	mrpt::config::CConfigFileMemory ini(text);
 	Sample s;
 	EXPECT_NO_THROW(sampleKeys().load(s, ini, "s"));
+}
+
+// A key's old name is still read, as the key, with a warning that names
+// both; where both are set the new name wins; saving writes the new name only.
+TEST(IniKeys, ARenamedKeyIsStillReadUnderItsOldName)
+{
+	auto keys = sampleKeys();
+	keys.renamed("steps", "count");
+	EXPECT_EQ(keys.oldKeyNames(), std::vector<std::string>{"steps"});
+	Sample s;
+	mrpt::config::CConfigFileMemory old("[s]\nsteps = 9\n");
+	testing::internal::CaptureStderr();
+	keys.load(s, old, "s");
+	EXPECT_EQ(
+		testing::internal::GetCapturedStderr(), "warning: [s] steps is now called count: read as count; rename it\n");
+	EXPECT_EQ(s.count, 9u);
+
+	mrpt::config::CConfigFileMemory both("[s]\nsteps = 9\ncount = 4\n");
+	testing::internal::CaptureStderr();
+	keys.load(s, both, "s");
+	EXPECT_EQ(testing::internal::GetCapturedStderr(),
+		"warning: [s] steps is now called count, which is set too: steps ignored\n");
+	EXPECT_EQ(s.count, 4u);
+
+	mrpt::config::CConfigFileMemory saved;
+	keys.save(s, saved, "s");
+	EXPECT_EQ(io::readIniText(saved, "s", "count"), std::optional<std::string>("4"));
+	EXPECT_FALSE(io::readIniText(saved, "s", "steps"));
 }

@@ -13,6 +13,7 @@
 
 #include <filesystem>
 
+#include "avm/io/IniOptions.h"
 #include "avm/plugin/CAdaptiveOctoMap.h"
 
 using avm::CAdaptiveOctoMap;
@@ -172,8 +173,8 @@ TEST(CAdaptiveOctoMapOptions, RejectsBadValuesNamingTheKey)
 	expectKeyInError(iniWith("", "person_still_fraction=-0.1"), "person_still_fraction");
 	expectKeyInError(iniWith("", "person_still_after_s=-1"), "person_still_after_s");
 	expectKeyInError(iniWith("", "switch_policy=paper\nswitch_at_fraction=1.5"), "switch_at_fraction");
-	expectKeyInError(iniWith("", "switch_policy=region\nswitch_at_frame=10"), "switch_at_frame");
-	expectKeyInError(iniWith("", "switch_policy=paper\nswitch_at_frame=2.5"), "switch_at_frame");
+	expectKeyInError(iniWith("", "switch_policy=region\nswitch_at_insertion=10"), "switch_at_insertion");
+	expectKeyInError(iniWith("", "switch_policy=paper\nswitch_at_insertion=2.5"), "switch_at_insertion");
 	// The section is named too (MRPT re-wraps the message when the map is
 	// created through it; loading the options directly keeps it verbatim).
 	const auto msg = loadError(iniWith("high_probHit=1.5"));
@@ -236,6 +237,22 @@ TEST(CAdaptiveOctoMapOptions, RegionsNeverMergeAndAlignToTheLowGrid)
 	EXPECT_EQ(map.query({3.55, 3.55, 3.55}).tree, avm::Resolution::High) << "grown to the low grid";
 	EXPECT_TRUE(map.hasSwitched());
 	EXPECT_EQ(map.switchInsertionIndex(), std::optional<std::size_t>(0));
+}
+
+// The forced switch's key was named for frames but counts insertions: its old
+// name switch_at_frame is still read, with a warning, and is no unknown key.
+TEST(CAdaptiveOctoMapOptions, TheOldNameOfSwitchAtInsertionIsStillRead)
+{
+	CAdaptiveOctoMap::TInsertionOptions o;
+	mrpt::config::CConfigFileMemory old("[s]\nswitch_policy = paper\nswitch_at_frame = 7\n");
+	testing::internal::CaptureStderr();
+	o.loadFromConfigFile(old, "s");
+	const std::string warning = testing::internal::GetCapturedStderr();
+	EXPECT_EQ(o.switchAtInsertion, 7);
+	EXPECT_NE(warning.find("[s] switch_at_frame is now called switch_at_insertion"), std::string::npos) << warning;
+	EXPECT_TRUE(avm::io::unknownKeys(old, "s", o).empty());
+	mrpt::config::CConfigFileMemory typo("[s]\nswitch_at_frames = 7\n");
+	EXPECT_EQ(avm::io::unknownKeys(typo, "s", o), std::vector<std::string>{"switch_at_frames"});
 }
 
 // The stock-app examples in ini/ create the map with the values they document.

@@ -191,7 +191,12 @@ TEST(MapSnapshot, CopiesBothTreesTheRegionsAndFreeSpaceOnlyWhenAsked)
 
 	const auto line = avm::viewer::statusLine(s);
 	EXPECT_NE(line.find("regions 1"), std::string::npos) << line;
-	EXPECT_NE(line.find("switch at 0"), std::string::npos) << line;
+	EXPECT_NE(line.find("switch at insertion 0"), std::string::npos) << line;
+	// The caller that knows which frame that insertion was says the frame.
+	auto known = s;
+	known.status.switchFrame = 5;
+	EXPECT_NE(avm::viewer::statusLine(known).find("switch at frame 5"), std::string::npos)
+		<< avm::viewer::statusLine(known);
 }
 
 // The live view draws each person's last shape: the snapshot holds it as the

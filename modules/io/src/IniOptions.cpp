@@ -1,5 +1,7 @@
 #include "avm/io/IniOptions.h"
 
+#include "avm/io/IniKeyOptions.h"
+
 #include <mrpt/config/CConfigFileMemory.h>
 
 #include <algorithm>
@@ -7,6 +9,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <iostream>
 #include <limits>
 #include <optional>
 #include <string_view>
@@ -106,6 +109,8 @@ std::vector<std::string> unknownKeys(
 	options.saveToConfigFile(known, section);
 	std::vector<std::string> knownKeys, present, unknown;
 	known.getAllKeys(section, knownKeys);
+	if (const auto* keyed = dynamic_cast<const CIniKeyNames*>(&options))
+		for (const auto& old : keyed->oldKeyNames()) knownKeys.push_back(old);
 	ini.getAllKeys(section, present);
 	// MRPT reads ini keys without regard to case.
 	for (auto& k : knownKeys) k = lower(k);
@@ -117,5 +122,12 @@ std::vector<std::string> unknownKeys(
 std::string unknownKeyWarning(const std::string& section, const std::string& key)
 {
 	return "unknown key [" + section + "] " + key + " (ignored)";
+}
+
+void warnRenamedKey(const std::string& section, const std::string& oldKey, const std::string& key, bool keyPresent)
+{
+	std::cerr << "warning: [" << section << "] " << oldKey << " is now called " << key
+			  << (keyPresent ? ", which is set too: " + oldKey + " ignored" : ": read as " + key + "; rename it")
+			  << "\n";
 }
 }  // namespace avm::io

@@ -130,11 +130,13 @@ io::IniKeys<CDualOctoMap::TInsertionOptions> CDualOctoMap::TInsertionOptions::in
 			"sighting of the person; out of view it stays) | persist (every place a person has been stays high "
 			"resolution)",
 			"expected follow or persist")
-		.number("switch_at_frame", &O::switchAtInsertion, "",
-			"paper policy: force the switch at this insertion index; -1 = off",
+		.number("switch_at_insertion", &O::switchAtInsertion, "",
+			"paper policy: force the switch at this insertion index (0 = the first observation inserted; in avm-map "
+			"the first frame mapped); -1 = off",
 			{[](std::int64_t v) { return v >= -1; }, "must be -1 (off) or >= 0"})
+		.renamed("switch_at_frame", "switch_at_insertion")
 		.check(
-			"switch_at_frame", [=](const O& o) { return o.switchAtInsertion == -1 || forcedSwitchNeedsPaper(o); },
+			"switch_at_insertion", [=](const O& o) { return o.switchAtInsertion == -1 || forcedSwitchNeedsPaper(o); },
 			"a forced switch needs switch_policy = paper")
 		.number("switch_at_fraction", &O::switchAtFraction, "",
 			"paper policy: force the switch at this fraction of the run; -1 = off",

@@ -19,8 +19,7 @@ constexpr std::uint64_t kKeyMask = (std::uint64_t(1) << kKeyBits) - 1;
 constexpr int kKeyOffset = 1 << (kKeyBits - 1);
 /** Keys per axis: a key lies in [0, kKeyEnd). */
 constexpr int kKeyEnd = 2 * kKeyOffset;
-/** What a packed key changes by for one voxel along x, y and z (adding the
- *  wrapped negative moves back). */
+/** What a packed key changes by for one voxel along x, y and z. */
 constexpr std::uint64_t kPackedUnit[3] = {std::uint64_t(1) << (2 * kKeyBits), std::uint64_t(1) << kKeyBits, 1};
 
 /** 3 x 16-bit key in one word, +1 so that 0 can mark "no key". */
@@ -34,6 +33,10 @@ inline octomap::OcTreeKey unpackKey(std::uint64_t packed)
 	return octomap::OcTreeKey(static_cast<octomap::key_type>(v >> (2 * kKeyBits)),
 		static_cast<octomap::key_type>((v >> kKeyBits) & kKeyMask), static_cast<octomap::key_type>(v & kKeyMask));
 }
+
+/** What adding to a packed key moves it by `step` (-1, 0 or 1) voxels along
+ *  `axis`: the wrapped negative of a step back subtracts. */
+inline std::uint64_t packedStep(int axis, int step) { return step * kPackedUnit[axis]; }
 
 /** octomap's coordToKey, packed; false when the point is outside the tree.
  *  Shifted by the offset first, the value is non-negative inside the tree, so
@@ -53,6 +56,10 @@ inline bool packedKeyOf(double x, double y, double z, double inverseResolution, 
  *  the origin on each axis. */
 constexpr double treeHalfExtent(double resolution) { return resolution * kKeyOffset; }
 
+/** Finest keys along each axis of a node at `depth` (root 0, leaves
+ *  kKeyBits). */
+inline unsigned keySpanAtDepth(unsigned depth) { return 1u << (kKeyBits - depth); }
+
 /** @name The row passes' keys
  *  One axis of a key in an int, -1 for "no voxel"; the x key may carry tags
  *  above the key bits, so that a change of category is a change of voxel too.
@@ -63,6 +70,20 @@ constexpr int kInsideTag = 1 << kKeyBits;
 /** On the x key of a free-only endpoint (outside keys and inside keys of
  *  points in a region; not crossing keys, whose rays end elsewhere). */
 constexpr int kFreeOnlyTag = 1 << (kKeyBits + 1);
+
+/** `key` tagged inside where `inside` is 1 (0: as it is); arithmetic, not a
+ *  branch, so that the row passes stay vectorized. */
+inline int withInsideTag(int key, int inside) { return key + inside * kInsideTag; }
+inline int withFreeOnlyTag(int key) { return key + kFreeOnlyTag; }
+/** A key, tagged or not (not -1). */
+inline bool hasKey(int tagged) { return tagged >= 0; }
+/** Tagged free-only: the free-only tag lies above the inside tag. */
+inline bool hasFreeOnlyTag(int tagged) { return tagged >= kFreeOnlyTag; }
+/** Tagged inside, perhaps free-only too; not a crossing key. Inside keys
+ *  only ever get the free-only tag on top of the inside tag. */
+inline bool hasInsideTag(int tagged) { return tagged >= kInsideTag; }
+/** A key with no tag: a surface endpoint (not -1, not free-only). */
+inline bool isUntaggedKey(int tagged) { return static_cast<unsigned>(tagged) <= kKeyMask; }
 
 /** The key part of a tagged x key (-1 stays -1). */
 inline int untagged(int tagged) { return tagged < 0 ? -1 : static_cast<int>(tagged & kKeyMask); }
@@ -92,6 +113,24 @@ inline long gridKeyOf(double alignedCoordinate, double resolution)
 	return std::lround(alignedCoordinate / resolution) + kKeyOffset;
 }
 
+/** @name Keys of grids `ratio` times finer and coarser than each other
+ *  Both grids put coordinate 0 on a voxel border.
+ * @{ */
+/** On one axis: the first of the `ratio` finer keys in coarse key `coarse`,
+ *  (coarse - offset) * ratio + offset. */
+inline unsigned firstFinerKey(unsigned coarse, unsigned ratio)
+{
+	return (coarse - unsigned(kKeyOffset)) * ratio + unsigned(kKeyOffset);
+}
+
+/** On one axis: where fine key `fine` lies among the `ratio` finer keys of
+ *  its coarse key, 0 .. ratio - 1: (fine - offset) mod ratio, biased by a
+ *  multiple of `ratio` to stay non-negative. */
+inline unsigned placeInCoarser(unsigned fine, unsigned ratio)
+{
+	return (fine + static_cast<unsigned>(kKeyOffset) * (ratio - 1)) % ratio;
+}
+
 /** The packed key of the voxel holding `packed` in a grid `ratio` times
  *  coarser. Both grids put coordinate 0 on a voxel border, so on each axis it
  *  is floor((k - offset) / ratio) + offset. */
@@ -107,6 +146,7 @@ inline std::uint64_t coarserKeyOf(std::uint64_t packed, unsigned ratio)
 	{ return static_cast<octomap::key_type>(pow2 ? (v + bias) >> shift : (v + bias) / ratio); };
 	return packKey(octomap::OcTreeKey(coarse(k[0]), coarse(k[1]), coarse(k[2])));
 }
+/** @} */
 
 /** @name Morton codes: a key's three axes interleaved bit by bit, so that
  *  sorted codes visit the tree depth first (BatchUpdate)
@@ -211,6 +251,17 @@ struct KeyRange
 	static KeyRange of(const octomap::OcTreeKey& k)
 	{
 		return KeyRange{{k[0], k[1], k[2]}, {k[0] + 1u, k[1] + 1u, k[2] + 1u}};
+	}
+	/** The keys of a grid `ratio` times finer inside coarse voxel `k`. */
+	static KeyRange finerKeysOf(const octomap::OcTreeKey& k, unsigned ratio)
+	{
+		KeyRange r{};
+		for (int i = 0; i < 3; i++)
+		{
+			r.lo[i] = firstFinerKey(k[i], ratio);
+			r.hi[i] = r.lo[i] + ratio;
+		}
+		return r;
 	}
 };
 }  // namespace avm::detail

@@ -38,7 +38,7 @@ bool forEachRayKey(
 	for (unsigned i = 0; i < 3; ++i)
 	{
 		const int step = direction(i) > 0.0 ? 1 : (direction(i) < 0.0 ? -1 : 0);
-		move[i] = step * kPackedUnit[i];  // -unit wraps: adding it subtracts
+		move[i] = packedStep(static_cast<int>(i), step);
 		if (step != 0)
 		{
 			double border = tree.keyToCoord(first[i]);
@@ -111,9 +111,9 @@ void RayIntegrator::begin(const mrpt::math::TPoint3D& origin, const ScanTargets&
 	m_hasRegions = targets.regions && !targets.regions->empty() && targets.inside;
 	if (m_hasRegions) m_insideGrid.set(targets.inside->getResolution());
 	if (targets.sketch) m_sketchGrid.set(targets.sketchResolution);
-	for (auto* s : {&m_outsideEnds, &m_insideEnds, &m_crossingEnds, &m_outsideFree, &m_outsideOccupied, &m_sketchEnds,
-			 &m_freeOnlyOutsideEnds, &m_freeOnlyInsideEnds})
-		s->clear();
+	m_ends.clear();
+	m_outsideFree.clear();
+	m_outsideOccupied.clear();
 	if (m_hasRegions)
 	{
 		// Inside keys only matter inside the regions: a dense box of them.
@@ -138,7 +138,7 @@ inline void RayIntegrator::addPoint(double x, double y, double z)
 			if (packedKeyOf(x, y, z, m_insideGrid.inverse, key) && key != m_lastInsideKey)
 			{
 				m_lastInsideKey = key;
-				m_insideEnds.insert(key);
+				m_ends.inside.insert(key);
 			}
 			return;
 		}
@@ -150,17 +150,17 @@ inline void RayIntegrator::addPoint(double x, double y, double z)
 			if (packedKeyOf(x, y, z, m_insideGrid.inverse, key) && key != m_lastCrossingKey)
 			{
 				m_lastCrossingKey = key;
-				m_crossingEnds.insert(key);
+				m_ends.crossing.insert(key);
 			}
 			break;
 		}
 	}
-	if (m_targets.sketch && packedKeyOf(x, y, z, m_sketchGrid.inverse, key)) m_sketchEnds.insert(key);
+	if (m_targets.sketch && packedKeyOf(x, y, z, m_sketchGrid.inverse, key)) m_ends.sketch.insert(key);
 	if (!packedKeyOf(x, y, z, m_outsideGrid.inverse, key)) return;
 	// Neighbouring points mostly fall in the same outside voxel.
 	if (key == m_lastOutsideKey) return;
 	m_lastOutsideKey = key;
-	m_outsideEnds.insert(key);
+	m_ends.outside.insert(key);
 }
 
 void RayIntegrator::castSegment(bool inside, double a, double b, bool extendStart, bool extendEnd, double length)
@@ -251,12 +251,12 @@ void RayIntegrator::applyUpdates(
 
 void RayIntegrator::finish()
 {
-	for (const auto* ends : {&m_outsideEnds, &m_freeOnlyOutsideEnds})
+	for (const auto* ends : {&m_ends.outside, &m_ends.freeOnlyOutside})
 	{
-		const bool surface = ends == &m_outsideEnds;
+		const bool surface = ends == &m_ends.outside;
 		for (const auto k : ends->keys())
 		{
-			if (!surface && m_outsideEnds.contains(k)) continue;
+			if (!surface && m_ends.outside.contains(k)) continue;
 			const auto c = centreOf(k, m_outsideGrid.resolution);
 			if (m_targets.overlapFilter && !overlapFilterAdmits(*m_targets.overlapFilter, c)) continue;
 			castRay(c, k, surface ? Endpoint::Outside : Endpoint::None, RayPart::OutsideRegions);
@@ -268,12 +268,12 @@ void RayIntegrator::finish()
 		// an OctoMap at that resolution, one ray per outside endpoint voxel
 		// carries that part, not one per inside endpoint.
 		m_insideEndsOutsideGrid.clear();
-		for (const auto* ends : {&m_insideEnds, &m_freeOnlyInsideEnds})
+		for (const auto* ends : {&m_ends.inside, &m_ends.freeOnlyInside})
 		{
-			const bool surface = ends == &m_insideEnds;
+			const bool surface = ends == &m_ends.inside;
 			for (const auto k : ends->keys())
 			{
-				if (!surface && m_insideEnds.contains(k)) continue;
+				if (!surface && m_ends.inside.contains(k)) continue;
 				const auto c = centreOf(k, m_insideGrid.resolution);
 				castRay(c, k, surface ? Endpoint::Inside : Endpoint::None, RayPart::InsideRegions);
 				std::uint64_t outsideKey;
@@ -283,7 +283,7 @@ void RayIntegrator::finish()
 		}
 		for (const auto k : m_insideEndsOutsideGrid.keys())
 			castRay(centreOf(k, m_outsideGrid.resolution), k, Endpoint::None, RayPart::OutsideRegions);
-		for (const auto k : m_crossingEnds.keys())
+		for (const auto k : m_ends.crossing.keys())
 		{
 			// Through the exit voxel: one inside voxel beyond its centre.
 			const auto c = centreOf(k, m_insideGrid.resolution);
@@ -293,7 +293,7 @@ void RayIntegrator::finish()
 		}
 	}
 	if (m_targets.sketch)
-		for (const auto k : m_sketchEnds.keys())
+		for (const auto k : m_ends.sketch.keys())
 		{
 			// The low tree takes an endpoint within range by its low voxel's
 			// centre, the sketch by the high voxel's: a low voxel hit at the
@@ -318,15 +318,8 @@ void RayIntegrator::scanBands(const RowSetup& rs, int rows)
 	for (std::size_t i = 0; i < m_bands.size(); i++)
 	{
 		auto& band = m_bands[i];
-		band.outside = i == 0 ? &m_outsideEnds : &band.ownOutside;
-		band.inside = i == 0 ? &m_insideEnds : &band.ownInside;
-		band.crossing = i == 0 ? &m_crossingEnds : &band.ownCrossing;
-		band.sketch = i == 0 ? &m_sketchEnds : &band.ownSketch;
-		band.freeOnlyOutside = i == 0 ? &m_freeOnlyOutsideEnds : &band.ownFreeOnlyOutside;
-		band.freeOnlyInside = i == 0 ? &m_freeOnlyInsideEnds : &band.ownFreeOnlyInside;
-		for (auto* set :
-			{band.outside, band.inside, band.crossing, band.sketch, band.freeOnlyOutside, band.freeOnlyInside})
-			set->clear();
+		band.ends = i == 0 ? &m_ends : &band.own;
+		band.ends->clear();
 	}
 	if (m_bands.size() == 1)
 		scanRows(rs, 0, rows, m_bands[0]);
@@ -341,15 +334,7 @@ void RayIntegrator::scanBands(const RowSetup& rs, int rows)
 				});
 		scanRows(rs, 0, std::min(rows, per), m_bands[0]);
 		for (auto& h : helpers) h.join();
-		for (std::size_t i = 1; i < m_bands.size(); i++)
-		{
-			for (const auto k : m_bands[i].ownOutside.keys()) m_outsideEnds.insert(k);
-			for (const auto k : m_bands[i].ownInside.keys()) m_insideEnds.insert(k);
-			for (const auto k : m_bands[i].ownCrossing.keys()) m_crossingEnds.insert(k);
-			for (const auto k : m_bands[i].ownSketch.keys()) m_sketchEnds.insert(k);
-			for (const auto k : m_bands[i].ownFreeOnlyOutside.keys()) m_freeOnlyOutsideEnds.insert(k);
-			for (const auto k : m_bands[i].ownFreeOnlyInside.keys()) m_freeOnlyInsideEnds.insert(k);
-		}
+		for (std::size_t i = 1; i < m_bands.size(); i++) m_ends.merge(m_bands[i].own);
 	}
 }
 

@@ -41,6 +41,37 @@ struct ScanTargets
 	double sketchResolution = 0;
 };
 
+/** One scan's endpoint voxels: where the two front-ends, a cloud's points
+ *  (addPoint) and a depth image's rows (scanRows), meet before any ray is
+ *  cast. */
+struct EndpointSets
+{
+	/** Endpoint voxels outside the regions (outside grid) and inside them
+	 *  (inside grid); for rays that cross a region without ending in one,
+	 *  the inside voxel where they leave it (point clouds: the inside voxel
+	 *  of the endpoint). */
+	KeySet outside, inside, crossing;
+	/** Endpoint voxels of free-only pixels: outside regions and inside them. */
+	KeySet freeOnlyOutside, freeOnlyInside;
+	/** High voxels of the endpoints in low-tree space, for the sketch. */
+	KeySet sketch;
+
+	void clear()
+	{
+		for (auto* s : {&outside, &inside, &crossing, &freeOnlyOutside, &freeOnlyInside, &sketch}) s->clear();
+	}
+	/** Adds the keys of `other`, set by set. */
+	void merge(const EndpointSets& other)
+	{
+		for (const auto k : other.outside.keys()) outside.insert(k);
+		for (const auto k : other.inside.keys()) inside.insert(k);
+		for (const auto k : other.crossing.keys()) crossing.insert(k);
+		for (const auto k : other.sketch.keys()) sketch.insert(k);
+		for (const auto k : other.freeOnlyOutside.keys()) freeOnlyOutside.insert(k);
+		for (const auto k : other.freeOnlyInside.keys()) freeOnlyInside.insert(k);
+	}
+};
+
 class RayIntegrator
 {
    public:
@@ -97,9 +128,9 @@ class RayIntegrator
 	/** One band of rows' endpoint sets and scratch rows. */
 	struct PixelBand
 	{
-		KeySet *outside = nullptr, *inside = nullptr, *crossing = nullptr, *sketch = nullptr;
-		KeySet *freeOnlyOutside = nullptr, *freeOnlyInside = nullptr;
-		KeySet ownOutside, ownInside, ownCrossing, ownSketch, ownFreeOnlyOutside, ownFreeOnlyInside;
+		/** The scan's sets (first band) or `own`, merged after the join. */
+		EndpointSets* ends = nullptr;
+		EndpointSets own;
 		std::vector<int> keys;
 		std::vector<float> near;
 		std::vector<std::uint8_t> flags;
@@ -143,15 +174,8 @@ class RayIntegrator
 	mrpt::math::TPoint3D m_rayDir;
 	Grid m_outsideGrid, m_insideGrid, m_sketchGrid;
 	bool m_hasRegions = false;
-	/** Endpoint voxels: outside regions, inside regions, and, for rays that
-	 *  cross a region without ending in one, the inside voxel where they leave
-	 *  it (point clouds: the inside voxel of the endpoint). */
-	KeySet m_outsideEnds, m_insideEnds, m_crossingEnds;
-	/** Endpoint voxels of free-only pixels: outside regions and inside them. */
-	KeySet m_freeOnlyOutsideEnds, m_freeOnlyInsideEnds;
-	/** High voxels of the endpoints in low-tree space, for the sketch. */
-	KeySet m_sketchEnds;
-	/** The outside grid's voxels of m_insideEnds. */
+	EndpointSets m_ends;
+	/** The outside grid's voxels of m_ends.inside. */
 	KeySet m_insideEndsOutsideGrid;
 	KeySet m_outsideFree, m_outsideOccupied;
 	BoxKeySet m_insideFree, m_insideOccupied;

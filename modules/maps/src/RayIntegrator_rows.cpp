@@ -149,6 +149,7 @@ void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band
 	float* const insideF = depth + n;    // 1: the point lies in a region
 	float* const crossTo = insideF + n;  // >= 0: depth where its ray leaves the farthest region it crosses
 	std::uint8_t* const flags = band.flags.data();
+	EndpointSets& ends = *band.ends;
 
 	for (int v = v0; v < v1; v++)
 	{
@@ -166,7 +167,7 @@ void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band
 		pointRowKeys(rays, depth, outsideInverse, cols, outside);
 		// Free-only pixels are keyed as any other, their keys tagged.
 		const auto [freeFrom, freeTo] = markFreeOnlyPixels(rs, v, band);
-		if (freeFrom < freeTo) tagFreeOnly(band.freeOnly.data(), 0, freeFrom, freeTo, outside.x);
+		if (freeFrom < freeTo) tagFreeOnly(band.freeOnly.data(), false, freeFrom, freeTo, outside.x);
 
 		// Columns of this row whose rays can reach a region (empty: none).
 		const auto [nearFrom, nearEnd] = columnsOnRow(m_regionRects, v, cols);
@@ -184,16 +185,16 @@ void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band
 			}
 			insideRowKeys(rays, depth, insideF, crossTo, insideInverse, nearFrom, nearEnd, inside, outside.x);
 			if (std::max(nearFrom, freeFrom) < std::min(nearEnd, freeTo))
-				tagFreeOnly(band.freeOnly.data(), kInsideTag, std::max(nearFrom, freeFrom), std::min(nearEnd, freeTo),
-					inside.x);
+				tagFreeOnly(
+					band.freeOnly.data(), true, std::max(nearFrom, freeFrom), std::min(nearEnd, freeTo), inside.x);
 			flagNewVoxels(inside, insideAbove, nearFrom, nearEnd, flags);
 			forEachFlagged(flags, nearFrom, nearEnd,
 				[&](int u)
 				{
 					const int tagged = inside.x[u];
-					KeySet* const set = tagged >= kFreeOnlyTag ? band.freeOnlyInside
-															   : (tagged >= kInsideTag ? band.inside : band.crossing);
-					if (const auto key = packedOrNone(untagged(tagged), inside.y[u], inside.z[u])) set->insert(key);
+					KeySet& set = hasFreeOnlyTag(tagged) ? ends.freeOnlyInside
+														 : (hasInsideTag(tagged) ? ends.inside : ends.crossing);
+					if (const auto key = packedOrNone(untagged(tagged), inside.y[u], inside.z[u])) set.insert(key);
 				});
 			std::fill(flags + nearFrom, flags + nearEnd, 0);
 		}
@@ -204,7 +205,7 @@ void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band
 			{
 				const int tagged = outside.x[u];
 				if (const auto key = packedOrNone(untagged(tagged), outside.y[u], outside.z[u]))
-					(tagged >= kFreeOnlyTag ? band.freeOnlyOutside : band.outside)->insert(key);
+					(hasFreeOnlyTag(tagged) ? ends.freeOnlyOutside : ends.outside).insert(key);
 			});
 		if (m_targets.sketch)
 		{
@@ -217,7 +218,7 @@ void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band
 			forEachFlagged(flags, 0, cols,
 				[&](int u)
 				{
-					if (const auto key = packedOrNone(sketch.x[u], sketch.y[u], sketch.z[u])) band.sketch->insert(key);
+					if (const auto key = packedOrNone(sketch.x[u], sketch.y[u], sketch.z[u])) ends.sketch.insert(key);
 				});
 		}
 	}

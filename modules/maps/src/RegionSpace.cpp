@@ -15,19 +15,6 @@ namespace
 /** [log-odds] above the occupancy threshold: occupied, as weakly as octomap can tell. */
 constexpr float kJustOccupied = 0.01f;
 
-KeyRange highKeysOf(const octomap::OcTreeKey& low, unsigned ratio)
-{
-	KeyRange r{};
-	for (int i = 0; i < 3; i++)
-	{
-		// Both grids put coordinate 0 on a voxel border: low key k spans the
-		// high keys from (k - offset) * ratio + offset.
-		r.lo[i] = (static_cast<unsigned>(low[i]) - unsigned(kKeyOffset)) * ratio + unsigned(kKeyOffset);
-		r.hi[i] = r.lo[i] + ratio;
-	}
-	return r;
-}
-
 unsigned ratioOf(const octomap::OcTree& low, const octomap::OcTree& high)
 {
 	return static_cast<unsigned>(std::lround(low.getResolution() / high.getResolution()));
@@ -62,7 +49,7 @@ void refineIntoHighTree(octomap::OcTree& low, octomap::OcTree& high, std::uint64
 	// other high voxels come back free.
 	const float surfaceValue =
 		occupied ? std::min(value, high.getProbHitLog()) : high.getOccupancyThresLog() + kJustOccupied;
-	const auto range = highKeysOf(key, sketch ? sketch->ratio() : ratioOf(low, high));
+	const auto range = KeyRange::finerKeysOf(key, sketch ? sketch->ratio() : ratioOf(low, high));
 	unsigned bit = 0;
 	std::vector<octomap::OcTreeKey> sketched, others;
 	for (unsigned x = range.lo[0]; x < range.hi[0]; x++)
@@ -85,7 +72,7 @@ void coarsenIntoLowTree(octomap::OcTree& high, octomap::OcTree& low, std::uint64
 {
 	if (high.size() == 0) return;
 	const auto key = unpackKey(lowKey);
-	const auto range = highKeysOf(key, sketch.ratio());
+	const auto range = KeyRange::finerKeysOf(key, sketch.ratio());
 	float maxLogOdds = -std::numeric_limits<float>::infinity();
 	bool known = false, occupied = false;
 	std::uint64_t surface = 0;
@@ -98,7 +85,7 @@ void coarsenIntoLowTree(octomap::OcTree& high, octomap::OcTree& low, std::uint64
 		if (!sketch.usable()) continue;
 		// Every high voxel of the occupied leaf in the low voxel (pruned
 		// leaves span several, a pruned leaf may span many low voxels).
-		const unsigned span = 1u << (high.getTreeDepth() - it.getDepth());
+		const unsigned span = keySpanAtDepth(it.getDepth());
 		range.forEachKeyOfCube(it.getIndexKey(), span,
 			[&](const octomap::OcTreeKey& k) { surface |= std::uint64_t(1) << sketch.bitOf(packKey(k)); });
 	}

@@ -91,8 +91,9 @@ AVM_ROW_PASS void insideRowKeys(const RowRays& r, const float* depth, const floa
 		const float y = (r.oy + ts * (r.by + r.sy * a)) * inverse + offset;
 		const float z = (r.oz + ts * (r.bz + r.sz * a)) * inverse + offset;
 		const bool none = std::max(inside[u], crossTo[u]) <= 0;
-		const int tag = static_cast<int>(inside[u]) * kInsideTag;
-		kx[u] = (x < 0) | (x >= static_cast<float>(kKeyEnd)) | none ? -1 : static_cast<int>(x) + tag;
+		kx[u] = (x < 0) | (x >= static_cast<float>(kKeyEnd)) | none
+					? -1
+					: withInsideTag(static_cast<int>(x), static_cast<int>(inside[u]));
 		ky[u] = y < 0 ? -1 : static_cast<int>(y);
 		kz[u] = z < 0 ? -1 : static_cast<int>(z);
 	}
@@ -154,17 +155,21 @@ AVM_ROW_PASS void markInBox(const double* x, const double* y, const double* z, c
 	}
 }
 
-/** x[u] += kFreeOnlyTag where freeOnly[u] is set and x[u] >= atLeast (0:
- *  any key; kInsideTag: keys of points in a region), u in [from, to). */
-AVM_ROW_PASS void tagFreeOnly(const std::uint8_t* freeOnly, int atLeast, int from, int to, int* x)
+/** x[u] tagged free-only where freeOnly[u] is set and x[u] is a key (of
+ *  any kind, or with `insideKeysOnly` one of a point in a region), u in
+ *  [from, to). */
+AVM_ROW_PASS void tagFreeOnly(const std::uint8_t* freeOnly, bool insideKeysOnly, int from, int to, int* x)
 {
-	for (int u = from; u < to; u++) x[u] = (freeOnly[u] != 0) & (x[u] >= atLeast) ? x[u] + kFreeOnlyTag : x[u];
+	if (insideKeysOnly)
+		for (int u = from; u < to; u++) x[u] = (freeOnly[u] != 0) & hasInsideTag(x[u]) ? withFreeOnlyTag(x[u]) : x[u];
+	else
+		for (int u = from; u < to; u++) x[u] = (freeOnly[u] != 0) & hasKey(x[u]) ? withFreeOnlyTag(x[u]) : x[u];
 }
 
 /** x[u] = -1 ("no voxel") wherever reference[u] is no surface key: -1, or
  *  tagged free-only. */
 AVM_ROW_PASS void maskWhereNoSurface(const int* reference, int cols, int* x)
 {
-	for (int u = 0; u < cols; u++) x[u] = static_cast<unsigned>(reference[u]) > kKeyMask ? -1 : x[u];
+	for (int u = 0; u < cols; u++) x[u] = isUntaggedKey(reference[u]) ? x[u] : -1;
 }
 }  // namespace avm::detail::rows

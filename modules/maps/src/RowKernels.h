@@ -79,9 +79,10 @@ void rowPointsDouble(const RowRaysDouble& r, const std::uint16_t* raw, float uni
 void markInBox(const double* x, const double* y, const double* z, const mrpt::math::TBoundingBox& box,
 	const std::uint8_t* candidate, int from, int to, std::uint8_t* inside);
 
-/** x[u] += kFreeOnlyTag where freeOnly[u] is set and x[u] >= atLeast (0:
- *  any key; kInsideTag: keys of points in a region), u in [from, to). */
-void tagFreeOnly(const std::uint8_t* freeOnly, int atLeast, int from, int to, int* x);
+/** x[u] tagged free-only where freeOnly[u] is set and x[u] is a key (of
+ *  any kind, or with `insideKeysOnly` one of a point in a region), u in
+ *  [from, to). */
+void tagFreeOnly(const std::uint8_t* freeOnly, bool insideKeysOnly, int from, int to, int* x);
 
 /** x[u] = -1 ("no voxel") wherever reference[u] is no surface key: -1, or
  *  tagged free-only. */

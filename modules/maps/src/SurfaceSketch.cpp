@@ -6,24 +6,13 @@
 
 namespace avm::detail
 {
-namespace
-{
-/** floor(a / b) for b > 0. */
-int floorDiv(int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
-}  // namespace
-
 std::uint64_t SurfaceSketch::lowKeyOf(std::uint64_t highKey) const { return coarserKeyOf(highKey, m_ratio); }
 
 unsigned SurfaceSketch::bitOf(std::uint64_t highKey) const
 {
 	const auto h = unpackKey(highKey);
-	const int r = static_cast<int>(m_ratio);
 	unsigned bit = 0;
-	for (int i = 0; i < 3; i++)
-	{
-		const int rel = static_cast<int>(h[i]) - kKeyOffset;
-		bit = bit * m_ratio + static_cast<unsigned>(rel - floorDiv(rel, r) * r);
-	}
+	for (int i = 0; i < 3; i++) bit = bit * m_ratio + placeInCoarser(h[i], m_ratio);
 	return bit;
 }
 
@@ -32,9 +21,7 @@ std::uint64_t SurfaceSketch::highKeyOf(std::uint64_t lowKey, unsigned bit) const
 	const auto l = unpackKey(lowKey);
 	const unsigned offset[3] = {bit / (m_ratio * m_ratio), (bit / m_ratio) % m_ratio, bit % m_ratio};
 	octomap::OcTreeKey h;
-	for (int i = 0; i < 3; i++)
-		h[i] = static_cast<octomap::key_type>((static_cast<int>(l[i]) - kKeyOffset) * static_cast<int>(m_ratio) +
-											  kKeyOffset + static_cast<int>(offset[i]));
+	for (int i = 0; i < 3; i++) h[i] = static_cast<octomap::key_type>(firstFinerKey(l[i], m_ratio) + offset[i]);
 	return packKey(h);
 }
 

@@ -60,24 +60,15 @@ void setNodeValues(octomap::OcTree& tree, const std::vector<octomap::OcTreeKey>&
 {
 	if (keys.empty()) return;
 	for (const auto& k : keys) tree.setNodeValue(k, logOdds, /*lazy_eval=*/true);
-	// In Z order the keys under any one node are consecutive, at every depth:
-	// the nodes on their paths come each once from one pass per depth.
-	auto zOrder = keys;
-	std::sort(zOrder.begin(), zOrder.end(),
-		[](const octomap::OcTreeKey& a, const octomap::OcTreeKey& b)
-		{
-			// The axis whose keys differ in the highest bit decides.
-			auto lowerTopBit = [](unsigned x, unsigned y) { return x < y && x < (x ^ y); };
-			int axis = 0;
-			unsigned top = a[0] ^ b[0];
-			for (int i = 1; i < 3; i++)
-				if (lowerTopBit(top, a[i] ^ b[i]))
-				{
-					axis = i;
-					top = a[i] ^ b[i];
-				}
-			return a[axis] < b[axis];
-		});
+	// In Morton order the keys under any one node are consecutive, at every
+	// depth: the nodes on their paths come each once from one pass per depth.
+	std::vector<std::uint64_t> codes;
+	codes.reserve(keys.size());
+	for (const auto& k : keys) codes.push_back(mortonOf(k));
+	std::sort(codes.begin(), codes.end());
+	std::vector<octomap::OcTreeKey> mortonOrder;
+	mortonOrder.reserve(codes.size());
+	for (const auto code : codes) mortonOrder.push_back(keyOfMorton(code));
 	auto pruneOrUpdate = [&tree](octomap::OcTreeNode* node)
 	{
 		if (!tree.pruneNode(node)) node->updateOccupancyChildren();
@@ -86,7 +77,7 @@ void setNodeValues(octomap::OcTree& tree, const std::vector<octomap::OcTreeKey>&
 	{
 		bool first = true;
 		octomap::OcTreeKey previous;
-		for (const auto& k : zOrder)
+		for (const auto& k : mortonOrder)
 		{
 			const auto atDepth = tree.adjustKeyAtDepth(k, depth);
 			if (!first && atDepth == previous) continue;
@@ -115,7 +106,7 @@ void eraseKeyRange(octomap::OcTree& tree, const KeyRange& range)
 	for (auto it = tree.begin_leafs_bbx(range.first(), range.last()), end = tree.end_leafs_bbx(); it != end; ++it)
 	{
 		const unsigned depth = it.getDepth();
-		const unsigned span = 1u << (maxDepth - depth);
+		const unsigned span = keySpanAtDepth(depth);
 		// The leaf's first key: its key with the bits below its depth cleared.
 		const auto key = it.getIndexKey();
 		if (range.containsCube(key, span))

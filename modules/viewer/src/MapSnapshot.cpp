@@ -76,7 +76,7 @@ MapSnapshot snapshotOf(const CAdaptiveOctoMap& map, const SnapshotOptions& optio
 	for (const auto& t : map.personTracks()) s.persons.push_back({t.id, t.position, t.lastFrame, t.shape});
 	for (const auto which : {Resolution::Low, Resolution::High})
 		if (const auto* t = map.tree(which)) s.mapMemoryBytes += t->memoryUsage();
-	if (const auto i = map.switchInsertionIndex()) s.status.switchFrame = *i;
+	s.status.switchInsertion = map.switchInsertionIndex();
 	return s;
 }
 
@@ -163,7 +163,12 @@ std::array<std::string, 2> statusLines(const MapSnapshot& s)
 	for (const auto& [name, ms] : st.stageMs) t << "  " << name << " " << ms << " ms";
 	std::array<std::string, 2> lines{t.str(), {}};
 	t.str("");
-	t << "switch " << (st.switchFrame ? "at " + std::to_string(*st.switchFrame) : std::string("not yet"));
+	if (st.switchFrame)
+		t << "switch at frame " << *st.switchFrame;
+	else if (st.switchInsertion)
+		t << "switch at insertion " << *st.switchInsertion;
+	else
+		t << "switch not yet";
 	t << "  persons " << s.persons.size() << "  regions " << s.regions.size();
 	t.precision(2);
 	t << "  map " << double(s.mapMemoryBytes) / (1024.0 * 1024.0) << " MB";

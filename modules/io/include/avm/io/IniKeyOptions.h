@@ -15,14 +15,22 @@
 #include <mrpt/config/CLoadableOptions.h>
 
 #include <string>
+#include <vector>
 
 namespace avm::io
 {
 template <class Options>
 class IniKeys;
 
+/** What unknownKeys() asks of options of any type: the earlier names of
+ *  keys that they still read (IniKeys::renamed). */
+struct CIniKeyNames : public mrpt::config::CLoadableOptions
+{
+	virtual std::vector<std::string> oldKeyNames() const = 0;
+};
+
 template <class Options>
-struct CIniKeyOptions : public mrpt::config::CLoadableOptions
+struct CIniKeyOptions : public CIniKeyNames
 {
 	/** Reads the keys present in [section] (absent ones keep their value),
 	 *  then validates. Throws std::invalid_argument "[section] key = value: why". */
@@ -31,5 +39,6 @@ struct CIniKeyOptions : public mrpt::config::CLoadableOptions
 	void saveToConfigFile(mrpt::config::CConfigFileBase& target, const std::string& section) const override;
 	/** Throws std::invalid_argument "[section] key = value: why" for the first failed check. */
 	void validate(const std::string& section) const;
+	std::vector<std::string> oldKeyNames() const override;
 };
 }  // namespace avm::io

@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -132,7 +133,25 @@ class IniKeys
 		for (const auto& c : inner.m_checks)
 			m_checks.push_back({c.key, [member, ok = c.ok](const Options& o) { return ok(o.*member); },
 				[member, why = c.why](const Options& o) { return why(o.*member); }});
+		for (const auto& r : inner.m_renamed) m_renamed.push_back({r.oldKey, r.key});
 		return *this;
+	}
+
+	/** `oldKey`, an earlier name of `key`: still read, as `key` when `key`
+	 *  is absent, with a warning that names both (warnRenamedKey); never
+	 *  written, so that a saved file has the new name. */
+	IniKeys& renamed(std::string oldKey, std::string key)
+	{
+		m_renamed.push_back({std::move(oldKey), std::move(key)});
+		return *this;
+	}
+
+	/** The earlier names that renamed() declared. */
+	std::vector<std::string> oldKeyNames() const
+	{
+		std::vector<std::string> names;
+		for (const auto& r : m_renamed) names.push_back(r.oldKey);
+		return names;
 	}
 
 	/** A check across keys, reported on `key` (e.g. max_depth > min_depth). */
@@ -153,7 +172,7 @@ class IniKeys
 	void load(Options& o, const mrpt::config::CConfigFileBase& ini, const std::string& section) const
 	{
 		for (const auto& k : m_keys)
-			if (const auto value = readIniText(ini, section, k.name)) k.parse(o, *value, section);
+			if (const auto value = readKeyText(ini, section, k.name)) k.parse(o, *value, section);
 		validate(o, section);
 	}
 
@@ -194,6 +213,25 @@ class IniKeys
 		std::function<bool(const Options&)> ok;
 		std::function<std::string(const Options&)> why;
 	};
+	struct Renamed
+	{
+		std::string oldKey, key;
+	};
+
+	/** The text of [section] key, else of an old name of it (warned about). */
+	std::optional<std::string> readKeyText(
+		const mrpt::config::CConfigFileBase& ini, const std::string& section, const std::string& key) const
+	{
+		auto value = readIniText(ini, section, key);
+		for (const auto& r : m_renamed)
+			if (r.key == key)
+				if (const auto old = readIniText(ini, section, r.oldKey))
+				{
+					warnRenamedKey(section, r.oldKey, key, value.has_value());
+					if (!value) value = old;
+				}
+		return value;
+	}
 
 	template <class ReadAs, class T, class Access>
 	IniKeys& addNumber(std::string key, Access access, std::string unit, std::string description,
@@ -234,6 +272,7 @@ class IniKeys
 
 	std::vector<Key> m_keys;
 	std::vector<Check> m_checks;
+	std::vector<Renamed> m_renamed;
 };
 
 template <class Options>
@@ -256,5 +295,11 @@ void CIniKeyOptions<Options>::validate(const std::string& section) const
 {
 	const auto& self = static_cast<const Options&>(*this);
 	self.iniKeys().validate(self, section);
+}
+
+template <class Options>
+std::vector<std::string> CIniKeyOptions<Options>::oldKeyNames() const
+{
+	return static_cast<const Options&>(*this).iniKeys().oldKeyNames();
 }
 }  // namespace avm::io

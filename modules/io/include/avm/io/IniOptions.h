@@ -48,13 +48,18 @@ T readIniValue(
 }
 
 /** Keys present in [section] of ini that `options` does not know (MRPT reads
- *  keys without regard to case, so this compares without it too). */
+ *  keys without regard to case, so this compares without it too); the old
+ *  name of a renamed key is known (warnRenamedKey speaks of it). */
 std::vector<std::string> unknownKeys(const mrpt::config::CConfigFileBase& ini, const std::string& section,
 	const mrpt::config::CLoadableOptions& options);
 
 /** What every avm program says of a key that no options struct reads:
  *  "unknown key [section] key (ignored)". */
 std::string unknownKeyWarning(const std::string& section, const std::string& key);
+
+/** Tells stderr that [section] `oldKey` is now `key`: read as that, or, when
+ *  `keyPresent`, ignored. */
+void warnRenamedKey(const std::string& section, const std::string& oldKey, const std::string& key, bool keyPresent);
 
 /** Options of type T from [section] of an ini file; keys T does not know go
  *  to `unknown`. Throws std::runtime_error when the file or section is missing,

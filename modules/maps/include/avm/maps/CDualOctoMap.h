@@ -86,8 +86,8 @@ class CDualOctoMap : public mrpt::maps::CMetricMap
 		SwitchPolicy switchPolicy = SwitchPolicy::Region;
 		RegionLifetime regionLifetime = RegionLifetime::Follow;
 		/** paper policy: switch at this insertion index (-1 = off); ini key
-		 *  `switch_at_frame` (an insertion is a frame in avm-map, but not
-		 *  every frame is inserted). */
+		 *  `switch_at_insertion` (formerly `switch_at_frame`: an insertion is
+		 *  a frame in avm-map, but not every frame is inserted). */
 		std::int64_t switchAtInsertion = -1;
 		/** paper policy: switch at this fraction of the run (-1 = off); needs
 		 *  expectedFrameCount or setExpectedFrameCount(). */

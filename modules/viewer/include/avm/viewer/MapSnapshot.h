@@ -80,7 +80,10 @@ struct RunStatus
 	/** Stage and its time for the last frame or its mean [ms], in the order shown. */
 	std::vector<std::pair<std::string, double>> stageMs;
 	std::optional<std::size_t> switchFrame;  //!< first frame mapped in the high tree
-	std::string note;                        //!< anything else, shown at the end
+	/** The map's switchInsertionIndex(), shown while the frame is not known:
+	 *  not every frame is inserted. */
+	std::optional<std::size_t> switchInsertion;
+	std::string note;  //!< anything else, shown at the end
 };
 
 struct MapSnapshot
@@ -118,8 +121,8 @@ struct SnapshotOptions
 
 /** The map as it shows itself now: CAdaptiveOctoMap::forEachLeaf() of both
  *  trees (so paper policy's overlap filter applies), highResolutionRegions(),
- *  personTracks(), the trees' memoryUsage(), and switchInsertionIndex() as the
- *  switch frame. The caller must keep the map from being modified meanwhile. */
+ *  personTracks(), the trees' memoryUsage(), and switchInsertionIndex() (an
+ *  insertion, not a frame: the caller that knows the frame sets switchFrame). The caller must keep the map from being modified meanwhile. */
 MapSnapshot snapshotOf(const CAdaptiveOctoMap& map, const SnapshotOptions& options = {});
 
 /** The same from two octrees as written to map_low.bt / map_high.bt (high may
