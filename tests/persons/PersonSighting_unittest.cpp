@@ -169,7 +169,7 @@ TEST(PersonSighting, APersonsShapeIsOnePointPerVoxelOfTheirPointsInsideTheBox)
 	const double res = 0.05;
 	const mrpt::math::TPoint3D margin(0.2, 0.2, 0.2);
 	const mrpt::math::TBoundingBox region(est.sighting->box.min - margin, est.sighting->box.max + margin);
-	const auto shape = personShape(obs, {}, pixels, *est.sighting, {}, res, region);
+	const auto shape = personShape(est.bandPoints, res, region);
 	// 120 x 300 px at 2 m: 0.457 m x 1.143 m, 10 x 23 voxels, give or take
 	// one on each axis where the grid cuts.
 	EXPECT_GE(shape.size(), 9u * 22u);
@@ -186,11 +186,12 @@ TEST(PersonSighting, APersonsShapeIsOnePointPerVoxelOfTheirPointsInsideTheBox)
 			EXPECT_LT(std::tie(shape[i - 1].x, shape[i - 1].y, shape[i - 1].z), std::tie(p.x, p.y, p.z));
 		}
 	}
-	EXPECT_EQ(personShape(obs, {}, pixels, *est.sighting, {}, res, region), shape);
+	EXPECT_EQ(est.bandPoints.size(), est.sighting->points) << "one point for each pixel within the band";
+	EXPECT_EQ(personShape(estimateSighting(obs, {}, pixels, {}).bandPoints, res, region), shape);
 	// A coarser grid, fewer points; a smaller box, only the points inside.
-	EXPECT_LT(personShape(obs, {}, pixels, *est.sighting, {}, 0.2, region).size(), shape.size() / 4);
+	EXPECT_LT(personShape(est.bandPoints, 0.2, region).size(), shape.size() / 4);
 	const mrpt::math::TBoundingBox upperHalf({1, -1, 0}, {3, 1, 1});
-	const auto upper = personShape(obs, {}, pixels, *est.sighting, {}, res, upperHalf);
+	const auto upper = personShape(est.bandPoints, res, upperHalf);
 	EXPECT_GT(upper.size(), 0u);
 	EXPECT_LT(upper.size(), shape.size());
 	for (const auto& p : upper) EXPECT_GT(p.z, 0.0f) << p;

@@ -24,7 +24,7 @@ std::vector<PersonObservation> PersonLayer::observe(const mrpt::obs::CObservatio
 		const mrpt::math::TBoundingBox region(est.sighting->box.min - margin, est.sighting->box.max + margin);
 		out[i].regionBox = region;
 		auto& s = sightings.emplace_back(std::move(*est.sighting));
-		s.shape = personShape(obs, sensorPoseInWorld, persons[i], s, sighting, shapeResolution, region);
+		s.shape = personShape(est.bandPoints, shapeResolution, region);
 		ofSighting.push_back(i);
 	}
 	const auto ids = m_tracker.update(sightings, frameIndex, mrpt::Clock::toDouble(obs.timestamp));

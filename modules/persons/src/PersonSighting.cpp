@@ -99,34 +99,33 @@ SightingEstimate estimateSighting(const mrpt::obs::CObservation3DRangeScan& obs,
 	}
 	const float depth = densestWindowDepth(core.size() >= kMinCoreSamples ? core : all, o.depthBand);
 
-	std::size_t inBand = 0;
-	for (const auto i : pixels)
+	// The person's points, each pixel within the band unprojected once: the
+	// statistics take the regular sample of them, personShape all of them.
+	auto& band = est.bandPoints;
+	std::vector<double> xs, ys, zs;
+	const auto take = [&](const mrpt::math::TPoint3D& p) { xs.push_back(p.x), ys.push_back(p.y), zs.push_back(p.z); };
+	for (std::size_t k = 0; k < pixels.size(); ++k)
 	{
+		const auto i = pixels[k];
 		const float d = metresAt(i);
-		inBand += d > 0 && std::abs(d - depth) <= o.depthBand;
+		if (!(d > 0) || std::abs(d - depth) > o.depthBand) continue;
+		band.push_back(sensorPoseInWorld.composePoint(camera.unproject(i % cols, i / cols, d)));
+		if (k % step == 0) take(band.back());
 	}
+	const std::size_t inBand = band.size();
 	if (inBand < o.minPixels)
 	{
+		band.clear();
 		est.skipReason =
 			format("depth pixels within the person's band: ", double(inBand), "min_person_pixels", double(o.minPixels));
 		return est;
 	}
-	std::vector<double> xs, ys, zs;
-	const auto collect = [&](std::size_t every)
+	// A sample that missed a sparse band: all of them then.
+	if (xs.size() < kMinCoreSamples)
 	{
 		xs.clear(), ys.clear(), zs.clear();
-		for (std::size_t k = 0; k < pixels.size(); k += every)
-		{
-			const auto i = pixels[k];
-			const float d = metresAt(i);
-			if (!(d > 0) || std::abs(d - depth) > o.depthBand) continue;
-			const auto p = sensorPoseInWorld.composePoint(camera.unproject(i % cols, i / cols, d));
-			xs.push_back(p.x), ys.push_back(p.y), zs.push_back(p.z);
-		}
-	};
-	collect(step);
-	// A sample that missed a sparse band: all of them then.
-	if (xs.size() < kMinCoreSamples) collect(1);
+		for (const auto& p : band) take(p);
+	}
 	PersonSighting s;
 	s.points = inBand;
 	s.depth = depth;
@@ -138,14 +137,11 @@ SightingEstimate estimateSighting(const mrpt::obs::CObservation3DRangeScan& obs,
 	return est;
 }
 
-std::vector<mrpt::math::TPoint3Df> personShape(const mrpt::obs::CObservation3DRangeScan& obs,
-	const mrpt::poses::CPose3D& sensorPoseInWorld, const PixelSet& pixels, const PersonSighting& sighting,
-	const SightingOptions& o, double resolution, const mrpt::math::TBoundingBox& within)
+std::vector<mrpt::math::TPoint3Df> personShape(
+	const std::vector<mrpt::math::TPoint3D>& bandPoints, double resolution, const mrpt::math::TBoundingBox& within)
 {
 	std::vector<mrpt::math::TPoint3Df> shape;
-	if (pixels.empty() || !obs.hasRangeImage || obs.rangeImage.cols() == 0 || !(resolution > 0)) return shape;
-	const auto camera = io::DepthCamera::of(obs);
-	const int cols = camera.width;
+	if (!(resolution > 0)) return shape;
 	// octomap's coordToKey: floor(coordinate * (1 / resolution)).
 	const double perMetre = 1.0 / resolution;
 	using Key = std::array<std::int32_t, 3>;
@@ -154,11 +150,8 @@ std::vector<mrpt::math::TPoint3Df> personShape(const mrpt::obs::CObservation3DRa
 	// about ten pixels wide at 2.5 m): skipping a repeat of the last key keeps
 	// the set and leaves a tenth as many keys to sort.
 	std::optional<Key> last;
-	for (const auto i : pixels)
+	for (const auto& p : bandPoints)
 	{
-		const float d = static_cast<float>(obs.rangeImage(i / cols, i % cols) * obs.rangeUnits);
-		if (!(d > 0) || std::abs(d - sighting.depth) > o.depthBand) continue;
-		const auto p = sensorPoseInWorld.composePoint(camera.unproject(i % cols, i / cols, d));
 		const Key k{static_cast<std::int32_t>(std::floor(p.x * perMetre)),
 			static_cast<std::int32_t>(std::floor(p.y * perMetre)),
 			static_cast<std::int32_t>(std::floor(p.z * perMetre))};

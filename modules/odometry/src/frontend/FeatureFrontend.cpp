@@ -92,8 +92,13 @@ FrameFeatures FeatureFrontend::extract(const cv::Mat& grey, const cv::Mat& depth
 	const cv::Mat people = personMask(depth, excluded);
 	cv::Mat mask = depth > 0;
 	mask.setTo(0, people);
+	// Described with the detection: ORB builds and blurs its image pyramid
+	// once, where describing the kept features apart would build it again.
+	// A feature's descriptor depends only on the pyramid and the feature, so
+	// the kept rows are the descriptors describing them alone would give.
 	std::vector<cv::KeyPoint> detected;
-	m_orb->detect(grey, detected, mask);
+	cv::Mat described;
+	m_orb->detectAndCompute(grey, mask, detected, described);
 	if (masked)
 	{
 		masked->clear();
@@ -104,16 +109,18 @@ FrameFeatures FeatureFrontend::extract(const cv::Mat& grey, const cv::Mat& depth
 	// corners do not take the whole budget; the rest of the budget by strength.
 	const int cells = o.grid_cols * o.grid_rows;
 	const std::size_t perCell = static_cast<std::size_t>((o.num_features + cells - 1) / cells);
-	std::vector<std::vector<cv::KeyPoint>> grid(cells);
-	for (const auto& kp : detected)
+	std::vector<std::vector<int>> grid(cells);
+	for (int i = 0; i < int(detected.size()); ++i)
 	{
+		const cv::KeyPoint& kp = detected[std::size_t(i)];
 		if (!stableDepth(depth, cvRound(kp.pt.x), cvRound(kp.pt.y), o)) continue;
 		const int c = std::min(o.grid_cols - 1, int(kp.pt.x * o.grid_cols / grey.cols));
 		const int r = std::min(o.grid_rows - 1, int(kp.pt.y * o.grid_rows / grey.rows));
-		grid[r * o.grid_cols + c].push_back(kp);
+		grid[r * o.grid_cols + c].push_back(i);
 	}
-	std::vector<cv::KeyPoint> kept, spare;
-	const auto stronger = [](const cv::KeyPoint& a, const cv::KeyPoint& b) { return a.response > b.response; };
+	std::vector<int> kept, spare;
+	const auto stronger = [&](int a, int b)
+	{ return detected[std::size_t(a)].response > detected[std::size_t(b)].response; };
 	for (auto& cell : grid)
 	{
 		std::sort(cell.begin(), cell.end(), stronger);
@@ -126,8 +133,17 @@ FrameFeatures FeatureFrontend::extract(const cv::Mat& grey, const cv::Mat& depth
 		kept.insert(kept.end(), spare.begin(), spare.begin() + more);
 	}
 	if (kept.empty()) return f;
-	m_orb->compute(grey, kept, f.descriptors);
-	f.keypoints = std::move(kept);
+	// In ORB's order for given features (by pyramid level, stable within
+	// one), which the matching's tie-breaks and the landmark ids follow.
+	std::stable_sort(kept.begin(), kept.end(),
+		[&](int a, int b) { return detected[std::size_t(a)].octave < detected[std::size_t(b)].octave; });
+	f.descriptors.create(int(kept.size()), described.cols, described.type());
+	f.keypoints.reserve(kept.size());
+	for (std::size_t k = 0; k < kept.size(); ++k)
+	{
+		described.row(kept[k]).copyTo(f.descriptors.row(int(k)));
+		f.keypoints.push_back(detected[std::size_t(kept[k])]);
+	}
 	f.points.reserve(f.keypoints.size());
 	for (const auto& kp : f.keypoints)
 	{

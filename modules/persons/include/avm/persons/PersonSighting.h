@@ -56,6 +56,9 @@ struct SightingEstimate
 {
 	std::optional<PersonSighting> sighting;
 	std::string skipReason;  //!< why there is none ("" when there is)
+	/** World frame: the points of the pixels within the person's depth band,
+	 *  in the pixels' order; empty without a sighting. personShape's input. */
+	std::vector<mrpt::math::TPoint3D> bandPoints;
 };
 
 /** The sighting of the person whose pixels are `pixels` in `obs`'s depth
@@ -63,15 +66,14 @@ struct SightingEstimate
 SightingEstimate estimateSighting(const mrpt::obs::CObservation3DRangeScan& obs,
 	const mrpt::poses::CPose3D& sensorPoseInWorld, const PixelSet& pixels, const SightingOptions& options);
 
-/** The points of `sighting`'s person (the pixels within options.depthBand of
- *  its depth), one per voxel of edge `resolution` [m] on octomap's grid
- *  (voxel k spans [k, k+1) * resolution on each axis), given as the voxel's
- *  centre, where that centre lies in `within`: the person's endpoints at
- *  their region's resolution, as the region's tree would hold them. Sorted
- *  (x, y, z), so the same pixels give the same shape. */
-std::vector<mrpt::math::TPoint3Df> personShape(const mrpt::obs::CObservation3DRangeScan& obs,
-	const mrpt::poses::CPose3D& sensorPoseInWorld, const PixelSet& pixels, const PersonSighting& sighting,
-	const SightingOptions& options, double resolution, const mrpt::math::TBoundingBox& within);
+/** A sighting's person (its `bandPoints`), one point per voxel of edge
+ *  `resolution` [m] on octomap's grid (voxel k spans [k, k+1) * resolution
+ *  on each axis), given as the voxel's centre, where that centre lies in
+ *  `within`: the person's endpoints at their region's resolution, as the
+ *  region's tree would hold them. Sorted (x, y, z), so the same points give
+ *  the same shape. */
+std::vector<mrpt::math::TPoint3Df> personShape(
+	const std::vector<mrpt::math::TPoint3D>& bandPoints, double resolution, const mrpt::math::TBoundingBox& within);
 
 /** The pixels of an axis-aligned pixel box [u0, u1) x [v0, v1), clipped to
  *  the image: a detector's box. */
