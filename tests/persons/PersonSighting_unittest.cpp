@@ -78,7 +78,7 @@ TEST(PersonSighting, ThePersonsBandPixelsAreThePersonNotTheWall)
 		const auto u = i % kCols, v = i / kCols;
 		ASSERT_TRUE(u >= 260 && u < 380 && v >= 100 && v < 400) << u << ", " << v;
 	}
-	EXPECT_FALSE(inPersonBand(0.f, *est.sighting, {}));
+	EXPECT_FALSE(inPersonBand(0.f, est.sighting->depth, {}));
 }
 
 TEST(PersonSighting, ASightingIsPlacedByTheSensorPose)

@@ -4,9 +4,9 @@
 
 namespace avm::persons
 {
-bool inPersonBand(float metres, const PersonSighting& sighting, const SightingOptions& options)
+bool inPersonBand(float metres, float personDepth, const SightingOptions& options)
 {
-	return metres > 0 && std::abs(metres - sighting.depth) <= options.depthBand;
+	return metres > 0 && std::abs(metres - personDepth) <= options.depthBand;
 }
 
 PixelSet personBandPixels(const mrpt::obs::CObservation3DRangeScan& obs, const PixelSet& pixels,
@@ -21,7 +21,7 @@ PixelSet personBandPixels(const mrpt::obs::CObservation3DRangeScan& obs, const P
 		// Rounded as estimateSighting rounds a pixel's depth, so that the
 		// pixels here are the ones its sighting counted.
 		const auto metres = static_cast<float>(obs.rangeImage(i / cols, i % cols) * units);
-		if (inPersonBand(metres, sighting, options)) out.push_back(i);
+		if (inPersonBand(metres, sighting.depth, options)) out.push_back(i);
 	}
 	return out;
 }

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "avm/io/DepthCamera.h"
+#include "avm/persons/PersonBand.h"
 
 namespace avm::persons
 {
@@ -108,7 +109,7 @@ SightingEstimate estimateSighting(const mrpt::obs::CObservation3DRangeScan& obs,
 	{
 		const auto i = pixels[k];
 		const float d = metresAt(i);
-		if (!(d > 0) || std::abs(d - depth) > o.depthBand) continue;
+		if (!inPersonBand(d, depth, o)) continue;
 		band.push_back(sensorPoseInWorld.composePoint(camera.unproject(i % cols, i / cols, d)));
 		if (k % step == 0) take(band.back());
 	}

@@ -12,8 +12,9 @@
 
 namespace avm::persons
 {
-/** Whether a pixel of depth `metres` (0: none) is `sighting`'s person's. */
-bool inPersonBand(float metres, const PersonSighting& sighting, const SightingOptions& options);
+/** Whether a pixel of depth `metres` (0: none) is the person's whose robust
+ *  depth is `personDepth` (PersonSighting::depth). */
+bool inPersonBand(float metres, float personDepth, const SightingOptions& options);
 
 /** The pixels of `pixels` in `obs`'s depth image that are `sighting`'s
  *  person's (inPersonBand), in their order. */
