@@ -4,11 +4,17 @@
 
 namespace avm::detail
 {
-bool EndpointProjector::insideAnyRegion(double x, double y, double z) const
+EndpointProjector::PointPlace EndpointProjector::classifyPoint(const mrpt::math::TPoint3D& p) const
 {
 	for (const auto& r : m_regions->boxes)
-		if (r.contains(x, y, z)) return true;
-	return false;
+		if (r.contains(p.x, p.y, p.z)) return PointPlace::InRegion;
+	const mrpt::math::TPoint3D d = p - m_origin;
+	for (const auto& r : m_regions->boxes)
+	{
+		double t0, t1;
+		if (clipToBox(m_origin, d, r.box, t0, t1)) return PointPlace::BeyondRegion;
+	}
+	return PointPlace::Outside;
 }
 
 void EndpointProjector::begin(const mrpt::math::TPoint3D& origin, const ScanTargets& targets, EndpointSets& ends)
@@ -29,36 +35,25 @@ inline void EndpointProjector::addPoint(double x, double y, double z)
 {
 	if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) return;
 	std::uint64_t key;
-	if (m_hasRegions)
+	// Neighbouring points of a cloud mostly fall in the same voxel: a repeat
+	// of the last key of a set needs no lookup.
+	auto record = [&](KeySet& set, std::uint64_t& last)
 	{
-		if (insideAnyRegion(x, y, z))
-		{
-			if (packedKeyOf(x, y, z, m_insideGrid.inverse, key) && key != m_lastInsideKey)
-			{
-				m_lastInsideKey = key;
-				m_ends->inside.insert(key);
-			}
-			return;
-		}
-		const mrpt::math::TPoint3D d(x - m_origin.x, y - m_origin.y, z - m_origin.z);
-		for (const auto& r : m_regions->boxes)
-		{
-			double t0, t1;
-			if (!clipToBox(m_origin, d, r.box, t0, t1)) continue;
-			if (packedKeyOf(x, y, z, m_insideGrid.inverse, key) && key != m_lastCrossingKey)
-			{
-				m_lastCrossingKey = key;
-				m_ends->crossing.insert(key);
-			}
-			break;
-		}
+		if (key == last) return;
+		last = key;
+		set.insert(key);
+	};
+	const auto place = m_hasRegions ? classifyPoint({x, y, z}) : PointPlace::Outside;
+	if (place != PointPlace::Outside && packedKeyOf(x, y, z, m_insideGrid.inverse, key))
+	{
+		if (place == PointPlace::InRegion)
+			record(m_ends->inside, m_lastInsideKey);
+		else
+			record(m_ends->crossing, m_lastCrossingKey);
 	}
+	if (place == PointPlace::InRegion) return;
 	if (m_hasSketch && packedKeyOf(x, y, z, m_sketchGrid.inverse, key)) m_ends->sketch.insert(key);
-	if (!packedKeyOf(x, y, z, m_outsideGrid.inverse, key)) return;
-	// Neighbouring points mostly fall in the same outside voxel.
-	if (key == m_lastOutsideKey) return;
-	m_lastOutsideKey = key;
-	m_ends->outside.insert(key);
+	if (packedKeyOf(x, y, z, m_outsideGrid.inverse, key)) record(m_ends->outside, m_lastOutsideKey);
 }
 
 void EndpointProjector::addWorldPoints(const float* xs, const float* ys, const float* zs, std::size_t n)

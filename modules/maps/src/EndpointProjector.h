@@ -3,6 +3,17 @@
 // (addDepthImage). The two front-ends meet in the records, before any ray is
 // cast (RayIntegrator). Endpoints are discretized and deduplicated per voxel
 // there, as octomap's insertPointCloud with discretize=true.
+//
+// Each front-end classifies its endpoints against the regions with its own
+// function: classifyPoint (a cloud, a point at a time, in doubles) and
+// classifyRow (a depth row, in floats, vectorized). They agree on which
+// endpoints lie in a region; they record a ray that crosses a region and ends
+// beyond it differently. A cloud records its point's inside voxel, so the
+// crossing ray keeps the point's direction; a depth row records the voxel
+// where the ray leaves the farthest region it crosses, so that the thousands
+// of pixels behind a region share a few crossing rays, at the price of
+// directions rounded to that voxel's centre. The row's record is the faster,
+// not the more exact one, so clouds keep theirs.
 #pragma once
 
 #include <mrpt/math/CMatrixFixed.h>
@@ -22,6 +33,7 @@
 #include "avm/io/PixelRect.h"
 #include "KeySet.h"
 #include "ResolutionPolicy.h"
+#include "RowKernels.h"
 #include "SurfaceSketch.h"
 
 namespace avm::detail
@@ -166,6 +178,14 @@ class EndpointProjector
 		std::vector<double> points;
 	};
 	void scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band) const;
+	/** The depth row's classification (row kernels classifyAgainstBox and
+	 *  insideRowKeys) over the columns [from, to) of row v that the regions'
+	 *  rectangles cover: a pixel's inside key is its point's when that lies in
+	 *  a region, else that of the voxel where its ray leaves the farthest
+	 *  region it crosses, else none; a point in a region is no outside
+	 *  endpoint (its outsideX becomes -1). */
+	void classifyRow(const RowSetup& rs, const rows::RowRays& rays, int v, int from, int to, PixelBand& band,
+		rows::RowKeys inside, int* outsideX) const;
 	/** Sets band.freeOnly over the columns [from, to) of row v that it
 	 *  returns (empty: none): the pixels whose points lie in a free-only box. */
 	std::pair<int, int> markFreeOnlyPixels(const RowSetup& rs, int v, PixelBand& band) const;
@@ -175,7 +195,16 @@ class EndpointProjector
 	/** A point of a cloud (world frame): its endpoint voxel in the set it
 	 *  belongs to. */
 	void addPoint(double x, double y, double z);
-	bool insideAnyRegion(double x, double y, double z) const;
+	enum class PointPlace
+	{
+		Outside,
+		InRegion,
+		BeyondRegion
+	};
+	/** The cloud's classification: the point lies in a region
+	 *  (Region::contains, half-open as the voxels), beyond one that its ray
+	 *  crosses (clipToBox), or neither. */
+	PointPlace classifyPoint(const mrpt::math::TPoint3D& p) const;
 
 	const RegionBoxes* m_regions = nullptr;
 	bool m_hasRegions = false, m_hasSketch = false;

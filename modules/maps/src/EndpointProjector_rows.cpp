@@ -141,13 +141,33 @@ std::pair<int, int> EndpointProjector::markFreeOnlyPixels(const RowSetup& rs, in
 	return {from, to};
 }
 
+void EndpointProjector::classifyRow(const RowSetup& rs, const rows::RowRays& rays, int v, int from, int to,
+	PixelBand& band, rows::RowKeys inside, int* outsideX) const
+{
+	using namespace rows;
+	const std::size_t n = static_cast<std::size_t>(rs.cols);
+	const float* const depth = band.near.data();
+	float* const inRegion = band.near.data() + n;  // 1: the point lies in a region
+	float* const crossTo = inRegion + n;           // >= 0: depth where its ray leaves the farthest region it crosses
+	std::fill(inRegion + from, inRegion + to, 0.0f);
+	std::fill(crossTo + from, crossTo + to, -1.0f);
+	// Each region only over the columns its box projects to.
+	for (std::size_t r = 0; r < rs.regions->size(); r++)
+	{
+		const auto& rect = m_regionRects[r];
+		if (v < rect.v0 || v > rect.v1) continue;
+		const int boxFrom = std::max(from, rect.u0), boxTo = std::min(to, rect.u1 + 1);
+		if (boxFrom < boxTo) classifyAgainstBox(rays, depth, (*rs.regions)[r].box, boxFrom, boxTo, inRegion, crossTo);
+	}
+	insideRowKeys(rays, depth, inRegion, crossTo, static_cast<float>(m_insideGrid.inverse), from, to, inside, outsideX);
+}
+
 void EndpointProjector::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band) const
 {
 	using namespace rows;
 	const int cols = rs.cols;
 	const auto& R = rs.R;
 	const float outsideInverse = static_cast<float>(m_outsideGrid.inverse);
-	const float insideInverse = static_cast<float>(m_insideGrid.inverse);
 	const float sketchInverse = static_cast<float>(m_sketchGrid.inverse);
 	const std::size_t n = static_cast<std::size_t>(cols);
 	// Two rows of outside, inside and sketch keys: this one and the one above,
@@ -164,8 +184,6 @@ void EndpointProjector::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& 
 		return RowKeys{base, base + n, base + 2 * n};
 	};
 	float* const depth = band.near.data();
-	float* const insideF = depth + n;    // 1: the point lies in a region
-	float* const crossTo = insideF + n;  // >= 0: depth where its ray leaves the farthest region it crosses
 	std::uint8_t* const flags = band.flags.data();
 	EndpointSets& ends = *band.ends;
 
@@ -191,17 +209,7 @@ void EndpointProjector::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& 
 		const auto [nearFrom, nearEnd] = columnsOnRow(m_regionRects, v, cols);
 		if (nearEnd > nearFrom)
 		{
-			std::fill(insideF + nearFrom, insideF + nearEnd, 0.0f);
-			std::fill(crossTo + nearFrom, crossTo + nearEnd, -1.0f);
-			// Each region only over the columns its box projects to.
-			for (std::size_t r = 0; r < rs.regions->size(); r++)
-			{
-				const auto& rect = m_regionRects[r];
-				if (v < rect.v0 || v > rect.v1) continue;
-				const int from = std::max(nearFrom, rect.u0), to = std::min(nearEnd, rect.u1 + 1);
-				if (from < to) classifyAgainstBox(rays, depth, (*rs.regions)[r].box, from, to, insideF, crossTo);
-			}
-			insideRowKeys(rays, depth, insideF, crossTo, insideInverse, nearFrom, nearEnd, inside, outside.x);
+			classifyRow(rs, rays, v, nearFrom, nearEnd, band, inside, outside.x);
 			if (std::max(nearFrom, freeFrom) < std::min(nearEnd, freeTo))
 				tagFreeOnly(
 					band.freeOnly.data(), true, std::max(nearFrom, freeFrom), std::min(nearEnd, freeTo), inside.x);

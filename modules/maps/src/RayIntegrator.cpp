@@ -213,7 +213,9 @@ void RayIntegrator::finish()
 			castRay(centreOf(k, m_outsideGrid.resolution), k, Endpoint::None, RayPart::OutsideRegions);
 		for (const auto k : m_ends.crossing.keys())
 		{
-			// Through the exit voxel: one inside voxel beyond its centre.
+			// Through the crossing voxel (a depth row's: where the ray leaves
+			// the region; a cloud's: the point's own, EndpointProjector.h says
+			// why) and one inside voxel beyond its centre.
 			const auto c = centreOf(k, m_insideGrid.resolution);
 			const auto dir = c - m_origin;
 			const double n = dir.norm();
