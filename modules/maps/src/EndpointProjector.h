@@ -6,14 +6,16 @@
 //
 // Each front-end classifies its endpoints against the regions with its own
 // function: classifyPoint (a cloud, a point at a time, in doubles) and
-// classifyRow (a depth row, in floats, vectorized). They agree on which
-// endpoints lie in a region; they record a ray that crosses a region and ends
-// beyond it differently. A cloud records its point's inside voxel, so the
-// crossing ray keeps the point's direction; a depth row records the voxel
-// where the ray leaves the farthest region it crosses, so that the thousands
-// of pixels behind a region share a few crossing rays, at the price of
-// directions rounded to that voxel's centre. The row's record is the faster,
-// not the more exact one, so clouds keep theirs.
+// classifyRow (a depth row, in floats, vectorized). Both put an endpoint in a
+// region when it lies in a box (the row along its ray in floats, so a point
+// within rounding of a face may fall the other way), but they record a ray
+// that crosses a region and ends beyond it differently. A cloud records its
+// point's inside voxel, so the crossing ray keeps the point's direction; a
+// depth row records the voxel where the ray leaves the farthest region it
+// crosses, so that the thousands of pixels behind a region share a few
+// crossing rays, at the price of directions rounded to that voxel's centre.
+// The row's record is the faster, not the more exact one, so clouds keep
+// theirs.
 #pragma once
 
 #include <mrpt/math/CMatrixFixed.h>
