@@ -47,7 +47,7 @@ void RayIntegrator::forgetSketchSeenThrough(const mrpt::obs::CObservation3DRange
 	std::vector<mrpt::math::TPoint3D> offsets(ratio * ratio * ratio);
 	for (unsigned bit = 0; bit < offsets.size(); ++bit)
 	{
-		const unsigned o[3] = {bit / (ratio * ratio), (bit / ratio) % ratio, bit % ratio};
+		const auto o = m_targets.sketch->offsetOfBit(bit);
 		double w[3];
 		for (int i = 0; i < 3; ++i) w[i] = (o[i] + 0.5) * highEdge - 0.5 * highEdge * ratio;
 		offsets[bit] = {R(0, 0) * w[0] + R(1, 0) * w[1] + R(2, 0) * w[2],
