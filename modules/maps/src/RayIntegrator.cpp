@@ -2,13 +2,9 @@
 
 #include "OverlapFilter.h"
 #include "avm/io/DepthCamera.h"
-#include "RowKernels.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
-#include <cstring>
-#include <thread>
 #include <limits>
 
 namespace avm::detail
@@ -70,38 +66,7 @@ bool forEachRayKey(
 		visit(current);
 	}
 }
-
-/** Parameter interval [t0, t1] within [0, 1] where o + t d lies in the box
- *  (slab method); false if none. */
-inline bool clipToBox(const mrpt::math::TPoint3D& o, const mrpt::math::TPoint3D& d, const mrpt::math::TBoundingBox& b,
-	double& t0, double& t1)
-{
-	t0 = 0;
-	t1 = 1;
-	for (int i = 0; i < 3; i++)
-	{
-		if (std::abs(d[i]) < 1e-12)
-		{
-			if (o[i] < b.min[i] || o[i] >= b.max[i]) return false;
-			continue;
-		}
-		const double inv = 1.0 / d[i];
-		double ta = (b.min[i] - o[i]) * inv, tb = (b.max[i] - o[i]) * inv;
-		if (ta > tb) std::swap(ta, tb);
-		t0 = std::max(t0, ta);
-		t1 = std::min(t1, tb);
-		if (t0 >= t1) return false;
-	}
-	return true;
-}
 }  // namespace
-
-bool RayIntegrator::insideAnyRegion(double x, double y, double z) const
-{
-	for (const auto& r : m_targets.regions->boxes)
-		if (r.contains(x, y, z)) return true;
-	return false;
-}
 
 void RayIntegrator::begin(const mrpt::math::TPoint3D& origin, const ScanTargets& targets)
 {
@@ -111,7 +76,7 @@ void RayIntegrator::begin(const mrpt::math::TPoint3D& origin, const ScanTargets&
 	m_hasRegions = targets.regions && !targets.regions->empty() && targets.inside;
 	if (m_hasRegions) m_insideGrid.set(targets.inside->getResolution());
 	if (targets.sketch) m_sketchGrid.set(targets.sketchResolution);
-	m_ends.clear();
+	m_projector.begin(origin, targets, m_ends);
 	m_outsideFree.clear();
 	m_outsideOccupied.clear();
 	if (m_hasRegions)
@@ -124,43 +89,6 @@ void RayIntegrator::begin(const mrpt::math::TPoint3D& origin, const ScanTargets&
 		m_insideFree.reset(lo, hi);
 		m_insideOccupied.reset(lo, hi);
 	}
-	m_lastOutsideKey = m_lastInsideKey = m_lastCrossingKey = 0;
-}
-
-inline void RayIntegrator::addPoint(double x, double y, double z)
-{
-	if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) return;
-	std::uint64_t key;
-	if (m_hasRegions)
-	{
-		if (insideAnyRegion(x, y, z))
-		{
-			if (packedKeyOf(x, y, z, m_insideGrid.inverse, key) && key != m_lastInsideKey)
-			{
-				m_lastInsideKey = key;
-				m_ends.inside.insert(key);
-			}
-			return;
-		}
-		const mrpt::math::TPoint3D d(x - m_origin.x, y - m_origin.y, z - m_origin.z);
-		for (const auto& r : m_targets.regions->boxes)
-		{
-			double t0, t1;
-			if (!clipToBox(m_origin, d, r.box, t0, t1)) continue;
-			if (packedKeyOf(x, y, z, m_insideGrid.inverse, key) && key != m_lastCrossingKey)
-			{
-				m_lastCrossingKey = key;
-				m_ends.crossing.insert(key);
-			}
-			break;
-		}
-	}
-	if (m_targets.sketch && packedKeyOf(x, y, z, m_sketchGrid.inverse, key)) m_ends.sketch.insert(key);
-	if (!packedKeyOf(x, y, z, m_outsideGrid.inverse, key)) return;
-	// Neighbouring points mostly fall in the same outside voxel.
-	if (key == m_lastOutsideKey) return;
-	m_lastOutsideKey = key;
-	m_ends.outside.insert(key);
 }
 
 void RayIntegrator::castSegment(bool inside, double a, double b, bool extendStart, bool extendEnd, double length)
@@ -233,7 +161,7 @@ void RayIntegrator::castRay(const mrpt::math::TPoint3D& end, std::uint64_t endKe
 
 template <typename Set>
 void RayIntegrator::applyUpdates(
-	octomap::OcTree& tree, const Grid& grid, const Set& freeKeys, const Set& occupiedKeys, bool keepInsideRegions)
+	octomap::OcTree& tree, const KeyGrid& grid, const Set& freeKeys, const Set& occupiedKeys, bool keepInsideRegions)
 {
 	// A voxel belongs to exactly one tree: region space to the high tree,
 	// the rest to the low tree.
@@ -285,7 +213,9 @@ void RayIntegrator::finish()
 			castRay(centreOf(k, m_outsideGrid.resolution), k, Endpoint::None, RayPart::OutsideRegions);
 		for (const auto k : m_ends.crossing.keys())
 		{
-			// Through the exit voxel: one inside voxel beyond its centre.
+			// Through the crossing voxel (a depth row's: where the ray leaves
+			// the region; a cloud's: the point's own, EndpointProjector.h says
+			// why) and one inside voxel beyond its centre.
 			const auto c = centreOf(k, m_insideGrid.resolution);
 			const auto dir = c - m_origin;
 			const double n = dir.norm();
@@ -310,92 +240,13 @@ void RayIntegrator::finish()
 	if (m_hasRegions) applyUpdates(*m_targets.inside, m_insideGrid, m_insideFree, m_insideOccupied, true);
 }
 
-/** Scans rows [0, rows) in bands, one per thread: the first band feeds the
- *  scan's endpoint sets directly, the others their own, merged after the join. */
-void RayIntegrator::scanBands(const RowSetup& rs, int rows)
-{
-	m_bands.resize(m_threads);
-	for (std::size_t i = 0; i < m_bands.size(); i++)
-	{
-		auto& band = m_bands[i];
-		band.ends = i == 0 ? &m_ends : &band.own;
-		band.ends->clear();
-	}
-	if (m_bands.size() == 1)
-		scanRows(rs, 0, rows, m_bands[0]);
-	else
-	{
-		std::vector<std::thread> helpers;
-		const int per = (rows + static_cast<int>(m_bands.size()) - 1) / static_cast<int>(m_bands.size());
-		for (std::size_t i = 1; i < m_bands.size(); i++)
-			helpers.emplace_back(
-				[&, i] {
-					scanRows(rs, static_cast<int>(i) * per, std::min(rows, static_cast<int>(i + 1) * per), m_bands[i]);
-				});
-		scanRows(rs, 0, std::min(rows, per), m_bands[0]);
-		for (auto& h : helpers) h.join();
-		for (std::size_t i = 1; i < m_bands.size(); i++) m_ends.merge(m_bands[i].own);
-	}
-}
-
 void RayIntegrator::integrateDepthImage(const mrpt::obs::CObservation3DRangeScan& obs,
 	const mrpt::poses::CPose3D& sensorPose, const ScanTargets& targets,
 	const std::vector<mrpt::math::TBoundingBox>& freeOnlyBoxes)
 {
 	begin(sensorPose.translation(), targets);
-	const auto& img = obs.rangeImage;
-	const int rows = static_cast<int>(img.rows()), cols = static_cast<int>(img.cols());
 	const auto camera = io::DepthCamera::of(obs);
-	const double fx = camera.fx, fy = camera.fy, cx = camera.cx, cy = camera.cy, units = obs.rangeUnits;
-	const auto R = sensorPose.getRotationMatrix();
-
-	m_regionRects.clear();
-	if (m_hasRegions)
-		for (const auto& r : targets.regions->boxes)
-			m_regionRects.push_back(io::pixelRectOf(r.box, sensorPose, camera));
-	m_freeOnlyBoxes.clear();
-	m_freeOnlyRects.clear();
-	for (const auto& box : freeOnlyBoxes)
-		if (const auto rect = io::pixelRectOf(box, sensorPose, camera); !rect.empty())
-		{
-			m_freeOnlyBoxes.push_back(box);
-			m_freeOnlyRects.push_back(rect);
-		}
-
-	// DepthCamera::unproject, factored for the row passes: pixel (u, v) with
-	// depth d is d * (1, (cx - u)/fx, (cy - v)/fy) in the sensor frame, so
-	// world = t + d * (R0 + a_u R1 + b_v R2).
-	m_columnFactor.resize(cols);
-	m_columnFactorDouble.resize(cols);
-	for (int u = 0; u < cols; u++)
-	{
-		m_columnFactorDouble[u] = (cx - u) / fx;
-		m_columnFactor[u] = static_cast<float>(m_columnFactorDouble[u]);
-	}
-	// Range (not depth) images: the per-pixel factor from range to depth.
-	m_rangeToDepth.clear();
-	if (!obs.range_is_depth)
-		for (int v = 0; v < rows; v++)
-			for (int u = 0; u < cols; u++)
-			{
-				const double a = (cx - u) / fx, b = (cy - v) / fy;
-				m_rangeToDepth.push_back(static_cast<float>(1.0 / std::sqrt(1 + a * a + b * b)));
-			}
-	RowSetup rs;
-	rs.image = &img;
-	rs.cols = cols;
-	rs.cy = cy;
-	rs.fy = fy;
-	rs.R = R;
-	rs.unitsF = static_cast<float>(units);
-	rs.colFactor = m_columnFactor.data();
-	rs.rangeToDepth = m_rangeToDepth.empty() ? nullptr : m_rangeToDepth.data();
-	rs.regions = m_hasRegions ? &targets.regions->boxes : nullptr;
-	rs.colFactorDouble = m_columnFactorDouble.data();
-	rs.rangeIsDepth = obs.range_is_depth;
-	rs.freeOnlyBoxes = &m_freeOnlyBoxes;
-
-	scanBands(rs, rows);
+	m_projector.addDepthImage(obs, sensorPose, camera, freeOnlyBoxes);
 	if (m_targets.sketch) forgetSketchSeenThrough(obs, sensorPose, camera);
 	finish();
 }
@@ -404,7 +255,7 @@ void RayIntegrator::integrateWorldPoints(const float* xs, const float* ys, const
 	const mrpt::math::TPoint3D& origin, const ScanTargets& targets)
 {
 	begin(origin, targets);
-	for (std::size_t i = 0; i < n; i++) addPoint(xs[i], ys[i], zs[i]);
+	m_projector.addWorldPoints(xs, ys, zs, n);
 	finish();
 }
 
@@ -412,11 +263,7 @@ void RayIntegrator::integrateSensorPoints(const float* xs, const float* ys, cons
 	const mrpt::poses::CPose3D& sensorPose, const ScanTargets& targets)
 {
 	begin(sensorPose.translation(), targets);
-	for (std::size_t i = 0; i < n; i++)
-	{
-		const auto w = sensorPose.composePoint(mrpt::math::TPoint3D(xs[i], ys[i], zs[i]));
-		addPoint(w.x, w.y, w.z);
-	}
+	m_projector.addSensorPoints(xs, ys, zs, n, sensorPose);
 	finish();
 }
 }  // namespace avm::detail

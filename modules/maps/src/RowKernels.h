@@ -1,7 +1,7 @@
 // The per-row passes of the depth-image keying: small plain loops the
 // compiler vectorizes. They are built twice, for AVX2 and for any x86-64, and
 // the loader picks one (GCC target_clones); AVX2 without FMA gives the same
-// floats, so the same map, on every machine. RayIntegrator::scanRows chains
+// floats, so the same map, on every machine. EndpointProjector::scanRows chains
 // them row by row.
 #pragma once
 

@@ -11,15 +11,13 @@ std::uint64_t SurfaceSketch::lowKeyOf(std::uint64_t highKey) const { return coar
 unsigned SurfaceSketch::bitOf(std::uint64_t highKey) const
 {
 	const auto h = unpackKey(highKey);
-	unsigned bit = 0;
-	for (int i = 0; i < 3; i++) bit = bit * m_ratio + placeInCoarser(h[i], m_ratio);
-	return bit;
+	return bitAtOffset({placeInCoarser(h[0], m_ratio), placeInCoarser(h[1], m_ratio), placeInCoarser(h[2], m_ratio)});
 }
 
 std::uint64_t SurfaceSketch::highKeyOf(std::uint64_t lowKey, unsigned bit) const
 {
 	const auto l = unpackKey(lowKey);
-	const unsigned offset[3] = {bit / (m_ratio * m_ratio), (bit / m_ratio) % m_ratio, bit % m_ratio};
+	const auto offset = offsetOfBit(bit);
 	octomap::OcTreeKey h;
 	for (int i = 0; i < 3; i++) h[i] = static_cast<octomap::key_type>(firstFinerKey(l[i], m_ratio) + offset[i]);
 	return packKey(h);

@@ -13,6 +13,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <algorithm>
+#include <array>
 #include <optional>
 #include <vector>
 
@@ -32,10 +33,9 @@ class SurfaceSketch
 	void markHighVoxel(std::uint64_t highKey);
 	/** The low voxel was seen, with no surface in it that the sketch keeps. */
 	void markLowVoxel(std::uint64_t lowKey) { entryOf(lowKey); }
-	/** The low voxel's bits (bit (x * ratio + y) * ratio + z for the high
-	 *  voxel at offset x, y, z), forgotten by the sketch; nothing when the
-	 *  sketch never saw the low voxel (no bits: the surfaces it saw have
-	 *  all been seen through since). */
+	/** The low voxel's bits (in bitAtOffset's order), forgotten by the
+	 *  sketch; nothing when the sketch never saw the low voxel (no bits: the
+	 *  surfaces it saw have all been seen through since). */
 	std::optional<std::uint64_t> take(std::uint64_t lowKey);
 	/** Replaces the low voxel's bits (0 forgets it). */
 	void set(std::uint64_t lowKey, std::uint64_t bits);
@@ -44,6 +44,17 @@ class SurfaceSketch
 	std::uint64_t lowKeyOf(std::uint64_t highKey) const;
 	std::uint64_t highKeyOf(std::uint64_t lowKey, unsigned bit) const;
 	unsigned bitOf(std::uint64_t highKey) const;
+	/** The bit order: the bit of the high voxel at offset (x, y, z) in its
+	 *  low voxel (each 0 .. ratio - 1) is (x * ratio + y) * ratio + z;
+	 *  offsetOfBit is its inverse. */
+	unsigned bitAtOffset(const std::array<unsigned, 3>& offset) const
+	{
+		return (offset[0] * m_ratio + offset[1]) * m_ratio + offset[2];
+	}
+	std::array<unsigned, 3> offsetOfBit(unsigned bit) const
+	{
+		return {bit / (m_ratio * m_ratio), (bit / m_ratio) % m_ratio, bit % m_ratio};
+	}
 
 	/** Replaces each low voxel's bits by `update(lowKey, bits)`. A low voxel
 	 *  left with no bits is kept: its surface has gone, which is not the same

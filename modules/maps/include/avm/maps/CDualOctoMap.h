@@ -9,8 +9,9 @@
 // which tree (Algorithm 1 and the regions; when a region ends is the layer
 // above's call),
 // src/RegionSpace.cpp refines space that enters a region and coarsens space
-// that leaves one, src/RayIntegrator.cpp turns a
-// scan into per-tree free/occupied key sets (the hot path, and Algorithm 2),
+// that leaves one, src/EndpointProjector.cpp turns a scan into endpoint
+// records and src/RayIntegrator.cpp those into per-tree free/occupied key
+// sets (the hot path, and Algorithm 2),
 // src/BatchUpdate.cpp applies them to a tree in one sweep,
 // src/CDualOctoMap_{options,query,likelihood,io,render}.cpp the rest
 // (doc/map.md has the full map of files).

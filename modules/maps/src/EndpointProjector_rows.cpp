@@ -1,12 +1,13 @@
-// The depth image's row passes: each row's endpoint keys (RowKernels), and
-// the surface sketch forgetting what the image saw through. RayIntegrator.cpp joins them into one scan.
-#include "RayIntegrator.h"
-
-#include "RowKernels.h"
-#include "avm/io/DepthCamera.h"
+// A depth image's endpoint records, row by row: each row's keys from the row
+// kernels (RowKernels), classified against the regions and the free-only
+// boxes, in bands of rows on threads whose records are merged after.
+#include "EndpointProjector.h"
 
 #include <algorithm>
 #include <cmath>
+#include <thread>
+
+#include "RowKernels.h"
 
 namespace avm::detail
 {
@@ -27,75 +28,92 @@ std::pair<int, int> columnsOnRow(const std::vector<io::PixelRect>& rects, int v,
 }
 }  // namespace
 
-void RayIntegrator::forgetSketchSeenThrough(const mrpt::obs::CObservation3DRangeScan& obs,
-	const mrpt::poses::CPose3D& sensorPose, const io::DepthCamera& camera)
+void EndpointProjector::addDepthImage(const mrpt::obs::CObservation3DRangeScan& obs,
+	const mrpt::poses::CPose3D& sensorPose, const io::DepthCamera& camera,
+	const std::vector<mrpt::math::TBoundingBox>& freeOnlyBoxes)
 {
-	// A single high-resolution map frees the voxels its rays cross, so a person who walked
-	// through leaves nothing there once the wall behind is seen again. The low
-	// tree's rays are too coarse to say which high voxels they crossed; the
-	// depth image says it for the few the sketch holds: a voxel whose pixel
-	// sees a surface more than a voxel beyond it has been seen through. The
-	// endpoints of this image are marked after (finish()), so a surface seen
-	// again stays.
-	const double highEdge = m_sketchGrid.resolution;
-	const double lowHalfDiagonal = 0.5 * std::sqrt(3.0) * highEdge * m_targets.sketch->ratio();
-	const double maxRange = m_targets.outsideMaxRange;
 	const auto& img = obs.rangeImage;
-	const auto units = obs.rangeUnits;
-	// The image's four side planes, through the sensor, normals inwards: a low
-	// voxel wholly outside one of them has no high voxel that projects into
-	// the image, and most of the sketch lies there.
-	const double W = camera.width, H = camera.height;
-	std::array<mrpt::math::TPoint3D, 4> sides{mrpt::math::TPoint3D(camera.cx, -camera.fx, 0),
-		mrpt::math::TPoint3D(W - camera.cx, camera.fx, 0), mrpt::math::TPoint3D(camera.cy, 0, -camera.fy),
-		mrpt::math::TPoint3D(H - camera.cy, 0, camera.fy)};
-	for (auto& n : sides) n *= 1.0 / n.norm();
-	const double outsideBy = lowHalfDiagonal + 1e-6;
-	const auto outsideTheImage = [&](const mrpt::math::TPoint3D& c)
-	{
-		return std::any_of(
-			sides.begin(), sides.end(), [&](const auto& n) { return n.x * c.x + n.y * c.y + n.z * c.z < -outsideBy; });
-	};
-	// A high voxel's centre is its low voxel's plus a fixed offset per bit:
-	// the offsets turned into the sensor frame once per image.
-	const unsigned ratio = m_targets.sketch->ratio();
-	const auto& R = sensorPose.getRotationMatrix();
-	std::vector<mrpt::math::TPoint3D> offsets(ratio * ratio * ratio);
-	for (unsigned bit = 0; bit < offsets.size(); ++bit)
-	{
-		const unsigned o[3] = {bit / (ratio * ratio), (bit / ratio) % ratio, bit % ratio};
-		double w[3];
-		for (int i = 0; i < 3; ++i) w[i] = (o[i] + 0.5) * highEdge - 0.5 * highEdge * ratio;
-		offsets[bit] = {R(0, 0) * w[0] + R(1, 0) * w[1] + R(2, 0) * w[2],
-			R(0, 1) * w[0] + R(1, 1) * w[1] + R(2, 1) * w[2], R(0, 2) * w[0] + R(1, 2) * w[1] + R(2, 2) * w[2]};
-	}
-	m_targets.sketch->updateBits(
-		[&](std::uint64_t lowKey, std::uint64_t bits)
+	const int rows = static_cast<int>(img.rows()), cols = static_cast<int>(img.cols());
+	const double fx = camera.fx, fy = camera.fy, cx = camera.cx, cy = camera.cy, units = obs.rangeUnits;
+	const auto R = sensorPose.getRotationMatrix();
+
+	m_regionRects.clear();
+	if (m_hasRegions)
+		for (const auto& r : m_regions->boxes) m_regionRects.push_back(io::pixelRectOf(r.box, sensorPose, camera));
+	m_freeOnlyBoxes.clear();
+	m_freeOnlyRects.clear();
+	for (const auto& box : freeOnlyBoxes)
+		if (const auto rect = io::pixelRectOf(box, sensorPose, camera); !rect.empty())
 		{
-			if (bits == 0) return bits;
-			const auto lowCentre = sensorPose.inverseComposePoint(centreOf(lowKey, highEdge * ratio));
-			if (lowCentre.x <= -lowHalfDiagonal || lowCentre.norm() > maxRange + lowHalfDiagonal) return bits;
-			if (outsideTheImage(lowCentre)) return bits;
-			for (std::uint64_t rest = bits; rest != 0; rest &= rest - 1)
+			m_freeOnlyBoxes.push_back(box);
+			m_freeOnlyRects.push_back(rect);
+		}
+
+	// DepthCamera::unproject, factored for the row passes: pixel (u, v) with
+	// depth d is d * (1, (cx - u)/fx, (cy - v)/fy) in the sensor frame, so
+	// world = t + d * (R0 + a_u R1 + b_v R2).
+	m_columnFactor.resize(cols);
+	m_columnFactorDouble.resize(cols);
+	for (int u = 0; u < cols; u++)
+	{
+		m_columnFactorDouble[u] = (cx - u) / fx;
+		m_columnFactor[u] = static_cast<float>(m_columnFactorDouble[u]);
+	}
+	// Range (not depth) images: the per-pixel factor from range to depth.
+	m_rangeToDepth.clear();
+	if (!obs.range_is_depth)
+		for (int v = 0; v < rows; v++)
+			for (int u = 0; u < cols; u++)
 			{
-				const auto bit = static_cast<unsigned>(__builtin_ctzll(rest));
-				const auto p = lowCentre + offsets[bit];
-				const double distance = p.norm();
-				if (distance > maxRange) continue;
-				const auto pixel = camera.project(p);
-				if (!pixel) continue;
-				const auto u = static_cast<int>(std::lround(pixel->x)), v = static_cast<int>(std::lround(pixel->y));
-				if (u >= camera.width || v >= camera.height) continue;
-				const std::uint16_t raw = img(v, u);
-				if (raw == 0) continue;
-				const double measured = raw * units, along = camera.rangeIsDepth ? p.x : distance;
-				if (measured > along + highEdge) bits &= ~(std::uint64_t(1) << bit);
+				const double a = (cx - u) / fx, b = (cy - v) / fy;
+				m_rangeToDepth.push_back(static_cast<float>(1.0 / std::sqrt(1 + a * a + b * b)));
 			}
-			return bits;
-		});
+	RowSetup rs;
+	rs.image = &img;
+	rs.cols = cols;
+	rs.cy = cy;
+	rs.fy = fy;
+	rs.R = R;
+	rs.unitsF = static_cast<float>(units);
+	rs.colFactor = m_columnFactor.data();
+	rs.rangeToDepth = m_rangeToDepth.empty() ? nullptr : m_rangeToDepth.data();
+	rs.regions = m_hasRegions ? &m_regions->boxes : nullptr;
+	rs.colFactorDouble = m_columnFactorDouble.data();
+	rs.rangeIsDepth = obs.range_is_depth;
+	rs.freeOnlyBoxes = &m_freeOnlyBoxes;
+
+	scanBands(rs, rows);
 }
 
-std::pair<int, int> RayIntegrator::markFreeOnlyPixels(const RowSetup& rs, int v, PixelBand& band) const
+/** Scans rows [0, rows) in bands, one per thread: the first band feeds the
+ *  scan's endpoint sets directly, the others their own, merged after the join. */
+void EndpointProjector::scanBands(const RowSetup& rs, int rows)
+{
+	m_bands.resize(m_threads);
+	for (std::size_t i = 0; i < m_bands.size(); i++)
+	{
+		auto& band = m_bands[i];
+		band.ends = i == 0 ? m_ends : &band.own;
+		band.ends->clear();
+	}
+	if (m_bands.size() == 1)
+		scanRows(rs, 0, rows, m_bands[0]);
+	else
+	{
+		std::vector<std::thread> helpers;
+		const int per = (rows + static_cast<int>(m_bands.size()) - 1) / static_cast<int>(m_bands.size());
+		for (std::size_t i = 1; i < m_bands.size(); i++)
+			helpers.emplace_back(
+				[&, i] {
+					scanRows(rs, static_cast<int>(i) * per, std::min(rows, static_cast<int>(i + 1) * per), m_bands[i]);
+				});
+		scanRows(rs, 0, std::min(rows, per), m_bands[0]);
+		for (auto& h : helpers) h.join();
+		for (std::size_t i = 1; i < m_bands.size(); i++) m_ends->merge(m_bands[i].own);
+	}
+}
+
+std::pair<int, int> EndpointProjector::markFreeOnlyPixels(const RowSetup& rs, int v, PixelBand& band) const
 {
 	using namespace rows;
 	// A pixel with depth, in the rectangle of a free-only box in view, whose
@@ -123,13 +141,33 @@ std::pair<int, int> RayIntegrator::markFreeOnlyPixels(const RowSetup& rs, int v,
 	return {from, to};
 }
 
-void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band) const
+void EndpointProjector::classifyRow(const RowSetup& rs, const rows::RowRays& rays, int v, int from, int to,
+	PixelBand& band, rows::RowKeys inside, int* outsideX) const
+{
+	using namespace rows;
+	const std::size_t n = static_cast<std::size_t>(rs.cols);
+	const float* const depth = band.near.data();
+	float* const inRegion = band.near.data() + n;  // 1: the point lies in a region
+	float* const crossTo = inRegion + n;           // >= 0: depth where its ray leaves the farthest region it crosses
+	std::fill(inRegion + from, inRegion + to, 0.0f);
+	std::fill(crossTo + from, crossTo + to, -1.0f);
+	// Each region only over the columns its box projects to.
+	for (std::size_t r = 0; r < rs.regions->size(); r++)
+	{
+		const auto& rect = m_regionRects[r];
+		if (v < rect.v0 || v > rect.v1) continue;
+		const int boxFrom = std::max(from, rect.u0), boxTo = std::min(to, rect.u1 + 1);
+		if (boxFrom < boxTo) classifyAgainstBox(rays, depth, (*rs.regions)[r].box, boxFrom, boxTo, inRegion, crossTo);
+	}
+	insideRowKeys(rays, depth, inRegion, crossTo, static_cast<float>(m_insideGrid.inverse), from, to, inside, outsideX);
+}
+
+void EndpointProjector::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band) const
 {
 	using namespace rows;
 	const int cols = rs.cols;
 	const auto& R = rs.R;
 	const float outsideInverse = static_cast<float>(m_outsideGrid.inverse);
-	const float insideInverse = static_cast<float>(m_insideGrid.inverse);
 	const float sketchInverse = static_cast<float>(m_sketchGrid.inverse);
 	const std::size_t n = static_cast<std::size_t>(cols);
 	// Two rows of outside, inside and sketch keys: this one and the one above,
@@ -146,8 +184,6 @@ void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band
 		return RowKeys{base, base + n, base + 2 * n};
 	};
 	float* const depth = band.near.data();
-	float* const insideF = depth + n;    // 1: the point lies in a region
-	float* const crossTo = insideF + n;  // >= 0: depth where its ray leaves the farthest region it crosses
 	std::uint8_t* const flags = band.flags.data();
 	EndpointSets& ends = *band.ends;
 
@@ -173,17 +209,7 @@ void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band
 		const auto [nearFrom, nearEnd] = columnsOnRow(m_regionRects, v, cols);
 		if (nearEnd > nearFrom)
 		{
-			std::fill(insideF + nearFrom, insideF + nearEnd, 0.0f);
-			std::fill(crossTo + nearFrom, crossTo + nearEnd, -1.0f);
-			// Each region only over the columns its box projects to.
-			for (std::size_t r = 0; r < rs.regions->size(); r++)
-			{
-				const auto& rect = m_regionRects[r];
-				if (v < rect.v0 || v > rect.v1) continue;
-				const int from = std::max(nearFrom, rect.u0), to = std::min(nearEnd, rect.u1 + 1);
-				if (from < to) classifyAgainstBox(rays, depth, (*rs.regions)[r].box, from, to, insideF, crossTo);
-			}
-			insideRowKeys(rays, depth, insideF, crossTo, insideInverse, nearFrom, nearEnd, inside, outside.x);
+			classifyRow(rs, rays, v, nearFrom, nearEnd, band, inside, outside.x);
 			if (std::max(nearFrom, freeFrom) < std::min(nearEnd, freeTo))
 				tagFreeOnly(
 					band.freeOnly.data(), true, std::max(nearFrom, freeFrom), std::min(nearEnd, freeTo), inside.x);
@@ -207,7 +233,7 @@ void RayIntegrator::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& band
 				if (const auto key = packedOrNone(untagged(tagged), outside.y[u], outside.z[u]))
 					(hasFreeOnlyTag(tagged) ? ends.freeOnlyOutside : ends.outside).insert(key);
 			});
-		if (m_targets.sketch)
+		if (m_hasSketch)
 		{
 			// The high voxels of the surface points in low-tree space (no
 			// surface outside key: no depth, inside a region, or free-only).
