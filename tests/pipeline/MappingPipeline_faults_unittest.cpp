@@ -140,8 +140,14 @@ TEST(MappingPipelineFaults, InterruptStopsAndSavesWhatWasMapped)
 {
 	const auto out = test::scratchDir("map-interrupt") / "out";
 	const pid_t pid = startMap(out, 300);
-	// Interrupt once the first frames are mapped (the run takes several seconds).
-	std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+	// The run writes its first checkpoint once its signal handler is installed:
+	// a fixed wait sent SIGINT before that on a loaded machine, killing the
+	// program instead of stopping it. Then let some frames be mapped.
+	const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+	while (!fs::exists(out / "checkpoint.bin") && std::chrono::steady_clock::now() < deadline)
+		std::this_thread::sleep_for(std::chrono::milliseconds(20));
+	ASSERT_TRUE(fs::exists(out / "checkpoint.bin")) << "the run wrote no checkpoint in 120 s";
+	std::this_thread::sleep_for(std::chrono::milliseconds(500));
 	kill(pid, SIGINT);
 	const int status = waitFor(pid);
 	ASSERT_TRUE(WIFEXITED(status));
