@@ -314,9 +314,25 @@ TEST(VisualOdometryBonn, WithPeopleLeftUnmaskedLoopsCorrectTheDrift)
 			  << closed.loopSummary();
 	EXPECT_GE(loopsClosed, 1);
 	EXPECT_LT(closedAte, 0.6 * openAte);
-	// Relative to the old keyframe, every loop is nearer the ground truth than the drifted track, or close to it.
+	// Relative to the old keyframe, a loop that moved the poses is nearer the
+	// ground truth than the drifted track, and the loops are on average; one
+	// loop alone may be off by its own error (the loop check's premise).
+	std::vector<bool> movedThePoses;
+	for (const auto& f : closed.frames)
+		if (f.estimate.loop) movedThePoses.push_back(f.estimate.loopClosed);
 	ASSERT_FALSE(loops.empty());
-	for (const auto& l : loops) EXPECT_LT(l.measured.metres, std::max(l.tracked.metres, 0.05));
+	ASSERT_EQ(loops.size(), movedThePoses.size()) << "every frame of the sequence has its ground truth";
+	double measured = 0, tracked = 0;
+	for (std::size_t i = 0; i < loops.size(); ++i)
+	{
+		if (movedThePoses[i])
+		{
+			EXPECT_LT(loops[i].measured.metres, loops[i].tracked.metres) << "closed loop " << i;
+		}
+		measured += loops[i].measured.metres;
+		tracked += loops[i].tracked.metres;
+	}
+	EXPECT_LT(measured, tracked);
 }
 
 TEST(VisualOdometryBonn, TrajectoryIsTheOpticalFrameOfTheGroundTruth)

@@ -1,10 +1,13 @@
 // Place recognition of the keyframe map (the bag of binary words and the
 // geometric check a relocalisation makes) on real frames: the Bonn frames
-// find their own keyframes, a frame of another scene is refused.
+// find their own keyframes, a frame of another scene is refused; and a loop
+// to an old place is judged against the trajectory's poses.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <map>
+#include <regex>
+#include <string>
 
 #include "TestData.h"
 #include "avm/io/RawlogFrameReader.h"
@@ -108,4 +111,34 @@ TEST(VisualOdometryPlaces, CarriedToAnotherSceneAndBackRelocalisesInTheOldMap)
 			  << (back.pose - lastPose).translation().norm() << " m from frame " << f->index - 1 << "\n";
 	EXPECT_LT((back.pose - lastPose).translation().norm(), 0.03);
 	EXPECT_TRUE(vo.process(*reader.next()->observation).tracked);
+}
+
+TEST(VisualOdometryPlaces, ALoopThatMeasuresWhatTheTrajectoryHasShowsNoDrift)
+{
+	// With keyframe_tracked_pose the trajectory keeps the tracked pose of the
+	// frame that makes a keyframe and the keyframe map the window bundle
+	// adjustment's, centimetres apart; a loop measures the frame, so the
+	// check sets it against the trajectory: a loop that says exactly what
+	// the trajectory has is no drift at all, whatever the adjustment did.
+	odometry::TOdometryOptions options;
+	options.keyframe_tracked_pose = true;
+	odometry::VisualOdometry vo(options);
+	const std::regex shiftSaid(R"(([0-9.]+) m from the track)");
+	std::size_t offered = 0;
+	io::RawlogFrameReader reader(test::bonnRawlog());
+	while (auto f = reader.next())
+	{
+		const auto e = vo.process(*f->observation);
+		ASSERT_TRUE(e.tracked) << f->index << ": " << e.status;
+		// Past the vocabulary's first keyframes, at five keyframes.
+		if (f->index < 60 || !e.keyframe) continue;
+		const auto poses = vo.trajectory();
+		const auto outcome = vo.offerLoop(0, poses.back() - poses.front());
+		std::smatch said;
+		ASSERT_TRUE(std::regex_search(outcome.said, said, shiftSaid)) << outcome.said;
+		EXPECT_LT(std::stod(said[1]), 0.0005) << "frame " << f->index << ": " << outcome.said;
+		EXPECT_FALSE(outcome.closed) << "frame " << f->index << ": " << outcome.said;
+		if (++offered == 5) break;
+	}
+	EXPECT_EQ(offered, 5u);
 }

@@ -129,10 +129,13 @@ struct VisualOdometry::Impl
 	VisualOdometry::LoopOutcome offerLoop(std::size_t oldFrame, const mrpt::poses::CPose3D& measured);
 	/** The index in `frames` of the frame that made keyframe `keyframe`; frames.size() when none did. */
 	std::size_t frameThatMade(int keyframe) const;
-	/** Moves the map keyframes to `poses` (T_cw by id), the local map rigidly
-	 *  with the current frame to `newestPose`, and every frame with its
-	 *  keyframe. */
-	void moveTo(const std::map<int, Eigen::Isometry3d>& poses, const Eigen::Isometry3d& newestPose);
+	/** The trajectory's pose of every map keyframe (KeyframePoses), the
+	 *  current frame's for a keyframe it made. */
+	KeyframePoses trackedPoses() const;
+	/** Moves every keyframe (the window's too) from its pose `from` to `to`,
+	 *  its keyframe map pose, landmarks and frames with it, and the current
+	 *  frame with the newest keyframe. */
+	void moveTo(const KeyframePoses& from, const KeyframePoses& to);
 	/** The newest keyframe's features that a loop matched observe the place's points from now on. */
 	void joinPlace(const LoopMeasurement& loop);
 	/** The `count` frames before the newest, bridged while the track was

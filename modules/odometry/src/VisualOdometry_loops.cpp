@@ -29,25 +29,27 @@ void VisualOdometry::Impl::closeLoop(const FrameFeatures& f, OdometryEstimate& e
 	e.loopClosed = outcome.closed;
 }
 
-VisualOdometry::LoopOutcome VisualOdometry::Impl::considerLoop(const LoopMeasurement& loop)
+VisualOdometry::LoopOutcome VisualOdometry::Impl::considerLoop(const LoopMeasurement& measured)
 {
 	const Keyframe& newest = window.back();
 	loops.erase(std::remove_if(loops.begin(), loops.end(),
 					[&](const PoseGraphEdge& l) { return !keyframeMap.find(l.from) || !keyframeMap.find(l.to); }),
 		loops.end());
-	const LoopJudgement judged = judgeLoop(loop, newest.id, loops, keyframeMap, options);
+	const KeyframePoses tracked = trackedPoses();
+	// The loop measured the camera against the place at the keyframe map's
+	// poses; the trajectory has the candidate elsewhere, and the camera
+	// relative to it is what the loop knows.
+	LoopMeasurement loop = measured;
+	loop.T_cw = measured.T_cw * keyframeMap.find(loop.candidate)->T_cw.inverse() * tracked.at(loop.candidate);
+	const LoopJudgement judged = judgeLoop(loop, newest.id, loops, tracked, options);
 	if (judged.verdict == LoopVerdict::Refused) return {false, "refused, " + judged.why};
-	loops.push_back(loopEdge(loop, newest.id, keyframeMap, options));
+	loops.push_back(loopEdge(loop, newest.id, tracked, options));
 	if (judged.verdict == LoopVerdict::Unconfirmed) return {false, "kept, not confirmed (" + judged.why + ")"};
 	if (judged.verdict == LoopVerdict::WithinOwnError)
 		return {false, "kept, within the loops' own error (" + judged.why + ")"};
-	const auto poses = closeLoops(keyframeMap, loops, options);
+	const auto poses = closeLoops(tracked, loops, options);
 	if (!poses) return {false, "kept, the pose graph found no solution"};
-	// The graph moved the place too; the loop measured the new keyframe
-	// against the place as it was.
-	const Eigen::Isometry3d T_candidate = keyframeMap.find(loop.candidate)->T_cw;
-	const Eigen::Isometry3d T_loop = loop.T_cw * (T_candidate.inverse() * poses->at(loop.candidate));
-	moveTo(*poses, T_loop);
+	moveTo(tracked, *poses);
 	joinPlace(loop);
 	return {true, "closed, poses corrected (" + judged.why + ")"};
 }
@@ -97,20 +99,42 @@ void VisualOdometry::Impl::joinPlace(const LoopMeasurement& loop)
 	forgetUnobservedLandmarks();
 }
 
-void VisualOdometry::Impl::moveTo(const std::map<int, Eigen::Isometry3d>& poses, const Eigen::Isometry3d& newestPose)
+KeyframePoses VisualOdometry::Impl::trackedPoses() const
+{
+	KeyframePoses poses;
+	// The frame that made a keyframe is the first tracked against it; the
+	// newest keyframe may be the current frame's, not in `frames` yet.
+	for (const auto& frame : frames)
+		if (keyframeMap.find(frame.keyframe)) poses.emplace(frame.keyframe, frame.T_cw);
+	for (const auto& [id, kf] : keyframeMap.keyframes())
+		if (!poses.count(id)) poses.emplace(id, id == window.back().id ? T_cw : kf.T_cw);
+	return poses;
+}
+
+void VisualOdometry::Impl::moveTo(const KeyframePoses& from, const KeyframePoses& to)
 {
 	// Each keyframe's correction D, T_cw(new) = T_cw(old) * D: a change of
-	// the world frame that a frame tracked against the keyframe shares.
+	// the world frame that a frame tracked against the keyframe shares, and
+	// the keyframe map's pose of the keyframe with it.
 	std::map<int, Eigen::Isometry3d> corrections;
-	for (const auto& [id, T] : poses) corrections[id] = keyframeMap.find(id)->T_cw.inverse() * T;
-	// The local map moves rigidly with the frame that closed the loop (its
-	// pose is where the next frames are tracked from), so that tracking goes
-	// on against landmarks and window poses that agree with each other.
-	const Eigen::Isometry3d D = T_cw.inverse() * newestPose;
-	for (const auto& kf : window) corrections[kf.id] = D;
-	const Eigen::Isometry3d Dinv = D.inverse();
-	for (auto& [id, lm] : landmarks) lm.position = Dinv * lm.position;
-	T_cw = T_cw * D;
+	for (const auto& [id, T] : to) corrections[id] = from.at(id).inverse() * T;
+	// The window's keyframes take the graph's poses like every other: the
+	// graph weighs the loop against the odometry, the loop alone is a single
+	// measurement. A landmark moves with the newest window keyframe that
+	// observes it, the current frame with the newest keyframe, so that
+	// tracking goes on against landmarks that agree with the poses they are
+	// seen from.
+	const Eigen::Isometry3d& newest = corrections.at(window.back().id);
+	std::map<int, const Eigen::Isometry3d*> landmarkCorrection;
+	for (const auto& kf : window)
+		for (const auto& o : kf.observations)
+			if (o.landmark >= 0) landmarkCorrection[o.landmark] = &corrections.at(kf.id);
+	for (auto& [id, lm] : landmarks)
+	{
+		const auto c = landmarkCorrection.find(id);
+		lm.position = (c == landmarkCorrection.end() ? newest : *c->second).inverse() * lm.position;
+	}
+	T_cw = T_cw * newest;
 	for (const auto& [id, c] : corrections) keyframeMap.updatePose(id, keyframeMap.find(id)->T_cw * c);
 	// A frame whose keyframe has left the map moves with the next one kept.
 	for (auto& frame : frames)

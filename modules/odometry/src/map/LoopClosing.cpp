@@ -101,14 +101,14 @@ double loopSigma(const LoopMeasurement& loop, const TOdometryOptions& options)
 }
 
 LoopJudgement judgeLoop(const LoopMeasurement& loop, int newestId, const std::vector<PoseGraphEdge>& loops,
-	const KeyframeMap& map, const TOdometryOptions& options)
+	const KeyframePoses& poses, const TOdometryOptions& options)
 {
 	// Chi-square with 3 degrees of freedom at 99 %: a camera centre's error
 	// over its per-axis standard deviation stays below this 99 times in 100.
 	static const double kChiSquare = chiSquare3Quantile(0.99);
 	const double sigma = loopSigma(loop, options);
 	const double loopVariance = sigma * sigma;
-	const Eigen::Vector3d shift = cameraCentre(loop.T_cw) - cameraCentre(map.find(newestId)->T_cw);
+	const Eigen::Vector3d shift = cameraCentre(loop.T_cw) - cameraCentre(poses.at(newestId));
 	const int keyframesApart = newestId - loop.candidate;
 	const double trackVariance = keyframesApart * options.odometry_sigma * options.odometry_sigma;
 	char why[200];
@@ -123,10 +123,10 @@ LoopJudgement judgeLoop(const LoopMeasurement& loop, int newestId, const std::ve
 		return {LoopVerdict::Refused, why};
 	}
 	const PoseGraphEdge* before = loops.empty() || loops.back().to != newestId - 1 ? nullptr : &loops.back();
-	const MapKeyframe* from = before ? map.find(before->from) : nullptr;
-	const MapKeyframe* to = before ? map.find(before->to) : nullptr;
-	if (!from || !to) return {LoopVerdict::Unconfirmed, why};
-	const Eigen::Vector3d shiftBefore = cameraCentre(before->T_to_from * from->T_cw) - cameraCentre(to->T_cw);
+	const auto from = before ? poses.find(before->from) : poses.end();
+	const auto to = before ? poses.find(before->to) : poses.end();
+	if (from == poses.end() || to == poses.end()) return {LoopVerdict::Unconfirmed, why};
+	const Eigen::Vector3d shiftBefore = cameraCentre(before->T_to_from * from->second) - cameraCentre(to->second);
 	const double bothVariance = loopVariance + before->sigmaTranslation * before->sigmaTranslation;
 	if ((shift - shiftBefore).squaredNorm() > kChiSquare * bothVariance)
 	{
@@ -142,35 +142,31 @@ LoopJudgement judgeLoop(const LoopMeasurement& loop, int newestId, const std::ve
 }
 
 PoseGraphEdge loopEdge(
-	const LoopMeasurement& loop, int keyframe, const KeyframeMap& map, const TOdometryOptions& options)
+	const LoopMeasurement& loop, int keyframe, const KeyframePoses& poses, const TOdometryOptions& options)
 {
 	PoseGraphEdge e;
 	e.from = loop.candidate;
 	e.to = keyframe;
-	e.T_to_from = loop.T_cw * map.find(loop.candidate)->T_cw.inverse();
+	e.T_to_from = loop.T_cw * poses.at(loop.candidate).inverse();
 	e.sigmaTranslation = loopSigma(loop, options);
 	e.sigmaRotation = e.sigmaTranslation;  // [rad], as a metre at 1 m
 	e.robust = true;
 	return e;
 }
 
-std::optional<std::map<int, Eigen::Isometry3d>> closeLoops(
-	const KeyframeMap& map, const std::vector<PoseGraphEdge>& loops, const TOdometryOptions& options)
+std::optional<KeyframePoses> closeLoops(
+	const KeyframePoses& poses, const std::vector<PoseGraphEdge>& loops, const TOdometryOptions& options)
 {
-	const auto& keyframes = map.keyframes();
-	if (keyframes.size() < 2) return std::nullopt;
-	std::map<int, Eigen::Isometry3d> nodes;
+	if (poses.size() < 2) return std::nullopt;
 	std::vector<PoseGraphEdge> edges;
-	for (auto it = keyframes.begin(); it != keyframes.end(); ++it)
+	for (auto it = poses.begin(); std::next(it) != poses.end(); ++it)
 	{
-		nodes[it->first] = it->second.T_cw;
 		const auto next = std::next(it);
-		if (next == keyframes.end()) break;
 		// The odometry between consecutive keyframes, as it stands.
 		PoseGraphEdge e;
 		e.from = it->first;
 		e.to = next->first;
-		e.T_to_from = next->second.T_cw * it->second.T_cw.inverse();
+		e.T_to_from = next->second * it->second.inverse();
 		e.sigmaTranslation = options.odometry_sigma;
 		e.sigmaRotation = options.odometry_sigma;
 		edges.push_back(e);
@@ -178,7 +174,7 @@ std::optional<std::map<int, Eigen::Isometry3d>> closeLoops(
 	edges.insert(edges.end(), loops.begin(), loops.end());
 	// A few hundred keyframes converge in a few iterations from the odometry's poses.
 	constexpr int kIterations = 20;
-	auto result = optimisePoseGraph(nodes, edges, keyframes.begin()->first, kIterations);
+	auto result = optimisePoseGraph(poses, edges, poses.begin()->first, kIterations);
 	if (!result.usable) return std::nullopt;
 	return std::move(result.poses);
 }

@@ -28,6 +28,12 @@
 
 namespace avm::odometry::detail
 {
+/** T_cw of keyframes by id: the trajectory's pose of the frame that made
+ *  each, the poses the pose graph corrects (the keyframe map's own poses are
+ *  the window bundle adjustment's, which the trajectory need not keep:
+ *  keyframe_tracked_pose). */
+using KeyframePoses = std::map<int, Eigen::Isometry3d>;
+
 /** A verified loop: the new keyframe's pose in the old place's frame. */
 struct LoopMeasurement
 {
@@ -56,12 +62,12 @@ std::optional<LoopMeasurement> measureLoop(const FrameFeatures& f, const Eigen::
 	const KeyframeMap& map, const FeatureFrontend& frontend, const CeresBackend& backend,
 	const TOdometryOptions& options);
 
-/** The map keyframes' poses after optimising the pose graph of their
- *  odometry (each keyframe tied to the next by their current relative pose)
- *  and the loop constraints; the oldest keyframe holds the gauge. Nothing
- *  when Ceres returns no usable solution. */
-std::optional<std::map<int, Eigen::Isometry3d>> closeLoops(
-	const KeyframeMap& map, const std::vector<PoseGraphEdge>& loops, const TOdometryOptions& options);
+/** The keyframes' `poses` after optimising the pose graph of their
+ *  odometry (each keyframe tied to the next by their relative pose in
+ *  `poses`) and the loop constraints; the oldest keyframe holds the gauge.
+ *  Nothing when Ceres returns no usable solution. */
+std::optional<KeyframePoses> closeLoops(
+	const KeyframePoses& poses, const std::vector<PoseGraphEdge>& loops, const TOdometryOptions& options);
 
 /** What the loop check makes of a loop measured at the newest keyframe. */
 enum class LoopVerdict
@@ -89,7 +95,7 @@ double inlierSigma(const LoopMeasurement& loop);
 double loopSigma(const LoopMeasurement& loop, const TOdometryOptions& options);
 
 /** The loop check, on the shift of the newest keyframe's camera centre that
- *  `loop` measures against its tracked pose, with per-axis standard
+ *  `loop` measures against its pose in `poses`, with per-axis standard
  *  deviations loopSigma for a loop (the keyframe before's loop: its edge's
  *  sigmaTranslation) and odometry_sigma for each keyframe of odometry since
  *  the candidate; every test at 99 % (chi-square, 3 degrees of freedom):
@@ -101,13 +107,14 @@ double loopSigma(const LoopMeasurement& loop, const TOdometryOptions& options);
  *  - within its own error when the mean of the two shifts is within what two
  *    loops' error allows; else the drift is real and the loop closes. */
 LoopJudgement judgeLoop(const LoopMeasurement& loop, int newestId, const std::vector<PoseGraphEdge>& loops,
-	const KeyframeMap& map, const TOdometryOptions& options);
+	const KeyframePoses& poses, const TOdometryOptions& options);
 
 /** `loop` with its rotation from the tracked pose T_cw. */
 LoopMeasurement measuredFrom(LoopMeasurement loop, const Eigen::Isometry3d& T_cw);
 
-/** The loop constraint of a measurement made at keyframe `keyframe`, of
- *  standard deviation loopSigma (the same number in rad for its rotation). */
+/** The loop constraint of a measurement made at keyframe `keyframe`, `loop`
+ *  in the frame of `poses`, of standard deviation loopSigma (the same number
+ *  in rad for its rotation). */
 PoseGraphEdge loopEdge(
-	const LoopMeasurement& loop, int keyframe, const KeyframeMap& map, const TOdometryOptions& options);
+	const LoopMeasurement& loop, int keyframe, const KeyframePoses& poses, const TOdometryOptions& options);
 }  // namespace avm::odometry::detail
