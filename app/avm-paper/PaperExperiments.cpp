@@ -57,7 +57,15 @@ std::string machineDescription()
 			model = line.substr(line.find(':') + 2);
 			break;
 		}
-	return model + ", " + std::to_string(std::thread::hardware_concurrency()) + " cores";
+	// The CPU-time columns rise with the machine's load (shared caches, frequency), so
+	// the reader needs the load the run met beside them.
+	std::ifstream loadavg("/proc/loadavg");
+	std::string oneMinute, fiveMinutes, fifteenMinutes;
+	loadavg >> oneMinute >> fiveMinutes >> fifteenMinutes;
+	return model + ", " + std::to_string(std::thread::hardware_concurrency()) + " cores" +
+		   (fifteenMinutes.empty()
+				   ? std::string()
+				   : ", load average over the last 15 min " + fifteenMinutes + ", last 1 min " + oneMinute);
 }
 
 class Experiments
