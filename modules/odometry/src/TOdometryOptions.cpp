@@ -94,6 +94,9 @@ void addBackEndKeys(io::IniKeys<TOdometryOptions>& keys)
 		.number("keyframe_tracked_pose", &O::keyframe_tracked_pose, "",
 			"the frame that makes a keyframe keeps its tracked pose (true), or takes the pose the window bundle "
 			"adjustment gives the keyframe (false)")
+		.number("keyframe_needs_quality", &O::keyframe_needs_quality, "",
+			"a tracked frame whose camera centre is less certain than the motion model's prediction (the inliers' "
+			"covariance against the recent frames' agreement with the model) makes no keyframe")
 		.check(
 			"motion_prior_sigma", [](const O& o) { return o.motion_prior_sigma == 0 || o.keyframe_tracked_pose; },
 			"must be 0 unless keyframe_tracked_pose = true (the prediction would jump at every keyframe)");

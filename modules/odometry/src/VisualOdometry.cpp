@@ -149,7 +149,11 @@ OdometryEstimate VisualOdometry::Impl::track(const FrameFeatures& f)
 	lostFrames = lostFramesWithFeatures = 0;
 
 	const Eigen::Isometry3d previous = T_cw;
-	if (needsKeyframe(T, inliers.size()))
+	// A keyframe's new landmarks are placed from its pose, and the next
+	// frames are tracked against them: a pose the motion model knows better
+	// than the frame's few inliers do would carry its error into them.
+	const bool poorAnchor = options.keyframe_needs_quality && poorerThanPrediction(quality);
+	if (needsKeyframe(T, inliers.size()) && !poorAnchor)
 	{
 		addKeyframe(f, inliers, T);
 		if (!options.keyframe_tracked_pose) T = keyframeMap.find(window.back().id)->T_cw;

@@ -89,7 +89,7 @@ std::optional<std::string> VisualOdometry::Impl::poorEstimate(const TrackQuality
 	if (options.quality_gate <= 0 || q.predictionSigma <= 0 || lostFrames >= options.relocalisation_frames)
 		return std::nullopt;
 	char why[224];
-	if (q.centreSigma > q.predictionSigma)
+	if (poorerThanPrediction(q))
 		std::snprintf(why, sizeof(why),
 			"untrusted: %zu inliers over %.0f %% of the image fix the camera centre to %.1f mm, the motion model to "
 			"%.1f mm; pose bridged",

@@ -75,6 +75,13 @@ struct TOdometryOptions : public io::CIniKeyOptions<TOdometryOptions>
 	 *  the one the window bundle adjustment gives the keyframe, which the
 	 *  next frames' landmarks (placed from the tracked pose) disagree with. */
 	bool keyframe_tracked_pose = false;
+	/** A tracked frame whose camera centre is less certain than the motion
+	 *  model's prediction (TrackQuality: a view filled by people, blur) makes
+	 *  no keyframe, whatever keyframe_translation, keyframe_rotation and
+	 *  keyframe_overlap say: the landmarks it would add, placed from its
+	 *  poor pose, would pull the next frames off. The next frame good enough
+	 *  makes it, or the track is lost and relocalised against the keyframe map. */
+	bool keyframe_needs_quality = false;
 	// --- keyframe map (kept through tracking loss) and relocalisation
 	/** Keyframes kept for the whole run (about 70 kB each); beyond, the most redundant goes. */
 	int map_max_keyframes = 300;
