@@ -48,7 +48,9 @@ std::vector<mrpt::math::TBoundingBox> PersonLayer::movingPersonBoxes(
 		const double since = time - t.lastTime;
 		if (t.still || since > horizon) continue;
 		const auto moved = t.velocity * std::max(0.0, since);
-		boxes.emplace_back(t.box.min + moved - grow, t.box.max + moved + grow);
+		// All the person's pixels, not the percentile box: a pixel of theirs
+		// outside the box would become a wall.
+		boxes.emplace_back(t.bandExtent.min + moved - grow, t.bandExtent.max + moved + grow);
 	}
 	return boxes;
 }

@@ -105,12 +105,14 @@ SightingEstimate estimateSighting(const mrpt::obs::CObservation3DRangeScan& obs,
 	auto& band = est.bandPoints;
 	std::vector<double> xs, ys, zs;
 	const auto take = [&](const mrpt::math::TPoint3D& p) { xs.push_back(p.x), ys.push_back(p.y), zs.push_back(p.z); };
+	auto extent = mrpt::math::TBoundingBox::PlusMinusInfinity();
 	for (std::size_t k = 0; k < pixels.size(); ++k)
 	{
 		const auto i = pixels[k];
 		const float d = metresAt(i);
 		if (!inPersonBand(d, depth, o)) continue;
 		band.push_back(sensorPoseInWorld.composePoint(camera.unproject(i % cols, i / cols, d)));
+		extent.updateWithPoint(band.back());
 		if (k % step == 0) take(band.back());
 	}
 	const std::size_t inBand = band.size();
@@ -133,6 +135,7 @@ SightingEstimate estimateSighting(const mrpt::obs::CObservation3DRangeScan& obs,
 	const double q = o.percentile;
 	s.box.min = {percentile(xs, q), percentile(ys, q), percentile(zs, q)};
 	s.box.max = {percentile(xs, 1 - q), percentile(ys, 1 - q), percentile(zs, 1 - q)};
+	s.bandExtent = extent;
 	s.position = {percentile(xs, 0.5), percentile(ys, 0.5), percentile(zs, 0.5)};
 	est.sighting = s;
 	return est;

@@ -43,8 +43,13 @@ struct PersonSighting
 {
 	/** World frame: the per-axis median of the person's points. */
 	mrpt::math::TPoint3D position;
-	/** World frame, the person's own extent (no margin). */
+	/** World frame, the person's own extent (no margin): the [p, 1-p]
+	 *  percentiles of their points, so stray pixels do not stretch it. */
 	mrpt::math::TBoundingBox box;
+	/** World frame: the box of all of the person's points, every pixel the
+	 *  sighting counts as the person, strays and limbs included. What must
+	 *  not become a wall while they move (PersonLayer::movingPersonBoxes). */
+	mrpt::math::TBoundingBox bandExtent;
 	std::size_t points = 0;  //!< depth pixels in the person's band
 	float depth = 0;         //!< [m] the person's robust depth
 	/** World frame: the person's shape (see personShape); empty until the
