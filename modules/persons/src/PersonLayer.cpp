@@ -18,7 +18,9 @@ std::vector<PersonObservation> PersonLayer::observe(const mrpt::obs::CObservatio
 	const mrpt::math::TPoint3D margin(regionMargin, regionMargin, regionMargin);
 	for (std::size_t i = 0; i < persons.size(); i++)
 	{
-		auto est = estimateSighting(obs, sensorPoseInWorld, persons[i], sighting);
+		// A shape is kept only at a positive resolution (personShape).
+		auto est = estimateSighting(
+			obs, sensorPoseInWorld, persons[i], sighting, shapeResolution > 0 ? BandPoints::Keep : BandPoints::Drop);
 		out[i].skipReason = est.skipReason;
 		if (!est.sighting) continue;
 		const mrpt::math::TBoundingBox region(est.sighting->box.min - margin, est.sighting->box.max + margin);

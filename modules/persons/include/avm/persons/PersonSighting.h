@@ -62,14 +62,24 @@ struct SightingEstimate
 	std::optional<PersonSighting> sighting;
 	std::string skipReason;  //!< why there is none ("" when there is)
 	/** World frame: the points of the pixels within the person's depth band,
-	 *  in the pixels' order; empty without a sighting. personShape's input. */
+	 *  in the pixels' order, when asked for (BandPoints::Keep); empty without
+	 *  a sighting. personShape's input. */
 	std::vector<mrpt::math::TPoint3D> bandPoints;
+};
+
+/** Whether estimateSighting keeps the person's points (SightingEstimate::
+ *  bandPoints): only a caller that makes their shape needs them. */
+enum class BandPoints
+{
+	Drop,
+	Keep
 };
 
 /** The sighting of the person whose pixels are `pixels` in `obs`'s depth
  *  image, with the depth sensor at `sensorPoseInWorld`. */
 SightingEstimate estimateSighting(const mrpt::obs::CObservation3DRangeScan& obs,
-	const mrpt::poses::CPose3D& sensorPoseInWorld, const PixelSet& pixels, const SightingOptions& options);
+	const mrpt::poses::CPose3D& sensorPoseInWorld, const PixelSet& pixels, const SightingOptions& options,
+	BandPoints keep = BandPoints::Drop);
 
 /** A sighting's person (its `bandPoints`), one point per voxel of edge
  *  `resolution` [m] on octomap's grid (voxel k spans [k, k+1) * resolution
