@@ -13,7 +13,10 @@
 #include "BonnFrames.h"
 #include "avm/detection/Detector.h"
 #include "avm/detection/PersonLabels.h"
+#include "avm/io/DepthCamera.h"
 #include "avm/io/RgbdFrame.h"
+#include "avm/persons/PersonBand.h"
+#include "avm/persons/PersonLayer.h"
 #include "avm/plugin/CAdaptiveOctoMap.h"
 #include "avm/plugin/ReferenceOctoMaps.h"
 #include "avm/plugin/TrailShare.h"
@@ -187,6 +190,50 @@ TEST(MovingPersons, ThePersonMaskCutsThePersonsOwnPixelsAndNoMore)
 	EXPECT_GT(maskPixels, 0u);
 	EXPECT_LT(maskPixels, boxPixels);
 	EXPECT_GT(behind, keptInBoxes / 2);
+}
+
+TEST(MovingPersons, AMovingPersonsFreeOnlyBoxHoldsEveryPixelOfTheirBand)
+{
+	// On a frame with their sighting, every pixel the person layer counts as
+	// a moving person's (their depth band) lies in a free-only box: a pixel
+	// outside would be mapped as a wall. The region box, the sighting's
+	// percentile box grown by the margin, misses some of them: the ends of
+	// the band and the limbs.
+	avm::persons::SightingOptions sighting;  // as ini/default.ini
+	sighting.depthBand = 0.3;
+	sighting.percentile = 0.08;
+	const double margin = 0.10;
+	std::size_t bandPixels = 0, outsideFreeOnly = 0, outsideRegion = 0;
+	for (const auto& lf : labelledFrames())
+	{
+		const auto& obs = *lf.labelled;
+		const auto pose = lf.frame.pose + obs.sensorPose;
+		const auto persons = avm::persons::personPixelsFromLabels(obs, "person", sighting.minPixels);
+		avm::persons::PersonLayer layer;
+		const auto seen = layer.observe(obs, pose, persons, lf.frame.index, sighting, margin, 0.05);
+		// No margin: the box itself must hold them.
+		const auto freeOnly = layer.movingPersonBoxes(obs, 1.5, 0.0);
+		const auto camera = avm::io::DepthCamera::of(obs);
+		const auto cols = static_cast<std::uint32_t>(camera.width);
+		for (std::size_t p = 0; p < persons.size(); ++p)
+		{
+			if (!seen[p].sighting) continue;
+			for (const auto i : avm::persons::personBandPixels(obs, persons[p], *seen[p].sighting, sighting))
+			{
+				const auto metres = static_cast<float>(obs.rangeImage(i / cols, i % cols) * obs.rangeUnits);
+				const auto point = pose.composePoint(camera.unproject(i % cols, i / cols, metres));
+				++bandPixels;
+				outsideRegion += !seen[p].regionBox->containsPoint(point);
+				outsideFreeOnly += std::none_of(freeOnly.begin(), freeOnly.end(),
+					[&](const mrpt::math::TBoundingBox& b) { return b.containsPoint(point); });
+			}
+		}
+	}
+	std::cout << "band pixels of the persons seen: " << bandPixels << ", outside their region box " << outsideRegion
+			  << ", outside every free-only box " << outsideFreeOnly << "\n";
+	ASSERT_GT(bandPixels, 0u);
+	EXPECT_EQ(outsideFreeOnly, 0u);
+	EXPECT_GT(outsideRegion, 0u);
 }
 
 TEST(MovingPersons, APersonWhoStaysStillIsMappedAndPaperMapsEveryPoint)

@@ -164,8 +164,9 @@ TEST(PersonSighting, APersonsShapeIsOnePointPerVoxelOfTheirPointsInsideTheBox)
 {
 	const auto obs = personBeforeAWall();
 	const auto pixels = pixelsOfBox(230, 90, 410, 410, kCols, kRows);
-	const auto est = estimateSighting(obs, {}, pixels, {});
+	const auto est = estimateSighting(obs, {}, pixels, {}, BandPoints::Keep);
 	ASSERT_TRUE(est.sighting) << est.skipReason;
+	EXPECT_TRUE(estimateSighting(obs, {}, pixels, {}).bandPoints.empty()) << "kept only when asked for";
 	const double res = 0.05;
 	const mrpt::math::TPoint3D margin(0.2, 0.2, 0.2);
 	const mrpt::math::TBoundingBox region(est.sighting->box.min - margin, est.sighting->box.max + margin);
@@ -187,7 +188,7 @@ TEST(PersonSighting, APersonsShapeIsOnePointPerVoxelOfTheirPointsInsideTheBox)
 		}
 	}
 	EXPECT_EQ(est.bandPoints.size(), est.sighting->points) << "one point for each pixel within the band";
-	EXPECT_EQ(personShape(estimateSighting(obs, {}, pixels, {}).bandPoints, res, region), shape);
+	EXPECT_EQ(personShape(estimateSighting(obs, {}, pixels, {}, BandPoints::Keep).bandPoints, res, region), shape);
 	// A coarser grid, fewer points; a smaller box, only the points inside.
 	EXPECT_LT(personShape(est.bandPoints, 0.2, region).size(), shape.size() / 4);
 	const mrpt::math::TBoundingBox upperHalf({1, -1, 0}, {3, 1, 1});

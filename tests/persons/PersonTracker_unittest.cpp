@@ -21,6 +21,11 @@ PersonSighting at(double x, double y, double z = 1.0)
 }
 
 constexpr double kStep = 0.1;  // [s] a detection every third frame at 30 Hz
+
+bool sameBox(const mrpt::math::TBoundingBox& a, const mrpt::math::TBoundingBox& b)
+{
+	return a.min == b.min && a.max == b.max;
+}
 }  // namespace
 
 TEST(PersonTracker, APersonWalkingAcrossTheViewKeepsOneId)
@@ -129,4 +134,33 @@ TEST(PersonTracker, ATrackKeepsItsLastSightingsShape)
 	avm::test::copyBySerialization(tracker, restored);
 	ASSERT_EQ(restored.tracks().size(), 1u);
 	EXPECT_EQ(restored.tracks()[0].shape, second.shape);
+}
+
+// A track keeps the box of all its last sighting's points (what a moving
+// person's free-only box is made of), through serialization; a stream from
+// before band extents gives the track its box instead.
+TEST(PersonTracker, ATrackKeepsItsLastSightingsBandExtent)
+{
+	PersonTracker tracker;
+	auto s = at(1.0, 1.0);
+	s.bandExtent = mrpt::math::TBoundingBox({0.6, 0.5, -0.1}, {1.4, 1.3, 1.9});
+	tracker.update({s}, 0, 0.0);
+	ASSERT_EQ(tracker.tracks().size(), 1u);
+	EXPECT_TRUE(sameBox(tracker.tracks()[0].bandExtent, s.bandExtent));
+
+	PersonTracker restored;
+	avm::test::copyBySerialization(tracker, restored);
+	ASSERT_EQ(restored.tracks().size(), 1u);
+	EXPECT_TRUE(sameBox(restored.tracks()[0].bandExtent, s.bandExtent));
+
+	// Version 3 of the map's stream: no band extent after the shape.
+	mrpt::io::CMemoryStream buffer;
+	auto out = mrpt::serialization::archiveFrom(buffer);
+	tracker.serializeTo(out);
+	buffer.Seek(0);
+	auto in = mrpt::serialization::archiveFrom(buffer);
+	PersonTracker old;
+	old.serializeFrom(in, {true, true, false});
+	ASSERT_EQ(old.tracks().size(), 1u);
+	EXPECT_TRUE(sameBox(old.tracks()[0].bandExtent, s.box));
 }

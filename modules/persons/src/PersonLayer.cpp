@@ -18,7 +18,9 @@ std::vector<PersonObservation> PersonLayer::observe(const mrpt::obs::CObservatio
 	const mrpt::math::TPoint3D margin(regionMargin, regionMargin, regionMargin);
 	for (std::size_t i = 0; i < persons.size(); i++)
 	{
-		auto est = estimateSighting(obs, sensorPoseInWorld, persons[i], sighting);
+		// A shape is kept only at a positive resolution (personShape).
+		auto est = estimateSighting(
+			obs, sensorPoseInWorld, persons[i], sighting, shapeResolution > 0 ? BandPoints::Keep : BandPoints::Drop);
 		out[i].skipReason = est.skipReason;
 		if (!est.sighting) continue;
 		const mrpt::math::TBoundingBox region(est.sighting->box.min - margin, est.sighting->box.max + margin);
@@ -48,7 +50,9 @@ std::vector<mrpt::math::TBoundingBox> PersonLayer::movingPersonBoxes(
 		const double since = time - t.lastTime;
 		if (t.still || since > horizon) continue;
 		const auto moved = t.velocity * std::max(0.0, since);
-		boxes.emplace_back(t.box.min + moved - grow, t.box.max + moved + grow);
+		// All the person's pixels, not the percentile box: a pixel of theirs
+		// outside the box would become a wall.
+		boxes.emplace_back(t.bandExtent.min + moved - grow, t.bandExtent.max + moved + grow);
 	}
 	return boxes;
 }

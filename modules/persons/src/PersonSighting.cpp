@@ -51,7 +51,7 @@ std::string format(const char* what, double value, const char* key, double limit
 }  // namespace
 
 SightingEstimate estimateSighting(const mrpt::obs::CObservation3DRangeScan& obs,
-	const mrpt::poses::CPose3D& sensorPoseInWorld, const PixelSet& pixels, const SightingOptions& o)
+	const mrpt::poses::CPose3D& sensorPoseInWorld, const PixelSet& pixels, const SightingOptions& o, BandPoints keep)
 {
 	SightingEstimate est;
 	if (pixels.empty() || !obs.hasRangeImage || obs.rangeImage.cols() == 0)
@@ -101,19 +101,26 @@ SightingEstimate estimateSighting(const mrpt::obs::CObservation3DRangeScan& obs,
 	const float depth = densestWindowDepth(core.size() >= kMinCoreSamples ? core : all, o.depthBand);
 
 	// The person's points, each pixel within the band unprojected once: the
-	// statistics take the regular sample of them, personShape all of them.
+	// statistics take the regular sample of them, the extent all of them, and
+	// personShape all of them where the caller keeps them.
 	auto& band = est.bandPoints;
 	std::vector<double> xs, ys, zs;
 	const auto take = [&](const mrpt::math::TPoint3D& p) { xs.push_back(p.x), ys.push_back(p.y), zs.push_back(p.z); };
+	const auto pointOf = [&](std::uint32_t i, float d)
+	{ return sensorPoseInWorld.composePoint(camera.unproject(i % cols, i / cols, d)); };
+	auto extent = mrpt::math::TBoundingBox::PlusMinusInfinity();
+	std::size_t inBand = 0;
 	for (std::size_t k = 0; k < pixels.size(); ++k)
 	{
 		const auto i = pixels[k];
 		const float d = metresAt(i);
 		if (!inPersonBand(d, depth, o)) continue;
-		band.push_back(sensorPoseInWorld.composePoint(camera.unproject(i % cols, i / cols, d)));
-		if (k % step == 0) take(band.back());
+		++inBand;
+		const auto p = pointOf(i, d);
+		extent.updateWithPoint(p);
+		if (keep == BandPoints::Keep) band.push_back(p);
+		if (k % step == 0) take(p);
 	}
-	const std::size_t inBand = band.size();
 	if (inBand < o.minPixels)
 	{
 		band.clear();
@@ -121,11 +128,13 @@ SightingEstimate estimateSighting(const mrpt::obs::CObservation3DRangeScan& obs,
 			format("depth pixels within the person's band: ", double(inBand), "min_person_pixels", double(o.minPixels));
 		return est;
 	}
-	// A sample that missed a sparse band: all of them then.
+	// A sample that missed a sparse band: all of them then (rare: unprojected
+	// again rather than kept for it).
 	if (xs.size() < kMinCoreSamples)
 	{
 		xs.clear(), ys.clear(), zs.clear();
-		for (const auto& p : band) take(p);
+		for (const auto i : pixels)
+			if (inPersonBand(metresAt(i), depth, o)) take(pointOf(i, metresAt(i)));
 	}
 	PersonSighting s;
 	s.points = inBand;
@@ -133,6 +142,7 @@ SightingEstimate estimateSighting(const mrpt::obs::CObservation3DRangeScan& obs,
 	const double q = o.percentile;
 	s.box.min = {percentile(xs, q), percentile(ys, q), percentile(zs, q)};
 	s.box.max = {percentile(xs, 1 - q), percentile(ys, 1 - q), percentile(zs, 1 - q)};
+	s.bandExtent = extent;
 	s.position = {percentile(xs, 0.5), percentile(ys, 0.5), percentile(zs, 0.5)};
 	est.sighting = s;
 	return est;

@@ -48,6 +48,7 @@ std::vector<std::uint32_t> PersonTracker::update(
 		track.lastTime = time;
 		track.position = s.position;
 		track.box = s.box;
+		track.bandExtent = s.bandExtent;
 		track.shape = s.shape;
 		++track.sightings;
 	};
@@ -90,6 +91,8 @@ void PersonTracker::serializeTo(mrpt::serialization::CArchive& out) const
 			<< t.still;
 		out.WriteAs<uint32_t>(t.shape.size());
 		for (const auto& p : t.shape) out << p.x << p.y << p.z;
+		out << t.bandExtent.min.x << t.bandExtent.min.y << t.bandExtent.min.z << t.bandExtent.max.x
+			<< t.bandExtent.max.y << t.bandExtent.max.z;
 	}
 }
 
@@ -115,6 +118,10 @@ void PersonTracker::serializeFrom(mrpt::serialization::CArchive& in, const Track
 			in >> p.x >> p.y >> p.z;
 			t.shape.push_back(p);
 		}
+		t.bandExtent = t.box;
+		if (parts.bandExtent)
+			in >> t.bandExtent.min.x >> t.bandExtent.min.y >> t.bandExtent.min.z >> t.bandExtent.max.x >>
+				t.bandExtent.max.y >> t.bandExtent.max.z;
 	}
 }
 }  // namespace avm::persons

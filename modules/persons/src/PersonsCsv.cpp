@@ -48,6 +48,7 @@ std::vector<PersonTrack> readPersonsCsv(const std::filesystem::path& file)
 			&t.firstTime, &t.lastTime, &t.position.x, &t.position.y, &t.position.z, &t.box.min.x, &t.box.min.y,
 			&t.box.min.z, &t.box.max.x, &t.box.max.y, &t.box.max.z, &t.sightings, state, &end);
 		t.still = std::string(state) == "still";
+		t.bandExtent = t.box;
 		if (read != 16 || (!t.still && std::string(state) != "moving"))
 			throw std::runtime_error(file.string() + ":" + std::to_string(lineNo) + ": not a persons.csv line");
 		tracks.push_back(t);

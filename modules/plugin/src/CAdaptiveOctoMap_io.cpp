@@ -14,8 +14,8 @@ IMPLEMENTS_SERIALIZABLE(CAdaptiveOctoMap, CMetricMap, avm)
 
 // Version 1: per-person regions and person tracks. Version 2: the tracks'
 // motion (velocity, where and since when the person stays) and the still keys.
-// Version 3: each track's last shape.
-uint8_t CAdaptiveOctoMap::serializeGetVersion() const { return 3; }
+// Version 3: each track's last shape. Version 4: each track's band extent.
+uint8_t CAdaptiveOctoMap::serializeGetVersion() const { return 4; }
 
 void CAdaptiveOctoMap::serializeTo(mrpt::serialization::CArchive& out) const
 {
@@ -40,7 +40,7 @@ void CAdaptiveOctoMap::serializeTo(mrpt::serialization::CArchive& out) const
 
 void CAdaptiveOctoMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t version)
 {
-	if (version < 1 || version > 3) MRPT_THROW_UNKNOWN_SERIALIZATION_VERSION(version);
+	if (version < 1 || version > 4) MRPT_THROW_UNKNOWN_SERIALIZATION_VERSION(version);
 	in >> genericMapParams;
 	readTreeOptions(in);
 	auto& i = insertionOptions;
@@ -64,7 +64,7 @@ void CAdaptiveOctoMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t 
 	m_regionClocks = {};
 	readRegions(in, [this](auto& ar, std::uint32_t id) { m_regionClocks.readClock(ar, id); });
 	m_persons = persons::PersonLayer(p.tracking);
-	m_persons.serializeFrom(in, {version >= 2, version >= 3});
+	m_persons.serializeFrom(in, {version >= 2, version >= 3, version >= 4});
 	readSketch(in);
 	m_regionClocks.readImageTime(in);
 	readTrees(in);

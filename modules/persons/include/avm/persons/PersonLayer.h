@@ -66,9 +66,10 @@ class PersonLayer
 		const SightingOptions& sighting, double regionMargin, double shapeResolution);
 
 	/** Where the persons on the move are at the time of `obs`: for each
-	 *  moving track seen at most `horizon` [s] before the image, its last box
-	 *  carried on by its velocity to the image's time and grown by `margin`
-	 *  [m] on each side. The image's pixels whose points lie in such a box are
+	 *  moving track seen at most `horizon` [s] before the image, the box of
+	 *  all its last sighting's points (PersonTrack::bandExtent) carried on by
+	 *  its velocity to the image's time and grown by `margin` [m] on each
+	 *  side. The image's pixels whose points lie in such a box are
 	 *  the moving persons': their rays see free space up to the person, their
 	 *  endpoints are no surface. Between two detections the track carries the
 	 *  person forward this way. */

@@ -43,8 +43,13 @@ struct PersonSighting
 {
 	/** World frame: the per-axis median of the person's points. */
 	mrpt::math::TPoint3D position;
-	/** World frame, the person's own extent (no margin). */
+	/** World frame, the person's own extent (no margin): the [p, 1-p]
+	 *  percentiles of their points, so stray pixels do not stretch it. */
 	mrpt::math::TBoundingBox box;
+	/** World frame: the box of all of the person's points, every pixel the
+	 *  sighting counts as the person, strays and limbs included. What must
+	 *  not become a wall while they move (PersonLayer::movingPersonBoxes). */
+	mrpt::math::TBoundingBox bandExtent;
 	std::size_t points = 0;  //!< depth pixels in the person's band
 	float depth = 0;         //!< [m] the person's robust depth
 	/** World frame: the person's shape (see personShape); empty until the
@@ -57,14 +62,24 @@ struct SightingEstimate
 	std::optional<PersonSighting> sighting;
 	std::string skipReason;  //!< why there is none ("" when there is)
 	/** World frame: the points of the pixels within the person's depth band,
-	 *  in the pixels' order; empty without a sighting. personShape's input. */
+	 *  in the pixels' order, when asked for (BandPoints::Keep); empty without
+	 *  a sighting. personShape's input. */
 	std::vector<mrpt::math::TPoint3D> bandPoints;
+};
+
+/** Whether estimateSighting keeps the person's points (SightingEstimate::
+ *  bandPoints): only a caller that makes their shape needs them. */
+enum class BandPoints
+{
+	Drop,
+	Keep
 };
 
 /** The sighting of the person whose pixels are `pixels` in `obs`'s depth
  *  image, with the depth sensor at `sensorPoseInWorld`. */
 SightingEstimate estimateSighting(const mrpt::obs::CObservation3DRangeScan& obs,
-	const mrpt::poses::CPose3D& sensorPoseInWorld, const PixelSet& pixels, const SightingOptions& options);
+	const mrpt::poses::CPose3D& sensorPoseInWorld, const PixelSet& pixels, const SightingOptions& options,
+	BandPoints keep = BandPoints::Drop);
 
 /** A sighting's person (its `bandPoints`), one point per voxel of edge
  *  `resolution` [m] on octomap's grid (voxel k spans [k, k+1) * resolution

@@ -50,6 +50,8 @@ struct PersonTrack
 	double firstTime = 0, lastTime = 0;  //!< [s] UNIX time
 	mrpt::math::TPoint3D position;       //!< last world position
 	mrpt::math::TBoundingBox box;        //!< last world box (no margin)
+	/** Last world box of all the person's points (PersonSighting::bandExtent). */
+	mrpt::math::TBoundingBox bandExtent;
 	std::size_t sightings = 0;
 	/** [m/s] between the last two sightings (zero after the first). */
 	mrpt::math::TPoint3D velocity{0, 0, 0};
@@ -63,11 +65,13 @@ struct PersonTrack
 };
 
 /** What a stream of tracks holds besides the tracks' sightings: the plugin
- *  map's stream has the motion from its version 2 on, the shapes from 3 on. */
+ *  map's stream has the motion from its version 2 on, the shapes from 3 on,
+ *  the band extents from 4 on. */
 struct TrackStreamParts
 {
-	bool motion = true;  //!< velocity and settling state
-	bool shape = true;   //!< PersonTrack::shape
+	bool motion = true;      //!< velocity and settling state
+	bool shape = true;       //!< PersonTrack::shape
+	bool bandExtent = true;  //!< PersonTrack::bandExtent
 };
 
 /** The mean edge [m] of a box: the size a still person's motion is judged by. */
@@ -86,7 +90,8 @@ class PersonTracker
 	const std::vector<PersonTrack>& tracks() const { return m_tracks; }
 
 	/** Writes every part; reads the `parts` the stream holds (a track read
-	 *  without motion is settled where last seen; without a shape, has none). */
+	 *  without motion is settled where last seen; without a shape, has none;
+	 *  without a band extent, takes its box). */
 	void serializeTo(mrpt::serialization::CArchive& out) const;
 	void serializeFrom(mrpt::serialization::CArchive& in, const TrackStreamParts& parts = {});
 
