@@ -379,7 +379,10 @@ void writePersonsAndTargets(std::ostream& md, const std::vector<PerSource>& resu
 		  "free space and only a person who stays still as a surface; against it the IoU counts the moving people as "
 		  "detail avm lost. The free-only reference treats the same pixels the same way (octomap's own update: free "
 		  "along their rays, no occupied endpoint), so its IoU measures the detail kept; the target is judged on it. "
-		  "Besides, a region holds 0.05 m data only from when it reached "
+		  "Outside the regions the reference is the single 0.20 m OctoMap of all pixels, which also holds a moving "
+		  "person's pixels that lie beyond their region (limbs, the ends of their depth band): avm leaves those free "
+		  "(a moving person's free-only box holds all their band points, doc/map.md), so the outside IoU counts them "
+		  "as detail avm lost too. Besides, a region holds 0.05 m data only from when it reached "
 		  "that space; before that the low tree's surface sketch keeps where the surface was. A region that stays "
 		  "(persist) sees more of its space at 0.05 m. The map stage is CPU time on the map's thread while odometry "
 		  "and detection run beside it on a 2-core machine.\n";
