@@ -14,6 +14,7 @@
 #include <map>
 
 #include "BonnFrames.h"
+#include "avm/maps/OcTreeKeyLayout.h"
 #include "avm/plugin/CAdaptiveOctoMap.h"
 
 using avm::CAdaptiveOctoMap;
@@ -388,8 +389,8 @@ TEST(CAdaptiveOctoMapBonn, SpaceEnteringARegionKeepsWhatTheLowTreeKnew)
 		for (double y = box.min.y - 0.2; y < box.max.y + 0.2; y += 0.2)
 			for (double z = box.min.z - 0.2; z < box.max.z + 0.2; z += 0.2)
 			{
-				const mrpt::math::TPoint3D c((std::floor(x / 0.2) + 0.5) * 0.2, (std::floor(y / 0.2) + 0.5) * 0.2,
-					(std::floor(z / 0.2) + 0.5) * 0.2);
+				const auto centre = [](double v) { return avm::maps::keyCentre(avm::maps::keyOf(v, 1 / 0.2), 0.2); };
+				const mrpt::math::TPoint3D c(centre(x), centre(y), centre(z));
 				before.push_back({c, map.query(c).state});
 			}
 
