@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "avm/io/ProgramMain.h"
+#include "avm/io/RunFolder.h"
 #include "avm/pipeline/CheckpointWriter.h"
 #include "avm/pipeline/LiveView.h"
 #include "avm/pipeline/MappingPipeline.h"
@@ -197,11 +198,11 @@ void printSummary(const avm::pipeline::RunSummary& summary, const std::string& o
 	std::fflush(stdout);
 	if (summary.ateRmse)
 		std::cout << "odometry:    ATE RMSE " << *summary.ateRmse << " m against the rawlog's ground truth\n";
-	std::cout << "outputs in:  " << outDir
-			  << " (map_low.bt, map_high.bt, map.3Dscene, trajectory.txt, "
-				 "detections.txt, stats.json, "
-				 "map_top.png, map_perspective.png, avm-map.log"
-			  << (summary.interrupted ? ", checkpoint.bin for --resume" : "") << ")\n";
+	const avm::io::RunFolder run(outDir);
+	std::string files;
+	for (const auto& file : run.outputs()) files += (files.empty() ? "" : ", ") + file.filename().string();
+	if (summary.interrupted) files += ", " + run.checkpoint().filename().string() + " for --resume";
+	std::cout << "outputs in:  " << outDir << " (" << files << ")\n";
 }
 }  // namespace
 

@@ -7,6 +7,7 @@
 
 #include <iostream>
 
+#include "avm/io/IniOptions.h"
 #include "avm/io/ProgramMain.h"
 #include "avm/detection/Detector.h"
 #include "avm/odometry/OdometryRun.h"
@@ -48,8 +49,8 @@ int main(int argc, char** argv)
 				std::vector<std::string> unknown;
 				options = odometry::loadOdometryOptions(argConfig.getValue(), "odometry", unknown);
 				for (const auto& k : unknown)
-					std::cerr << "avm-odometry: warning: unknown key [odometry] " << k << " in " << argConfig.getValue()
-							  << "\n";
+					std::cerr << "avm-odometry: warning: " << argConfig.getValue() << ": "
+							  << io::unknownKeyWarning("odometry", k) << "\n";
 			}
 			if (argNoMask.getValue()) options.mask_people = false;
 

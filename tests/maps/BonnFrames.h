@@ -14,6 +14,7 @@
 
 #include "TestData.h"
 #include "avm/io/RawlogFrameReader.h"
+#include "avm/maps/OcTreeKeyLayout.h"
 
 namespace avm::test
 {
@@ -81,20 +82,19 @@ std::set<VoxelKey> occupiedVoxels(const octomap::OcTree& tree, Pred keep)
 {
 	std::set<VoxelKey> out;
 	if (tree.size() == 0) return out;
-	const double res = tree.getResolution();
 	for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it)
 	{
 		if (!tree.isNodeOccupied(*it)) continue;
-		const auto c = it.getCoordinate();
-		const double h = 0.5 * it.getSize();
-		for (double x = c.x() - h + 0.5 * res; x < c.x() + h; x += res)
-			for (double y = c.y() - h + 0.5 * res; y < c.y() + h; y += res)
-				for (double z = c.z() - h + 0.5 * res; z < c.z() + h; z += res)
-					if (keep(x, y, z))
-					{
-						const auto k = tree.coordToKey(x, y, z);
-						out.emplace(k[0], k[1], k[2]);
-					}
+		const auto first = it.getIndexKey();
+		const unsigned span = avm::maps::keySpanAtDepth(it.getDepth());
+		for (unsigned x = 0; x < span; x++)
+			for (unsigned y = 0; y < span; y++)
+				for (unsigned z = 0; z < span; z++)
+				{
+					const octomap::OcTreeKey k(first[0] + x, first[1] + y, first[2] + z);
+					const auto c = tree.keyToCoord(k);
+					if (keep(c.x(), c.y(), c.z())) out.emplace(k[0], k[1], k[2]);
+				}
 	}
 	return out;
 }

@@ -14,6 +14,7 @@
 #include <map>
 
 #include "BonnFrames.h"
+#include "avm/maps/OcTreeKeyLayout.h"
 #include "avm/plugin/CAdaptiveOctoMap.h"
 
 using avm::CAdaptiveOctoMap;
@@ -304,11 +305,11 @@ TEST(CAdaptiveOctoMapBonn, AnEndingRegionIsCoarsenedNeverDropped)
 {
 	auto map = mapWithPersonRegions({});
 	ASSERT_FALSE(map.highResolutionRegions().empty());
-	std::vector<std::pair<mrpt::math::TPoint3D, double>> fine;
-	map.forEachLeaf(Resolution::High, [&](const avm::TLeafVoxel& v) { fine.push_back({v.center, v.probability}); });
-	std::size_t occupiedFine = 0;
-	for (const auto& [c, p] : fine) occupiedFine += p >= 0.5;
-	ASSERT_GT(occupiedFine, 50u);
+	std::vector<std::pair<mrpt::math::TPoint3D, double>> high;
+	map.forEachLeaf(Resolution::High, [&](const avm::TLeafVoxel& v) { high.push_back({v.center, v.probability}); });
+	std::size_t occupiedHigh = 0;
+	for (const auto& [c, p] : high) occupiedHigh += p >= 0.5;
+	ASSERT_GT(occupiedHigh, 50u);
 
 	const auto regions = map.highResolutionRegions();
 	for (const auto& r : regions) EXPECT_TRUE(map.endRegion(r.personId));
@@ -316,7 +317,7 @@ TEST(CAdaptiveOctoMapBonn, AnEndingRegionIsCoarsenedNeverDropped)
 	EXPECT_FALSE(map.hasSwitched());
 	EXPECT_EQ(map.highResolutionStats().occupiedLeaves + map.highResolutionStats().freeLeaves, 0u);
 	std::size_t lost = 0, notHigher = 0;
-	for (const auto& [c, p] : fine)
+	for (const auto& [c, p] : high)
 	{
 		const auto q = map.query(c);
 		EXPECT_EQ(q.tree, Resolution::Low);
@@ -324,19 +325,19 @@ TEST(CAdaptiveOctoMapBonn, AnEndingRegionIsCoarsenedNeverDropped)
 		// The low voxel holds the largest of its high voxels' values.
 		if (q.probability + 1e-6 < p) ++notHigher;
 	}
-	EXPECT_EQ(lost, 0u) << "of " << occupiedFine << " occupied high voxels";
+	EXPECT_EQ(lost, 0u) << "of " << occupiedHigh << " occupied high voxels";
 	EXPECT_EQ(notHigher, 0u);
 	EXPECT_FALSE(map.personTracks().empty()) << "the person's track outlives the region";
 
-	// The coarse voxels remember where their surface was: a region over the
-	// same space gets the occupied high voxels back, not solid coarse blocks.
+	// The low voxels remember where their surface was: a region over the
+	// same space gets the occupied high voxels back, not solid low blocks.
 	for (const auto& r : regions) map.addHighResolutionRegion(r.boxes.at(0));
 	std::size_t back = 0, occupiedNow = 0;
 	map.forEachLeaf(Resolution::High, [&](const avm::TLeafVoxel& v) { occupiedNow += v.occupied; });
-	for (const auto& [c, p] : fine)
+	for (const auto& [c, p] : high)
 		if (p >= 0.5 && map.query(c).state == avm::OccupancyState::Occupied) ++back;
-	EXPECT_EQ(back, occupiedFine);
-	EXPECT_LE(occupiedNow, occupiedFine + occupiedFine / 10) << "only where the surface was";
+	EXPECT_EQ(back, occupiedHigh);
+	EXPECT_LE(occupiedNow, occupiedHigh + occupiedHigh / 10) << "only where the surface was";
 }
 
 // Follow lifetime: a region whose space the camera looks at for
@@ -388,8 +389,8 @@ TEST(CAdaptiveOctoMapBonn, SpaceEnteringARegionKeepsWhatTheLowTreeKnew)
 		for (double y = box.min.y - 0.2; y < box.max.y + 0.2; y += 0.2)
 			for (double z = box.min.z - 0.2; z < box.max.z + 0.2; z += 0.2)
 			{
-				const mrpt::math::TPoint3D c((std::floor(x / 0.2) + 0.5) * 0.2, (std::floor(y / 0.2) + 0.5) * 0.2,
-					(std::floor(z / 0.2) + 0.5) * 0.2);
+				const auto centre = [](double v) { return avm::maps::keyCentre(avm::maps::keyOf(v, 1 / 0.2), 0.2); };
+				const mrpt::math::TPoint3D c(centre(x), centre(y), centre(z));
 				before.push_back({c, map.query(c).state});
 			}
 

@@ -145,7 +145,7 @@ TEST(StockApps, RawLogViewerLoadsThePluginAndKeepsRunning)
 }
 
 // observations2map builds the map from a simplemap of ground-truth poses; its
-// coarse tree must be byte for byte the one the same ini builds in-process.
+// low tree must be byte for byte the one the same ini builds in-process.
 TEST(StockApps, Observations2MapBuildsTheSameMapAsInProcess)
 {
 	const auto& dir = shortRawlogDir();
@@ -179,7 +179,7 @@ TEST(StockApps, Observations2MapBuildsTheSameMapAsInProcess)
 	const auto written = readFile(prefix.string() + "_low.bt");
 	EXPECT_GT(map->lowResolutionStats().occupiedLeaves, 100u);
 	EXPECT_EQ(written.size(), expected.size());
-	EXPECT_TRUE(written == expected) << "observations2map's coarse tree differs from the in-process one";
+	EXPECT_TRUE(written == expected) << "observations2map's low tree differs from the in-process one";
 }
 
 // icp-slam needs points3D for its own ICP (its points map does not unproject

@@ -26,6 +26,7 @@
 #include "avm/io/ProgramMain.h"
 #include "avm/io/RawlogFrameReader.h"
 #include "avm/io/RgbdFrame.h"
+#include "avm/io/RunFolder.h"
 #include "avm/io/Trajectory.h"
 #include "avm/maps/MapColours.h"
 #include "avm/plugin/CAdaptiveOctoMap.h"
@@ -233,10 +234,14 @@ TEST(PipelineOnBonn, PersonTracksCrossTheViewAndLieInTheMappedSpace)
 TEST(PipelineOnBonn, AllOutputsExistAndLoad)
 {
 	const auto& [out, summary] = defaultRun();
-	for (const char* name :
-		{"map_low.bt", "map_high.bt", "map.3Dscene", "trajectory.txt", "trajectory_status.txt", "detections.txt",
-			"persons.csv", "person_shapes.ply", "stats.json", "map_top.png", "map_perspective.png", "avm-map.log"})
-		EXPECT_TRUE(fs::exists(out / name)) << name;
+	// A finished run's files, as RunFolder::outputs() names them (avm-map's summary lists those).
+	const std::vector<std::string> names = {"map_low.bt", "map_high.bt", "map.3Dscene", "trajectory.txt",
+		"trajectory_status.txt", "detections.txt", "persons.csv", "person_shapes.ply", "stats.json", "map_top.png",
+		"map_perspective.png", "avm-map.log"};
+	std::vector<std::string> outputs;
+	for (const auto& file : io::RunFolder(out).outputs()) outputs.push_back(file.filename().string());
+	EXPECT_EQ(outputs, names);
+	for (const auto& name : names) EXPECT_TRUE(fs::exists(out / name)) << name;
 	// One status line per pose: 1 tracked, 0 bridged (the default run loses no frame).
 	const auto tracked = trackedFlagsIn(out / "trajectory_status.txt");
 	for (std::size_t i = 0; i < tracked.size(); ++i) ASSERT_TRUE(tracked[i] == 0 || tracked[i] == 1) << "line " << i;

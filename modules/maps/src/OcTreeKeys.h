@@ -1,7 +1,6 @@
 // Octree keys as the map's hot paths use them: octomap's depth-16 keys
-// (floor(coordinate / resolution) + 32768 on each axis), packed three into one
-// word, their Morton codes, and boxes of keys. The one place that knows the
-// key layout.
+// (avm/maps/OcTreeKeyLayout.h), packed three into one word, their Morton
+// codes, the row passes' tags, and boxes of keys.
 #pragma once
 
 #include <mrpt/math/TPoint3D.h>
@@ -10,15 +9,18 @@
 #include <algorithm>
 #include <cstdint>
 
+#include "avm/maps/OcTreeKeyLayout.h"
+
 namespace avm::detail
 {
-/** Bits of one axis of a key: octomap's tree depth, 16. */
-constexpr unsigned kKeyBits = 16;
+using maps::keySpanAtDepth;
+using maps::kKeyBits;
+using maps::kKeyEnd;
+using maps::kKeyOffset;
+using maps::treeHalfExtent;
+
+/** One axis of a packed key. */
 constexpr std::uint64_t kKeyMask = (std::uint64_t(1) << kKeyBits) - 1;
-/** octomap's key of coordinate 0 in a depth-16 tree (tree_max_val). */
-constexpr int kKeyOffset = 1 << (kKeyBits - 1);
-/** Keys per axis: a key lies in [0, kKeyEnd). */
-constexpr int kKeyEnd = 2 * kKeyOffset;
 /** What a packed key changes by for one voxel along x, y and z. */
 constexpr std::uint64_t kPackedUnit[3] = {std::uint64_t(1) << (2 * kKeyBits), std::uint64_t(1) << kKeyBits, 1};
 
@@ -51,14 +53,6 @@ inline bool packedKeyOf(double x, double y, double z, double inverseResolution, 
 		static_cast<octomap::key_type>(fx), static_cast<octomap::key_type>(fy), static_cast<octomap::key_type>(fz)));
 	return true;
 }
-
-/** Half the edge of a tree of this resolution [m]: it spans +-that around
- *  the origin on each axis. */
-constexpr double treeHalfExtent(double resolution) { return resolution * kKeyOffset; }
-
-/** Finest keys along each axis of a node at `depth` (root 0, leaves
- *  kKeyBits). */
-inline unsigned keySpanAtDepth(unsigned depth) { return 1u << (kKeyBits - depth); }
 
 /** @name The row passes' keys
  *  One axis of a key in an int, -1 for "no voxel"; the x key may carry tags
@@ -102,8 +96,7 @@ inline std::uint64_t packedOrNone(int x, int y, int z)
 inline mrpt::math::TPoint3D centreOf(std::uint64_t packed, double resolution)
 {
 	const auto k = unpackKey(packed);
-	auto c = [resolution](int key) { return (static_cast<double>(key - kKeyOffset) + 0.5) * resolution; };
-	return {c(k[0]), c(k[1]), c(k[2])};
+	return {maps::keyCentre(k[0], resolution), maps::keyCentre(k[1], resolution), maps::keyCentre(k[2], resolution)};
 }
 
 /** The key of a coordinate that lies on a voxel border (a grid-aligned box's

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "avm/io/DepthCamera.h"
+#include "avm/maps/OcTreeKeyLayout.h"
 #include "avm/persons/PersonBand.h"
 
 namespace avm::persons
@@ -153,30 +154,35 @@ std::vector<mrpt::math::TPoint3Df> personShape(
 {
 	std::vector<mrpt::math::TPoint3Df> shape;
 	if (!(resolution > 0)) return shape;
-	// octomap's coordToKey: floor(coordinate * (1 / resolution)).
+	// The voxels of a tree of this resolution: octomap's keys, unchecked (a
+	// person is never near the edge of a tree).
 	const double perMetre = 1.0 / resolution;
-	using Key = std::array<std::int32_t, 3>;
+	using Key = std::array<int, 3>;
 	std::vector<Key> keys;
+	const auto centre = [resolution](const Key& k)
+	{
+		return mrpt::math::TPoint3D(
+			maps::keyCentre(k[0], resolution), maps::keyCentre(k[1], resolution), maps::keyCentre(k[2], resolution));
+	};
 	// Neighbouring pixels of a row mostly fall in one voxel (a 0.05 m voxel is
 	// about ten pixels wide at 2.5 m): skipping a repeat of the last key keeps
 	// the set and leaves a tenth as many keys to sort.
 	std::optional<Key> last;
 	for (const auto& p : bandPoints)
 	{
-		const Key k{static_cast<std::int32_t>(std::floor(p.x * perMetre)),
-			static_cast<std::int32_t>(std::floor(p.y * perMetre)),
-			static_cast<std::int32_t>(std::floor(p.z * perMetre))};
+		const Key k{maps::keyOf(p.x, perMetre), maps::keyOf(p.y, perMetre), maps::keyOf(p.z, perMetre)};
 		if (k == last) continue;
 		last = k;
-		const auto centre = [&](std::size_t axis) { return (k[axis] + 0.5) * resolution; };
-		if (within.containsPoint({centre(0), centre(1), centre(2)})) keys.push_back(k);
+		if (within.containsPoint(centre(k))) keys.push_back(k);
 	}
 	std::sort(keys.begin(), keys.end());
 	keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
 	shape.reserve(keys.size());
 	for (const auto& k : keys)
-		shape.emplace_back(static_cast<float>((k[0] + 0.5) * resolution), static_cast<float>((k[1] + 0.5) * resolution),
-			static_cast<float>((k[2] + 0.5) * resolution));
+	{
+		const auto c = centre(k);
+		shape.emplace_back(static_cast<float>(c.x), static_cast<float>(c.y), static_cast<float>(c.z));
+	}
 	return shape;
 }
 

@@ -10,6 +10,7 @@
 #include "avm/io/ThreadCpuTime.h"
 #include "avm/plugin/CAdaptiveOctoMap.h"
 #include "avm/maps/OcTreeFile.h"
+#include "avm/maps/OcTreeKeyLayout.h"
 
 namespace avm
 {
@@ -35,10 +36,10 @@ std::set<Key> occupiedKeys(const octomap::OcTree& tree, const CAdaptiveOctoMap& 
 	{
 		if (!tree.isNodeOccupied(*it)) continue;
 		const auto key = it.getIndexKey();
-		const int span = 1 << (tree.getTreeDepth() - it.getDepth());
-		for (int x = 0; x < span; x++)
-			for (int y = 0; y < span; y++)
-				for (int z = 0; z < span; z++)
+		const unsigned span = maps::keySpanAtDepth(it.getDepth());
+		for (unsigned x = 0; x < span; x++)
+			for (unsigned y = 0; y < span; y++)
+				for (unsigned z = 0; z < span; z++)
 				{
 					const octomap::OcTreeKey k(key[0] + x, key[1] + y, key[2] + z);
 					const auto c = tree.keyToCoord(k);

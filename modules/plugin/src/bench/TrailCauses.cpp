@@ -154,7 +154,7 @@ std::string describe(TrailCause cause)
 	switch (cause)
 	{
 		case TrailCause::NoEndpoint:
-			return "no pixel ended in it (detail folded into the coarse tree)";
+			return "no pixel ended in it (detail folded into the low tree)";
 		case TrailCause::BeforeFirstRegion:
 			return "person pixels outside the regions, before the person's first one";
 		case TrailCause::BetweenRegions:

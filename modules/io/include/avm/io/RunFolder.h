@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace avm::io
 {
@@ -41,6 +42,14 @@ class RunFolder
 	std::filesystem::path stats() const { return m_dir / "stats.json"; }
 	std::filesystem::path log() const { return m_dir / "avm-map.log"; }
 	std::filesystem::path checkpoint() const { return m_dir / "checkpoint.bin"; }
+	/** The files of a finished run, map first (not the checkpoint, which
+	 *  only an interrupted run keeps). */
+	std::vector<std::filesystem::path> outputs() const
+	{
+		const auto m = map();
+		return {m.lowTree, m.highTree, m.scene, trajectory(), trajectoryStatus(), detections(), persons(),
+			personShapes(), stats(), topPicture(), perspectivePicture(), log()};
+	}
 
    private:
 	std::filesystem::path m_dir;

@@ -19,7 +19,7 @@ namespace avm::maps
 {
 enum class TrailCause
 {
-	NoEndpoint,         //!< no pixel ended in it (detail folded into the coarse tree)
+	NoEndpoint,         //!< no pixel ended in it (detail folded into the low tree)
 	BeforeFirstRegion,  //!< a person pixel outside the run's regions then, before the person's first region
 	BetweenRegions,     //!< ... before a later region of the person covered the voxel (lag, missed detections)
 	NeverInRegion,      //!< ... and no region box of the run ever covered the voxel

@@ -1,0 +1,40 @@
+// The octree key layout the map's two trees share with octomap: depth-16
+// trees whose key on each axis is floor(coordinate / resolution) + kKeyOffset.
+// The one place that says so: the map's hot paths build their packed keys,
+// tags and Morton codes on it (src/OcTreeKeys.h), the person layer snaps its
+// shapes to the trees' voxels with it and the reference maps split pruned
+// leaves with it. No octomap types here, so it costs its users nothing.
+#pragma once
+
+#include <cmath>
+
+namespace avm::maps
+{
+/** Bits of one axis of a key: octomap's tree depth, 16. */
+constexpr unsigned kKeyBits = 16;
+/** octomap's key of coordinate 0 (tree_max_val). */
+constexpr int kKeyOffset = 1 << (kKeyBits - 1);
+/** Keys per axis: a key lies in [0, kKeyEnd). */
+constexpr int kKeyEnd = 2 * kKeyOffset;
+
+/** octomap's coordToKey on one axis, unchecked: a coordinate beyond the
+ *  tree's half extent gives a key outside [0, kKeyEnd). */
+inline int keyOf(double coordinate, double inverseResolution)
+{
+	return static_cast<int>(std::floor(coordinate * inverseResolution)) + kKeyOffset;
+}
+
+/** The centre of key `key`'s voxel on one axis [m]. */
+inline double keyCentre(int key, double resolution)
+{
+	return (static_cast<double>(key - kKeyOffset) + 0.5) * resolution;
+}
+
+/** Finest keys along each axis of a node at `depth` (root 0, leaves
+ *  kKeyBits). */
+inline unsigned keySpanAtDepth(unsigned depth) { return 1u << (kKeyBits - depth); }
+
+/** Half the edge of a tree of this resolution [m]: it spans +-that around
+ *  the origin on each axis. */
+constexpr double treeHalfExtent(double resolution) { return resolution * kKeyOffset; }
+}  // namespace avm::maps
