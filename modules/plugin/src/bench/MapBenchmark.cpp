@@ -16,6 +16,7 @@
 #include "avm/io/TimingSummary.h"
 #include "avm/plugin/CAdaptiveOctoMap.h"
 #include "avm/maps/OcTreeFile.h"
+#include "PlainTreeStats.h"
 
 namespace avm::maps
 {
@@ -36,12 +37,12 @@ struct Contender
 	std::vector<double> ms, cpuMs;
 };
 
-void octreeSizes(const octomap::OcTree& t, MapBenchmarkRow& row)
+void addSizes(const CDualOctoMap::TTreeStats& s, MapBenchmarkRow& row)
 {
-	for (auto it = t.begin_leafs(); it != t.end_leafs(); ++it)
-		(t.isNodeOccupied(*it) ? row.occupiedLeaves : row.freeLeaves)++;
-	row.memoryBytes = t.memoryUsage();
-	row.binaryBytes = binaryTreeBytes(t).size();
+	row.occupiedLeaves += s.occupiedLeaves;
+	row.freeLeaves += s.freeLeaves;
+	row.memoryBytes += s.memoryBytes;
+	row.binaryBytes += s.binaryBytes;
 }
 
 Contender plainOctomap(double res, double maxRange, bool discretize)
@@ -53,7 +54,7 @@ Contender plainOctomap(double res, double maxRange, bool discretize)
 	c.name = name.str();
 	c.insert = [tree, maxRange, discretize](const Frame&, const octomap::Pointcloud& cloud, const octomap::point3d& o)
 	{ tree->insertPointCloud(cloud, o, maxRange, false, discretize); };
-	c.sizes = [tree](MapBenchmarkRow& row) { octreeSizes(*tree, row); };
+	c.sizes = [tree](MapBenchmarkRow& row) { addSizes(plainTreeStats(*tree), row); };
 	return c;
 }
 
@@ -65,13 +66,8 @@ Contender adaptive(const std::string& name, const std::shared_ptr<CAdaptiveOctoM
 	{ map->insertObservation(*f.obs, f.pose); };
 	c.sizes = [map](MapBenchmarkRow& row)
 	{
-		for (const auto& s : {map->lowResolutionStats(), map->highResolutionStats()})
-		{
-			row.occupiedLeaves += s.occupiedLeaves;
-			row.freeLeaves += s.freeLeaves;
-			row.memoryBytes += s.memoryBytes;
-			row.binaryBytes += s.binaryBytes;
-		}
+		addSizes(map->lowResolutionStats(), row);
+		addSizes(map->highResolutionStats(), row);
 	};
 	return c;
 }

@@ -11,6 +11,7 @@
 #include "avm/plugin/CAdaptiveOctoMap.h"
 #include "avm/maps/OcTreeFile.h"
 #include "avm/maps/OcTreeKeyLayout.h"
+#include "PlainTreeStats.h"
 
 namespace avm
 {
@@ -75,11 +76,12 @@ void insertFreeOnly(octomap::OcTree& tree, const octomap::Pointcloud& surface, c
 
 TReferenceComparison::Tree sizesOf(const octomap::OcTree& t, double totalMs, std::size_t frames)
 {
+	const auto plain = maps::plainTreeStats(t);
 	TReferenceComparison::Tree s;
-	s.resolution = t.getResolution();
-	for (auto it = t.begin_leafs(), end = t.end_leafs(); it != end; ++it) s.occupiedLeaves += t.isNodeOccupied(*it);
-	s.memoryBytes = t.memoryUsage();
-	s.binaryBytes = binaryTreeBytes(t).size();
+	s.resolution = plain.resolution;
+	s.occupiedLeaves = plain.occupiedLeaves;
+	s.memoryBytes = plain.memoryBytes;
+	s.binaryBytes = plain.binaryBytes;
 	s.meanInsertMs = frames ? totalMs / double(frames) : 0;
 	return s;
 }
