@@ -12,6 +12,10 @@
 #include <limits>
 #include <vector>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "avm/io/DepthCamera.h"
 
 namespace avm::odometry::detail
@@ -32,9 +36,26 @@ using OrbDescriptor = std::array<std::uint8_t, 32>;
 /** Bits in which two descriptors differ: the same count as
  *  cv::hal::normHamming, without its per-call trace region (in the projection
  *  search's profile that cost as much as the count) and portable to builds
- *  without a popcount instruction (the word's bits summed in parallel). */
+ *  without a popcount instruction: each byte's bits summed in parallel, in
+ *  SSE2's two 128-bit registers where there are (every x86-64 processor; a
+ *  third of the scalar version's instructions, the count of the projection
+ *  search's inner loop), else in 64-bit words. */
 inline int hamming(const std::uint8_t* a, const std::uint8_t* b)
 {
+#if defined(__SSE2__)
+	const __m128i m1 = _mm_set1_epi8(0x55), m2 = _mm_set1_epi8(0x33), m4 = _mm_set1_epi8(0x0F);
+	// Each byte's count (<= 8) of one register, the two registers' added (<= 16), then all bytes.
+	const auto bytes = [&](const std::uint8_t* p, const std::uint8_t* q)
+	{
+		__m128i x = _mm_xor_si128(
+			_mm_loadu_si128(reinterpret_cast<const __m128i*>(p)), _mm_loadu_si128(reinterpret_cast<const __m128i*>(q)));
+		x = _mm_sub_epi8(x, _mm_and_si128(_mm_srli_epi64(x, 1), m1));
+		x = _mm_add_epi8(_mm_and_si128(x, m2), _mm_and_si128(_mm_srli_epi64(x, 2), m2));
+		return _mm_and_si128(_mm_add_epi8(x, _mm_srli_epi64(x, 4)), m4);
+	};
+	const __m128i x = _mm_sad_epu8(_mm_add_epi8(bytes(a, b), bytes(a + 16, b + 16)), _mm_setzero_si128());
+	return _mm_cvtsi128_si32(x) + _mm_extract_epi16(x, 4);
+#else
 	int bits = 0;
 	for (std::size_t i = 0; i < OrbDescriptor().size(); i += sizeof(std::uint64_t))
 	{
@@ -48,6 +69,7 @@ inline int hamming(const std::uint8_t* a, const std::uint8_t* b)
 		bits += int((x * 0x0101010101010101ULL) >> 56);
 	}
 	return bits;
+#endif
 }
 
 /** Row `row` of a descriptor matrix (CV_8U, 32 bytes a row). */

@@ -180,8 +180,10 @@ std::optional<CPose3D> FrameProcessor::estimatePose(const io::RgbdFrame& frame)
 													  : io::opticalToSensorPose().getOppositeScalar());
 		m_odometry->reportFeatures(m_showsFeatures);
 		mrpt::system::CTicTac timer;
+		const double cpu = io::threadCpuMs();
 		m_lastEstimate = m_odometry->process(*frame.observation, m_latestPersonBoxes);
 		m_stages.odometry.add(timer.Tac() * 1e3);
+		m_stages.odometryCpu.add(io::threadCpuMs() - cpu);
 		if (!m_lastEstimate.tracked)
 			m_log.logFmt(mrpt::system::LVL_WARN, "frame %zu: odometry lost (%s), pose bridged\n", frame.index,
 				m_lastEstimate.status.c_str());

@@ -54,7 +54,7 @@ struct PersonDetectionRecord
 /** Durations of each stage, frame by frame [ms]. */
 struct StageSamples
 {
-	io::TimingSamples odometry, detection, detectionWait, map, mapCpu;
+	io::TimingSamples odometry, detection, detectionWait, map, mapCpu, odometryCpu;
 };
 
 class FrameProcessor

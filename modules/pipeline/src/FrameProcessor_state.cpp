@@ -15,7 +15,7 @@ using mrpt::serialization::CArchive;
 
 namespace
 {
-constexpr std::uint8_t kStateVersion = 3;
+constexpr std::uint8_t kStateVersion = 4;
 
 void write(CArchive& out, const mrpt::math::TPoint3D& p) { out << p.x << p.y << p.z; }
 void read(CArchive& in, mrpt::math::TPoint3D& p) { in >> p.x >> p.y >> p.z; }
@@ -127,8 +127,8 @@ void FrameProcessor::saveState(CArchive& out)
 	write(out, c.framesWithPerson);
 	write(out, c.regions);
 	write(out, c.loopsClosed);
-	for (const auto* t :
-		{&m_stages.odometry, &m_stages.detection, &m_stages.detectionWait, &m_stages.map, &m_stages.mapCpu})
+	for (const auto* t : {&m_stages.odometry, &m_stages.detection, &m_stages.detectionWait, &m_stages.map,
+			 &m_stages.mapCpu, &m_stages.odometryCpu})
 		write(out, *t);
 	write(out, m_trajectory);
 	for (const bool tracked : m_trackedPoses) out.WriteAs<std::uint8_t>(tracked);
@@ -167,7 +167,8 @@ void FrameProcessor::loadState(CArchive& in)
 	c.framesWithPerson = readSize(in);
 	c.regions = readSize(in);
 	c.loopsClosed = readSize(in);
-	for (auto* t : {&m_stages.odometry, &m_stages.detection, &m_stages.detectionWait, &m_stages.map, &m_stages.mapCpu})
+	for (auto* t : {&m_stages.odometry, &m_stages.detection, &m_stages.detectionWait, &m_stages.map, &m_stages.mapCpu,
+			 &m_stages.odometryCpu})
 		read(in, *t);
 	read(in, m_trajectory);
 	m_trackedPoses.resize(m_trajectory.size());

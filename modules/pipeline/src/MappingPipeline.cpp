@@ -345,6 +345,7 @@ RunSummary MappingPipeline::Impl::summarise(
 	summary.detectionWait = stages.detectionWait.summary();
 	summary.map = stages.map.summary();
 	summary.mapCpu = stages.mapCpu.summary();
+	summary.odometryCpu = stages.odometryCpu.summary();
 	summary.persons = maps->mapByClass<CAdaptiveOctoMap>()->personTracks().size();
 	if (options.poseSource == PoseSource::VisualOdometry && processor.groundTruth().size() >= 3)
 		summary.ateRmse = evaluation::evaluateTrajectory(trajectory, processor.groundTruth(), {}).ate.rmse;

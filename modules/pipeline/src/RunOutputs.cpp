@@ -93,7 +93,7 @@ void writeStages(JsonWriter& json, const RunSummary& summary)
 	json.beginObject("stages");
 	for (const auto& [name, s] : {std::pair{"odometry", summary.odometry}, {"detection", summary.detection},
 			 {"detection_wait", summary.detectionWait}, {"map", summary.map}, {"map_cpu", summary.mapCpu},
-			 {"checkpoint", summary.checkpoint}})
+			 {"odometry_cpu", summary.odometryCpu}, {"checkpoint", summary.checkpoint}})
 		json.beginObject(name)
 			.value("mean_ms", s.meanMs)
 			.value("median_ms", s.medianMs)

@@ -129,6 +129,10 @@ struct RunSummary
 	/** CPU time of the map stage (insertion and region updates), on the
 	 *  threads that did it: the work, whatever else ran on the cores. */
 	io::TimingSummary mapCpu;
+	/** CPU time of the odometry on the loop's thread: its work, where the
+	 *  odometry's wall-clock time also counts the detector's and the map's
+	 *  threads taking the core meanwhile (all of avm-map on one core). */
+	io::TimingSummary odometryCpu;
 	/** With reference_maps: the adaptive map against single-resolution maps. */
 	std::optional<TReferenceComparison> reference;
 	/** Writing the checkpoints (count, mean ...): their cost. */
