@@ -5,6 +5,10 @@
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/poses/CPose3D.h>
 
+#include <cmath>
+#include <cstdint>
+#include <optional>
+
 #include "avm/plugin/CAdaptiveOctoMap.h"
 
 using namespace avm;
@@ -15,7 +19,7 @@ namespace
 /** A 160 x 120 depth image of a wall 3 m ahead (the plane X = 3 in the
  *  sensor frame), with (optionally) a 0.25 m square object 1.5 m ahead in the
  *  middle of the view. */
-mrpt::obs::CObservation3DRangeScan wallScan(bool withObject)
+mrpt::obs::CObservation3DRangeScan wallScan(bool withObject, std::uint16_t wallMillimetres = 3000)
 {
 	mrpt::obs::CObservation3DRangeScan obs;
 	obs.hasRangeImage = true;
@@ -24,13 +28,34 @@ mrpt::obs::CObservation3DRangeScan wallScan(bool withObject)
 	obs.cameraParams.ncols = 160;
 	obs.cameraParams.nrows = 120;
 	obs.cameraParams.setIntrinsicParamsFromValues(120, 120, 79.5, 59.5);
-	obs.rangeImage.fill(3000);
+	obs.rangeImage.fill(wallMillimetres);
 	if (withObject)
 		for (int v = 50; v < 70; v++)
 			for (int u = 70; u < 90; u++) obs.rangeImage(v, u) = 1500;
 	obs.sensorPose = mrpt::poses::CPose3D();
 	return obs;
 }
+
+std::size_t occupiedLowVoxels(const CAdaptiveOctoMap& map, const TBoundingBox& box)
+{
+	std::size_t n = 0;
+	map.forEachLeaf(Resolution::Low, [&](const TLeafVoxel& v) { n += v.occupied && box.containsPoint(v.center); });
+	return n;
+}
+
+/** The map with one free-only box on its depth images while `freeOnly` is
+ *  set, as the person layer gives a moving person's. */
+class MapWithFreeOnlyBox : public CAdaptiveOctoMap
+{
+   public:
+	std::optional<TBoundingBox> freeOnly;
+
+   protected:
+	FreeOnlyBoxes beforeDepthImage(const mrpt::obs::CObservation3DRangeScan&, const mrpt::poses::CPose3D&) override
+	{
+		return freeOnly ? FreeOnlyBoxes{*freeOnly} : FreeOnlyBoxes{};
+	}
+};
 
 std::size_t occupiedHighVoxels(const CAdaptiveOctoMap& map, const TBoundingBox& box)
 {
@@ -94,4 +119,35 @@ TEST(RayIntegrator, TheSketchForgetsWhatALaterDepthImageSeesThrough)
 	map.addHighResolutionRegion(wall);
 	EXPECT_EQ(occupiedHighVoxels(map, object), 0u);
 	EXPECT_EQ(occupiedHighVoxels(map, wall), 8u * 8u) << "the wall's 5 cm layer, 0.4 x 0.4 m";
+}
+
+// A free-only endpoint voxel is not freed by the scan's other rays, as
+// octomap's computeUpdate keeps every endpoint voxel of a scan out of its free
+// set (the free-only reference of avm-map's reference_maps does the same). A
+// floor 1.1 m below the sensor, seen at a grazing angle: the ray to a far
+// floor voxel crosses nearer floor voxels before it ends. Mapped twice, then
+// seen five times with a free-only box over part of it (a person passing):
+// the floor's voxels in the box stay occupied. Before, the rays to the
+// farther floor freed them (two hits, five misses).
+TEST(RayIntegrator, AFreeOnlyEndpointVoxelIsNotFreedByTheScansOtherRays)
+{
+	auto floor = wallScan(false);
+	floor.rangeImage.fill(0);
+	const auto& cam = floor.cameraParams;
+	for (int v = 0; v < 120; v++)
+	{
+		const double down = (v - cam.cy()) / cam.fy();  // depth per metre of drop
+		if (down <= 0) continue;
+		const double depth = 1.1 / down;
+		if (depth > 4.8) continue;
+		for (int u = 0; u < 160; u++) floor.rangeImage(v, u) = static_cast<std::uint16_t>(std::lround(depth * 1000));
+	}
+	MapWithFreeOnlyBox map;
+	const TBoundingBox passing({2.4, -0.6, -1.3}, {4.0, 0.6, -0.9});
+	for (int i = 0; i < 2; i++) ASSERT_TRUE(map.insertObservation(floor, mrpt::poses::CPose3D()));
+	const auto mapped = occupiedLowVoxels(map, passing);
+	ASSERT_GE(mapped, 10u) << "the floor's 0.20 m voxels in the box";
+	map.freeOnly = passing;
+	for (int i = 0; i < 5; i++) ASSERT_TRUE(map.insertObservation(floor, mrpt::poses::CPose3D()));
+	EXPECT_EQ(occupiedLowVoxels(map, passing), mapped);
 }

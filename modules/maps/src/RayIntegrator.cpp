@@ -160,8 +160,8 @@ void RayIntegrator::castRay(const mrpt::math::TPoint3D& end, std::uint64_t endKe
 }
 
 template <typename Set>
-void RayIntegrator::applyUpdates(
-	octomap::OcTree& tree, const KeyGrid& grid, const Set& freeKeys, const Set& occupiedKeys, bool keepInsideRegions)
+void RayIntegrator::applyUpdates(octomap::OcTree& tree, const KeyGrid& grid, const Set& freeKeys, Set& occupiedKeys,
+	const KeySet& freeOnlyEnds, bool keepInsideRegions)
 {
 	// A voxel belongs to exactly one tree: region space to the high tree,
 	// the rest to the low tree.
@@ -170,10 +170,20 @@ void RayIntegrator::applyUpdates(
 	auto belongs = [&](std::uint64_t packed)
 	{ return !m_hasRegions || m_targets.regions->covers(packed, ratio) == keepInsideRegions; };
 	m_batch.clear();
+	// A free-only endpoint voxel is not freed by the scan's other rays
+	// either, as octomap's computeUpdate keeps every endpoint voxel of a scan
+	// out of its free set: something is there (a person passing, perhaps in
+	// front of a surface in the same voxel), and a ray grazing past it does
+	// not show it empty. The free-only endpoints join the occupied ones after
+	// them, so one lookup keeps both out of the free set, and only the first
+	// (keys() keeps the order of insertion) are marked occupied.
+	const std::size_t occupiedCount = occupiedKeys.keys().size();
+	for (const auto k : freeOnlyEnds.keys()) occupiedKeys.insert(k);
 	for (const auto k : freeKeys.keys())
 		if (!occupiedKeys.contains(k) && belongs(k)) m_batch.add(k, false);
-	for (const auto k : occupiedKeys.keys())
-		if (belongs(k)) m_batch.add(k, true);
+	const auto& occupied = occupiedKeys.keys();
+	for (std::size_t i = 0; i < occupiedCount; i++)
+		if (belongs(occupied[i])) m_batch.add(occupied[i], true);
 	m_batch.applyTo(tree);
 }
 
@@ -236,8 +246,9 @@ void RayIntegrator::finish()
 			else if ((centreOf(lowKey, m_outsideGrid.resolution) - m_origin).norm() <= m_targets.outsideMaxRange)
 				m_targets.sketch->markLowVoxel(lowKey);
 		}
-	applyUpdates(*m_targets.outside, m_outsideGrid, m_outsideFree, m_outsideOccupied, false);
-	if (m_hasRegions) applyUpdates(*m_targets.inside, m_insideGrid, m_insideFree, m_insideOccupied, true);
+	applyUpdates(*m_targets.outside, m_outsideGrid, m_outsideFree, m_outsideOccupied, m_ends.freeOnlyOutside, false);
+	if (m_hasRegions)
+		applyUpdates(*m_targets.inside, m_insideGrid, m_insideFree, m_insideOccupied, m_ends.freeOnlyInside, true);
 }
 
 void RayIntegrator::integrateDepthImage(const mrpt::obs::CObservation3DRangeScan& obs,

@@ -60,9 +60,12 @@ class RayIntegrator
 	};
 	void castRay(const mrpt::math::TPoint3D& end, std::uint64_t endKey, Endpoint endpoint, RayPart part);
 	void castSegment(bool inside, double a, double b, bool extendStart, bool extendEnd, double length);
+	/** Frees the keys of `freeKeys` that are no endpoint of the scan (of
+	 *  `occupiedKeys` or `freeOnlyEnds`, which joins it), then marks the
+	 *  scan's occupied keys occupied; each only where it is `tree`'s space. */
 	template <typename Set>
-	void applyUpdates(octomap::OcTree& tree, const KeyGrid& grid, const Set& freeKeys, const Set& occupiedKeys,
-		bool keepInsideRegions);
+	void applyUpdates(octomap::OcTree& tree, const KeyGrid& grid, const Set& freeKeys, Set& occupiedKeys,
+		const KeySet& freeOnlyEnds, bool keepInsideRegions);
 
 	ScanTargets m_targets;
 	mrpt::math::TPoint3D m_origin;
