@@ -187,6 +187,7 @@ std::optional<CPose3D> FrameProcessor::estimatePose(const io::RgbdFrame& frame)
 		if (!m_lastEstimate.tracked)
 			m_log.logFmt(mrpt::system::LVL_WARN, "frame %zu: odometry lost (%s), pose bridged\n", frame.index,
 				m_lastEstimate.status.c_str());
+		if (m_lastEstimate.loop) reportLoop(frame.index);
 		if (m_lastEstimate.loopClosed || m_lastEstimate.bridgedFramesPlaced > 0) takeCorrectedTrajectory(frame.index);
 		pose = m_lastEstimate.pose;
 	}
@@ -221,6 +222,16 @@ void FrameProcessor::takeCorrectedTrajectory(std::size_t frameIndex)
 	if (!m_lastEstimate.loopClosed) return;
 	++m_counts.loopsClosed;
 	m_log.logFmt(mrpt::system::LVL_INFO, "frame %zu: loop closed, the trajectory so far corrected\n", frameIndex);
+}
+
+void FrameProcessor::reportLoop(std::size_t frameIndex)
+{
+	// Every verified loop and what the loop check made of it, so that a user
+	// sees why a loop did or did not move the trajectory.
+	const auto& status = m_lastEstimate.status;
+	const auto at = status.find("loop with");
+	m_log.logFmt(mrpt::system::LVL_INFO, "frame %zu, against frame %zu: %s\n", frameIndex,
+		m_lastEstimate.loop->candidateFrame, status.substr(at == std::string::npos ? 0 : at).c_str());
 }
 
 void FrameProcessor::updatePersons()

@@ -156,6 +156,8 @@ class FrameProcessor
 	/** After the odometry closed a loop or placed the frames it bridged
 	 *  through a loss: the earlier poses as it has them now. */
 	void takeCorrectedTrajectory(std::size_t frameIndex);
+	/** A loop the odometry verified at this frame, and the loop check's verdict, to the log. */
+	void reportLoop(std::size_t frameIndex);
 	// 3. Persons and their regions, once the previous frame is in the map.
 	void updatePersons();
 	void observePersons(const DetectionResult& detection);
