@@ -86,6 +86,13 @@ void VisualOdometry::Impl::joinPlace(const LoopMeasurement& loop)
 	Keyframe& newest = window.back();
 	const LandmarkMap place =
 		placeAround(loop.candidate, newest.id - options.loop_min_separation, keyframeMap, options.loop_neighbours);
+	// The place's points stand where the keyframe map has the candidate; the
+	// loop was measured, and the graph has moved the trajectory, relative to
+	// the candidate's trajectory pose, which the window bundle adjustment's
+	// offset sets apart from it by centimetres: anchored there, the points
+	// would pull the window away from the poses the graph gave it.
+	const Eigen::Isometry3d toTrajectory =
+		trackedPoses().at(loop.candidate).inverse() * keyframeMap.find(loop.candidate)->T_cw;
 	for (const auto& m : loop.inlierMatches)
 	{
 		const auto o = std::find_if(newest.observations.begin(), newest.observations.end(),
@@ -93,6 +100,7 @@ void VisualOdometry::Impl::joinPlace(const LoopMeasurement& loop)
 		if (o == newest.observations.end()) continue;
 		const int id = nextLandmarkId++;
 		landmarks[id] = place.at(m.landmark);
+		landmarks[id].position = toTrajectory * landmarks[id].position;
 		landmarks[id].anchored = true;
 		o->landmark = id;
 	}

@@ -188,14 +188,20 @@ void CeresBackend::bundleAdjust(const std::deque<Keyframe>& window, std::vector<
 				ReprojectionDepthCost::create(o, K, m_options.depth_weight), &loss, poses[k].data(), it->second.data());
 		}
 	if (!problem.HasParameterBlock(poses.front().data())) return;  // nothing ties the window to its anchor
-	bool anchoredSeen = false;
 	for (const int id : anchored)
-		if (problem.HasParameterBlock(points[id].data()))
-		{
-			problem.SetParameterBlockConstant(points[id].data());
-			anchoredSeen = true;
-		}
-	if (!anchoredSeen) problem.SetParameterBlockConstant(poses.front().data());
+		if (problem.HasParameterBlock(points[id].data())) problem.SetParameterBlockConstant(points[id].data());
+	// Anchored points hold the window where the place is only while some
+	// keyframe sees as many of them as a tracked pose needs; a few of them
+	// leave the window free to turn about them (after a loop it ran away by
+	// up to 15 cm a keyframe on the whole Bonn sequence, and a keyframe was
+	// made at every frame), so the oldest pose holds it then.
+	std::size_t mostAnchoredSeen = 0;
+	if (!anchored.empty())
+		for (const auto& kf : window)
+			mostAnchoredSeen = std::max(
+				mostAnchoredSeen, std::size_t(std::count_if(kf.observations.begin(), kf.observations.end(),
+									  [&](const Observation& o) { return landmarks.at(o.landmark).anchored; })));
+	if (mostAnchoredSeen < std::size_t(m_options.min_inliers)) problem.SetParameterBlockConstant(poses.front().data());
 	ceres::Solver::Summary summary;
 	ceres::Solve(solverOptions(m_options.ba_iterations, m_options.threads, ceres::DENSE_SCHUR), &problem, &summary);
 	if (!summary.IsSolutionUsable()) return;
