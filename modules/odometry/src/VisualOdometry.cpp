@@ -73,24 +73,24 @@ OdometryEstimate VisualOdometry::Impl::process(
 	return e;
 }
 
-OdometryEstimate VisualOdometry::Impl::track(const FrameFeatures& f)
+OdometryEstimate VisualOdometry::Impl::initialise(const FrameFeatures& f)
 {
-	if (window.empty())
+	OdometryEstimate e;
+	e.pose = toPose(T_cw.inverse());
+	if (int(f.keypoints.size()) < options.min_inliers)
 	{
-		if (int(f.keypoints.size()) < options.min_inliers)
-		{
-			OdometryEstimate e;
-			e.pose = toPose(T_cw.inverse());
-			e.status = "lost: not initialised, " + std::to_string(f.keypoints.size()) + " features with depth";
-			return e;
-		}
-		addKeyframe(f, {}, T_cw);
-		OdometryEstimate e;
-		e.pose = toPose(T_cw.inverse());
-		e.tracked = e.keyframe = true;
-		e.status = "initialised";
+		e.status = "lost: not initialised, " + std::to_string(f.keypoints.size()) + " features with depth";
 		return e;
 	}
+	addKeyframe(f, {}, T_cw);
+	e.tracked = e.keyframe = true;
+	e.status = "initialised";
+	return e;
+}
+
+OdometryEstimate VisualOdometry::Impl::track(const FrameFeatures& f)
+{
+	if (window.empty()) return initialise(f);
 	if (int(f.keypoints.size()) < options.min_inliers)
 		return lost(f, std::to_string(f.keypoints.size()) + " features with depth (no depth or no texture)");
 

@@ -110,6 +110,8 @@ struct VisualOdometry::Impl
 	OdometryEstimate process(const mrpt::obs::CObservation3DRangeScan& obs, const std::vector<cv::Rect>& boxes);
 	/** The frame's pose from its features: tracked, initialised, relocalised or bridged. */
 	OdometryEstimate track(const FrameFeatures& f);
+	/** The first keyframe, at the initial pose, once a frame has enough features. */
+	OdometryEstimate initialise(const FrameFeatures& f);
 	VisualOdometry::PlaceQuery queryPlace(
 		const mrpt::obs::CObservation3DRangeScan& obs, const std::vector<cv::Rect>& boxes) const;
 	/** Whether a frame tracked at T with `inliers` inliers makes a keyframe
