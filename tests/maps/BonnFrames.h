@@ -8,13 +8,10 @@
 #include <octomap/OcTree.h>
 
 #include <cstddef>
-#include <set>
-#include <tuple>
 #include <vector>
 
 #include "TestData.h"
 #include "avm/io/RawlogFrameReader.h"
-#include "avm/maps/OcTreeKeyLayout.h"
 
 namespace avm::test
 {
@@ -73,37 +70,4 @@ inline void insertWithOctomap(octomap::OcTree& tree, const MapFrame& f, double m
 	tree.insertPointCloud(c.points, c.origin, maxRange, false, true);
 }
 
-using VoxelKey = std::tuple<int, int, int>;
-
-/** Finest-level keys of the occupied voxels of `tree` whose centre passes
- *  `keep` (pruned occupied leaves are split into their voxels). */
-template <typename Pred>
-std::set<VoxelKey> occupiedVoxels(const octomap::OcTree& tree, Pred keep)
-{
-	std::set<VoxelKey> out;
-	if (tree.size() == 0) return out;
-	for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it)
-	{
-		if (!tree.isNodeOccupied(*it)) continue;
-		const auto first = it.getIndexKey();
-		const unsigned span = avm::maps::keySpanAtDepth(it.getDepth());
-		for (unsigned x = 0; x < span; x++)
-			for (unsigned y = 0; y < span; y++)
-				for (unsigned z = 0; z < span; z++)
-				{
-					const octomap::OcTreeKey k(first[0] + x, first[1] + y, first[2] + z);
-					const auto c = tree.keyToCoord(k);
-					if (keep(c.x(), c.y(), c.z())) out.emplace(k[0], k[1], k[2]);
-				}
-	}
-	return out;
-}
-
-inline double intersectionOverUnion(const std::set<VoxelKey>& a, const std::set<VoxelKey>& b)
-{
-	std::size_t common = 0;
-	for (const auto& k : a) common += b.count(k);
-	const std::size_t uni = a.size() + b.size() - common;
-	return uni == 0 ? 1.0 : static_cast<double>(common) / static_cast<double>(uni);
-}
 }  // namespace avm::test

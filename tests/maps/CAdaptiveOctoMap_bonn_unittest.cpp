@@ -15,6 +15,7 @@
 
 #include "BonnFrames.h"
 #include "avm/maps/OcTreeKeyLayout.h"
+#include "avm/maps/OccupiedKeys.h"
 #include "avm/plugin/CAdaptiveOctoMap.h"
 
 using avm::CAdaptiveOctoMap;
@@ -175,12 +176,12 @@ TEST(CAdaptiveOctoMapBonn, RegionPolicyMatchesSingleResolutionOctoMapsInsideAndO
 
 	auto inRegion = [&](double x, double y, double z) { return region.containsPoint({x, y, z}); };
 	auto outside = [&](double x, double y, double z) { return !region.containsPoint({x, y, z}); };
-	const auto highMine = avm::test::occupiedVoxels(*map.tree(Resolution::High), inRegion);
-	const auto highRef = avm::test::occupiedVoxels(refHigh, inRegion);
-	const auto lowMine = avm::test::occupiedVoxels(*low, outside);
-	const auto lowRef = avm::test::occupiedVoxels(refLow, outside);
-	const double iouInside = avm::test::intersectionOverUnion(highMine, highRef);
-	const double iouOutside = avm::test::intersectionOverUnion(lowMine, lowRef);
+	const auto highMine = avm::maps::occupiedFinestKeys(*map.tree(Resolution::High), inRegion);
+	const auto highRef = avm::maps::occupiedFinestKeys(refHigh, inRegion);
+	const auto lowMine = avm::maps::occupiedFinestKeys(*low, outside);
+	const auto lowRef = avm::maps::occupiedFinestKeys(refLow, outside);
+	const double iouInside = avm::maps::intersectionOverUnion(highMine, highRef);
+	const double iouOutside = avm::maps::intersectionOverUnion(lowMine, lowRef);
 	std::cout << "inside the region: " << highMine.size() << " occupied 0.05 m voxels vs " << highRef.size()
 			  << " in the reference, IoU " << iouInside << "\noutside: " << lowMine.size()
 			  << " occupied 0.20 m voxels vs " << lowRef.size() << ", IoU " << iouOutside << "\n";
@@ -554,11 +555,11 @@ TEST(CAdaptiveOctoMapBonn, PointCloudInputsMapLikeDepthImages)
 	auto all = [](double, double, double) { return true; };
 	for (const auto which : {Resolution::Low, Resolution::High})
 	{
-		const auto ref = avm::test::occupiedVoxels(*fromDepth.tree(which), all);
+		const auto ref = avm::maps::occupiedFinestKeys(*fromDepth.tree(which), all);
 		const double iouCloud =
-			avm::test::intersectionOverUnion(avm::test::occupiedVoxels(*fromCloud.tree(which), all), ref);
+			avm::maps::intersectionOverUnion(avm::maps::occupiedFinestKeys(*fromCloud.tree(which), all), ref);
 		const double iouWorld =
-			avm::test::intersectionOverUnion(avm::test::occupiedVoxels(*fromWorld.tree(which), all), ref);
+			avm::maps::intersectionOverUnion(avm::maps::occupiedFinestKeys(*fromWorld.tree(which), all), ref);
 		std::cout << (which == Resolution::Low ? "low" : "high") << " tree: IoU cloud " << iouCloud << ", world points "
 				  << iouWorld << " (" << ref.size() << " occupied voxels from depth)\n";
 		EXPECT_GT(ref.size(), 100u);

@@ -5,20 +5,17 @@
 
 #include <algorithm>
 #include <set>
-#include <tuple>
 
 #include "avm/io/ThreadCpuTime.h"
 #include "avm/plugin/CAdaptiveOctoMap.h"
 #include "avm/maps/OcTreeFile.h"
-#include "avm/maps/OcTreeKeyLayout.h"
+#include "avm/maps/OccupiedKeys.h"
 #include "PlainTreeStats.h"
 
 namespace avm
 {
 namespace
 {
-using Key = std::tuple<int, int, int>;
-
 bool inRegions(const CAdaptiveOctoMap& map, double x, double y, double z)
 {
 	for (const auto& r : map.highResolutionRegions())
@@ -27,35 +24,12 @@ bool inRegions(const CAdaptiveOctoMap& map, double x, double y, double z)
 	return false;
 }
 
-/** Finest-level keys of the occupied voxels of `tree` (pruned leaves split)
- *  whose centre is inside the regions (or outside, when `inside` is false). */
-std::set<Key> occupiedKeys(const octomap::OcTree& tree, const CAdaptiveOctoMap& map, bool inside)
+/** Finest-level keys of the occupied voxels of `tree` whose centre is inside
+ *  the regions (or outside, when `inside` is false). */
+std::set<maps::FinestKey> occupiedKeys(const octomap::OcTree& tree, const CAdaptiveOctoMap& map, bool inside)
 {
-	std::set<Key> out;
-	if (tree.size() == 0) return out;
-	for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it)
-	{
-		if (!tree.isNodeOccupied(*it)) continue;
-		const auto key = it.getIndexKey();
-		const unsigned span = maps::keySpanAtDepth(it.getDepth());
-		for (unsigned x = 0; x < span; x++)
-			for (unsigned y = 0; y < span; y++)
-				for (unsigned z = 0; z < span; z++)
-				{
-					const octomap::OcTreeKey k(key[0] + x, key[1] + y, key[2] + z);
-					const auto c = tree.keyToCoord(k);
-					if (inRegions(map, c.x(), c.y(), c.z()) == inside) out.insert({k[0], k[1], k[2]});
-				}
-	}
-	return out;
-}
-
-double iou(const std::set<Key>& a, const std::set<Key>& b)
-{
-	if (a.empty() && b.empty()) return 1.0;
-	std::size_t common = 0;
-	for (const auto& k : a) common += b.count(k);
-	return double(common) / double(a.size() + b.size() - common);
+	return maps::occupiedFinestKeys(
+		tree, [&](double x, double y, double z) { return inRegions(map, x, y, z) == inside; });
 }
 
 /** insertPointCloud(discretize = true) of `surface` and `freeOnly`, where the
@@ -150,7 +124,7 @@ TReferenceComparison ReferenceOctoMaps::compare(const CAdaptiveOctoMap& map) con
 		c.adaptiveMemoryBytes += s.memoryBytes;
 		c.adaptiveBinaryBytes += s.binaryBytes;
 	}
-	std::set<Key> mineInside;
+	std::set<maps::FinestKey> mineInside;
 	if (const auto* high = map.tree(Resolution::High)) mineInside = occupiedKeys(*high, map, true);
 	const auto refInside = occupiedKeys(*m_high, map, true);
 	const auto freeOnlyInside = occupiedKeys(*m_highFreeOnly, map, true);
@@ -158,12 +132,12 @@ TReferenceComparison ReferenceOctoMaps::compare(const CAdaptiveOctoMap& map) con
 	const auto refOutside = occupiedKeys(*m_low, map, false);
 	c.insideAdaptive = mineInside.size();
 	c.insideReference = refInside.size();
-	c.insideIoU = iou(mineInside, refInside);
+	c.insideIoU = maps::intersectionOverUnion(mineInside, refInside);
 	c.insideFreeOnlyReference = freeOnlyInside.size();
-	c.insideFreeOnlyIoU = iou(mineInside, freeOnlyInside);
+	c.insideFreeOnlyIoU = maps::intersectionOverUnion(mineInside, freeOnlyInside);
 	c.outsideAdaptive = mineOutside.size();
 	c.outsideReference = refOutside.size();
-	c.outsideIoU = iou(mineOutside, refOutside);
+	c.outsideIoU = maps::intersectionOverUnion(mineOutside, refOutside);
 	return c;
 }
 }  // namespace avm
