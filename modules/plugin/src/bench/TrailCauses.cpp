@@ -17,6 +17,7 @@
 #include "avm/io/RawlogFrameReader.h"
 #include "avm/io/RunFolder.h"
 #include "avm/maps/OcTreeFile.h"
+#include "TrailVoxels.h"
 
 namespace avm::maps
 {
@@ -27,46 +28,6 @@ namespace
  *  a person pixel whose ray passed through a region box to end beyond it
  *  (with the boxes: background in the person's image box). */
 constexpr unsigned char kPersonOutsideRegions = 1, kPersonInRegion = 2, kOtherPixel = 4, kPersonPastRegion = 8;
-
-struct TrailVoxel
-{
-	octomap::point3d centre;
-	double size = 0;
-	/** Frame index -> which pixels ended in the voxel then (the k... flags). */
-	std::map<std::size_t, unsigned char> hits;
-};
-
-/** The trail voxels of one tree, found by key at each depth they have. */
-struct TrailVoxels
-{
-	const octomap::OcTree* tree = nullptr;
-	std::vector<TrailVoxel> voxels;
-	std::map<unsigned, std::unordered_map<octomap::OcTreeKey, std::size_t, octomap::OcTreeKey::KeyHash>> byDepth;
-
-	void collect(const octomap::OcTree& map, const octomap::OcTree& reference)
-	{
-		tree = &map;
-		for (auto it = map.begin_leafs(), end = map.end_leafs(); it != end; ++it)
-		{
-			if (!map.isNodeOccupied(*it)) continue;
-			const auto* ref = reference.search(it.getKey(), it.getDepth());
-			if (!ref || reference.isNodeOccupied(ref)) continue;
-			byDepth[it.getDepth()][map.adjustKeyAtDepth(it.getKey(), it.getDepth())] = voxels.size();
-			voxels.push_back({it.getCoordinate(), it.getSize(), {}});
-		}
-	}
-	/** The trail voxels `p` lies in. */
-	std::vector<TrailVoxel*> at(const octomap::point3d& p)
-	{
-		std::vector<TrailVoxel*> found;
-		octomap::OcTreeKey key;
-		if (!tree->coordToKeyChecked(p, key)) return found;
-		for (auto& [depth, index] : byDepth)
-			if (const auto it = index.find(tree->adjustKeyAtDepth(key, depth)); it != index.end())
-				found.push_back(&voxels[it->second]);
-		return found;
-	}
-};
 
 struct RegionSeen
 {

@@ -161,6 +161,13 @@ TrailResult measureTrails(const TrailOptions& options,
 	if (result.frames == 0) throw std::runtime_error(options.rawlog.string() + ": no frames with ground truth");
 	result.rows.push_back(high.judge(high.single(), "single OctoMap, high resolution, all pixels"));
 	result.rows.push_back(low.judge(low.single(), "single OctoMap, low resolution, all pixels"));
+	// The persons' own pixels cut: a map with no trail against the person
+	// mask. What it still has against the boxes is background the boxes'
+	// reference does not see, a floor under any map that maps that background.
+	result.rows.push_back(high.judge(
+		high.reference(Yardstick::PersonMask), "single OctoMap, high resolution, without the persons' own pixels"));
+	result.rows.push_back(low.judge(
+		low.reference(Yardstick::PersonMask), "single OctoMap, low resolution, without the persons' own pixels"));
 	for (const auto& dir : options.avmMaps)
 	{
 		const auto files = io::RunFolder(dir).map();
