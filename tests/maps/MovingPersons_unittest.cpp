@@ -354,3 +354,38 @@ TEST(MovingPersons, TheSurfaceInABoxBesideAMovingPersonIsBackgroundNotTheirSilho
 	EXPECT_EQ(of(surface, C::Band), 0u);  // the free-only box holds the band (test above)
 	EXPECT_LT(10 * of(surface, C::Mixed), of(surface, C::Behind));
 }
+
+TEST(MovingPersons, ALowVoxelTheFineReferenceHoldsSurfaceInIsNoTrailOfThatReading)
+{
+	// A 0.20 m reference frees a voxel that rays pass through beside a
+	// surface; the 0.05 m reference of the same frames still holds that
+	// surface, and octomap's own coarse view of it (an inner node is occupied
+	// if a child is) calls the 0.20 m voxel occupied. The reading that asks
+	// the finer reference too counts less trail, never more.
+	avm::maps::TrailReference high(0.05, 5.0), low(0.20, 5.0);
+	for (const auto& lf : labelledFrames())
+	{
+		const auto cuts = cutsOf(lf);
+		high.insert(*lf.frame.obs, lf.frame.pose, cuts);
+		low.insert(*lf.frame.obs, lf.frame.pose, cuts);
+	}
+	using avm::maps::Yardstick;
+	const auto single = low.judge(low.single(), "single 0.20 m", &high);
+	const auto masked = low.judge(low.reference(Yardstick::PersonMask), "without the persons' own pixels", &high);
+	const auto unread = low.judge(low.single(), "single 0.20 m");
+	for (const auto y : {Yardstick::PersonMask, Yardstick::Boxes})
+	{
+		std::cout << "0.20 m trail without " << avm::maps::describe(y) << ": single " << single.trail(y) << " -> "
+				  << single.trailNoFineSurface(y) << " m3, without the persons' own pixels " << masked.trail(y)
+				  << " -> " << masked.trailNoFineSurface(y) << " m3\n";
+		EXPECT_LE(single.trailNoFineSurface(y), single.trail(y));
+		EXPECT_LE(masked.trailNoFineSurface(y), masked.trail(y));
+		// Without a finer reference the reading is the plain one.
+		EXPECT_EQ(unread.trailNoFineSurface(y), unread.trail(y));
+	}
+	EXPECT_EQ(masked.trail(Yardstick::PersonMask), 0.0);
+	// The boxes' references never see the background behind the persons:
+	// the 0.20 m one frees voxels whose surface the 0.05 m one keeps.
+	EXPECT_LT(single.trailNoFineSurface(Yardstick::Boxes), single.trail(Yardstick::Boxes));
+	EXPECT_LT(masked.trailNoFineSurface(Yardstick::Boxes), masked.trail(Yardstick::Boxes));
+}
