@@ -8,10 +8,6 @@
 #include <vector>
 
 #include "TrailVoxels.h"
-#include "avm/io/DepthCamera.h"
-#include "avm/io/RawlogFrameReader.h"
-#include "avm/io/RunFolder.h"
-#include "avm/maps/OcTreeFile.h"
 #include "avm/persons/PersonBand.h"
 #include "avm/persons/PersonLabels.h"
 
@@ -148,11 +144,8 @@ TrailPixels classifyTrailPixels(const TrailOptions& options, const std::filesyst
 	const TrailReference& high, const TrailReference& low, Yardstick yardstick, double edgeRatio)
 {
 	const io::RunFolder run(avmDir);
-	const auto files = run.map();
-	const auto highTree = readBinaryTree(files.highTree), lowTree = readBinaryTree(files.lowTree);
-	std::vector<TrailVoxels> trees(2);
-	trees[0].collect(*highTree, high.reference(yardstick));
-	trees[1].collect(*lowTree, low.reference(yardstick));
+	RunTrailVoxels found(run, high, low, yardstick);
+	auto& trees = found.trees;
 	std::vector<std::vector<Counts>> counts(2);
 	std::vector<std::vector<VoxelExtra>> extra(2);
 	for (std::size_t t = 0; t < 2; ++t)
@@ -165,48 +158,37 @@ TrailPixels classifyTrailPixels(const TrailOptions& options, const std::filesyst
 	out.map = avmDir.string();
 	out.yardstick = yardstick;
 	out.edgeRatio = edgeRatio;
-	io::RawlogFrameReader reader(options.rawlog);
-	std::size_t frames = 0;
-	while (auto frame = reader.next())
-	{
-		if (options.maxFrames > 0 && frames >= options.maxFrames) break;
-		if (!frame->groundTruth) continue;
-		++frames;
-		const auto& obs = *frame->observation;
-		const auto camera = io::DepthCamera::of(obs);
-		const mrpt::poses::CPose3D sensor = *frame->groundTruth + obs.sensorPose;
-		const auto cuts = personCuts(obs, sensor, options);
-		std::vector<float> personDepth;
-		const auto cls = trailPixelClasses(obs, sensor, options, cuts.of(yardstick), edgeRatio, personDepth);
-		for (int v = 0; v < camera.height; v++)
-			for (int u = 0; u < camera.width; u++)
+	std::size_t frameIndex = 0;
+	const mrpt::obs::CObservation3DRangeScan* obs = nullptr;
+	std::vector<std::uint8_t> cls;
+	std::vector<float> personDepth;
+	forEachTrailPixel(
+		options, trees,
+		[&](const io::RgbdFrame& f, const mrpt::poses::CPose3D& sensor, const PersonCuts& cuts)
+		{
+			frameIndex = f.index, obs = f.observation.get();
+			cls = trailPixelClasses(*obs, sensor, options, cuts.of(yardstick), edgeRatio, personDepth);
+		},
+		[&](std::size_t i, const mrpt::math::TPoint3D&, std::size_t t, TrailVoxel& voxel)
+		{
+			const auto c = cls[i];
+			const auto k = static_cast<std::size_t>(&voxel - trees[t].voxels.data());
+			++counts[t][k][c];
+			++out.pixels[c];
+			auto& e = extra[t][k];
+			if (c == std::uint8_t(TrailPixelClass::Behind))
 			{
-				const std::uint16_t raw = obs.rangeImage(v, u);
-				if (raw == 0) continue;
-				const auto local = camera.unproject(u, v, raw * obs.rangeUnits);
-				if (local.norm() > options.maxRange) continue;  // octomap keeps no endpoint there
-				const auto p = sensor.composePoint(local);
-				const auto i = static_cast<std::size_t>(v) * camera.width + u;
-				const auto c = cls[i];
-				const double past = raw * obs.rangeUnits - personDepth[i] - options.sighting.depthBand;
-				for (std::size_t t = 0; t < 2; ++t)
-					for (auto* voxel : trees[t].at(octomap::point3d(p.x, p.y, p.z)))
-					{
-						const auto k = static_cast<std::size_t>(voxel - trees[t].voxels.data());
-						++counts[t][k][c];
-						++out.pixels[c];
-						auto& e = extra[t][k];
-						if (c == std::uint8_t(TrailPixelClass::Behind))
-						{
-							++out.behindPastBand[past <= 0.25 ? 0 : past <= 0.5 ? 1 : past <= 1 ? 2 : 3];
-							e.pastBand += past;
-						}
-						const bool cutPixel = c != std::uint8_t(TrailPixelClass::Other);
-						auto& last = cutPixel ? e.lastCutFrame : e.lastUncutFrame;
-						if (last != frame->index) ++(cutPixel ? e.cutFrames : e.uncutFrames), last = frame->index;
-					}
+				const auto v = static_cast<int>(i / obs->rangeImage.cols()),
+						   u = static_cast<int>(i % obs->rangeImage.cols());
+				const double past =
+					obs->rangeImage(v, u) * obs->rangeUnits - personDepth[i] - options.sighting.depthBand;
+				++out.behindPastBand[past <= 0.25 ? 0 : past <= 0.5 ? 1 : past <= 1 ? 2 : 3];
+				e.pastBand += past;
 			}
-	}
+			const bool cutPixel = c != std::uint8_t(TrailPixelClass::Other);
+			auto& last = cutPixel ? e.lastCutFrame : e.lastUncutFrame;
+			if (last != frameIndex) ++(cutPixel ? e.cutFrames : e.uncutFrames), last = frameIndex;
+		});
 	std::ostringstream csv;
 	csv << "tree,x,y,z,size,band,mixed,behind,in_front,no_sighting,uncut,behind_past_band_mean,cut_frames,uncut_"
 		   "frames,last_cut_frame,last_uncut_frame,person_mask_trail\n";

@@ -3,12 +3,21 @@
 // (TrailCauses, TrailPixels), which follow the pixels of every frame.
 #pragma once
 
+#include <mrpt/poses/CPose3D.h>
 #include <octomap/OcTree.h>
 
+#include <array>
 #include <cstddef>
 #include <map>
+#include <memory>
 #include <unordered_map>
 #include <vector>
+
+#include "avm/io/DepthCamera.h"
+#include "avm/io/RawlogFrameReader.h"
+#include "avm/io/RunFolder.h"
+#include "avm/maps/OcTreeFile.h"
+#include "avm/plugin/TrailShare.h"
 
 namespace avm::maps
 {
@@ -55,4 +64,52 @@ struct TrailVoxels
 	}
 };
 
+/** A run's two trees and their trail voxels against one yardstick's
+ *  references of the same resolutions: index 0 the high tree, 1 the low. */
+struct RunTrailVoxels
+{
+	std::unique_ptr<octomap::OcTree> highTree, lowTree;
+	std::array<TrailVoxels, 2> trees;
+
+	RunTrailVoxels(const io::RunFolder& run, const TrailReference& high, const TrailReference& low, Yardstick y)
+		: highTree(readBinaryTree(run.map().highTree)), lowTree(readBinaryTree(run.map().lowTree))
+	{
+		trees[0].collect(*highTree, high.reference(y));
+		trees[1].collect(*lowTree, low.reference(y));
+	}
+};
+
+/** Follows the rawlog's pixels into the trail voxels, as the references
+ *  were built: for each frame with ground truth (up to options.maxFrames),
+ *  onFrame(frame, sensorPose, cuts), then for each of its depth pixels whose
+ *  point lies within options.maxRange and in a trail voxel,
+ *  onPixel(pixel index, point, tree index, voxel). */
+template <class OnFrame, class OnPixel>
+void forEachTrailPixel(const TrailOptions& options, std::array<TrailVoxels, 2>& trees, OnFrame onFrame, OnPixel onPixel)
+{
+	io::RawlogFrameReader reader(options.rawlog);
+	std::size_t frames = 0;
+	while (auto frame = reader.next())
+	{
+		if (options.maxFrames > 0 && frames >= options.maxFrames) break;
+		if (!frame->groundTruth) continue;
+		++frames;
+		const auto& obs = *frame->observation;
+		const auto camera = io::DepthCamera::of(obs);
+		const mrpt::poses::CPose3D sensor = *frame->groundTruth + obs.sensorPose;
+		onFrame(*frame, sensor, personCuts(obs, sensor, options));
+		for (int v = 0; v < camera.height; v++)
+			for (int u = 0; u < camera.width; u++)
+			{
+				const std::uint16_t raw = obs.rangeImage(v, u);
+				if (raw == 0) continue;
+				const auto local = camera.unproject(u, v, raw * obs.rangeUnits);
+				if (local.norm() > options.maxRange) continue;  // octomap keeps no endpoint there
+				const auto p = sensor.composePoint(local);
+				const auto i = static_cast<std::size_t>(v) * camera.width + u;
+				for (std::size_t t = 0; t < trees.size(); ++t)
+					for (auto* voxel : trees[t].at(octomap::point3d(p.x, p.y, p.z))) onPixel(i, p, t, *voxel);
+			}
+	}
+}
 }  // namespace avm::maps
