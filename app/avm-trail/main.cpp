@@ -4,13 +4,31 @@
 // yardsticks (the persons' own pixels, whole boxes: avm/plugin/TrailShare.h).
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 
+#include <fstream>
 #include <iostream>
 
 #include "avm/io/IniOptions.h"
 #include "avm/io/ProgramMain.h"
 #include "avm/plugin/TrailCauses.h"
 #include "avm/persons/PersonLayer.h"
+#include "avm/plugin/TrailPixels.h"
 #include "avm/plugin/TrailShare.h"
+
+namespace
+{
+/** The tables on stdout; the last --pixels map's voxels to `pixelsCsv` if given. */
+void print(const avm::maps::TrailResult& result, const std::vector<avm::maps::TrailCauses>& causes,
+	const std::vector<avm::maps::TrailPixels>& pixels, const std::string& pixelsCsv)
+{
+	std::cout << avm::maps::toMarkdown(result);
+	for (const auto& c : causes) std::cout << "\n" << avm::maps::toMarkdown(c);
+	for (const auto& p : pixels) std::cout << "\n" << avm::maps::toMarkdown(p);
+	if (pixelsCsv.empty() || pixels.empty()) return;
+	std::ofstream csv(pixelsCsv);
+	csv << pixels.back().voxelsCsv;
+	if (!csv) throw std::runtime_error(pixelsCsv + ": cannot be written");
+}
+}  // namespace
 
 int main(int argc, char** argv)
 {
@@ -45,6 +63,18 @@ int main(int argc, char** argv)
 			TCLAP::ValueArg<double> argHorizon("", "horizon",
 				"--causes: the maps' region_end_after_s, how long a region follows its person unseen [s] (default 1.5)",
 				false, 1.5, "S", cmd);
+			TCLAP::SwitchArg argPixels("", "pixels",
+				"also say for each map what the pixels that ended in its trail voxels were, against the yardstick of "
+				"--causes-against: the person's own (depth band), mixed (a depth edge next to the band), background "
+				"behind or in front, a label with no sighting, uncut",
+				cmd);
+			TCLAP::ValueArg<double> argEdge("", "edge-ratio",
+				"--pixels: a pixel is on a depth edge when its 3x3 depth range exceeds this fraction of its depth "
+				"(default 0.05, the odometry's depth_edge_ratio)",
+				false, 0.05, "F", cmd);
+			TCLAP::ValueArg<std::string> argPixelsCsv("", "pixels-csv",
+				"--pixels: also write each trail voxel's pixels by class to this CSV file (one map: the last -m)",
+				false, "", "FILE", cmd);
 			cmd.parse(argc, argv);
 
 			avm::maps::TrailOptions opt;
@@ -73,19 +103,24 @@ int main(int argc, char** argv)
 			avm::io::useImagesFolderOf(opt.rawlog);
 			avm::io::ProgressBar bar(false);
 			std::vector<avm::maps::TrailCauses> causes;
+			std::vector<avm::maps::TrailPixels> pixels;
 			const auto result = avm::maps::measureTrails(
 				opt,
 				[&bar](std::size_t done, std::size_t total)
 				{ bar.show(double(done) / double(total), std::to_string(done) + "/" + std::to_string(total)); },
 				[&](const avm::maps::TrailReference& high, const avm::maps::TrailReference& low)
 				{
-					if (!argCauses.getValue()) return;
 					for (const auto& dir : opt.avmMaps)
-						causes.push_back(avm::maps::explainTrails(
-							opt, dir, high, low, argLag.getValue(), argHorizon.getValue(), against));
+					{
+						if (argCauses.getValue())
+							causes.push_back(avm::maps::explainTrails(
+								opt, dir, high, low, argLag.getValue(), argHorizon.getValue(), against));
+						if (argPixels.getValue())
+							pixels.push_back(
+								avm::maps::classifyTrailPixels(opt, dir, high, low, against, argEdge.getValue()));
+					}
 				});
-			std::cout << avm::maps::toMarkdown(result);
-			for (const auto& c : causes) std::cout << "\n" << avm::maps::toMarkdown(c);
+			print(result, causes, pixels, argPixelsCsv.getValue());
 			return 0;
 		});
 }

@@ -8,6 +8,7 @@
 #include <octomap/OcTree.h>
 
 #include <algorithm>
+#include <array>
 #include <map>
 
 #include "BonnFrames.h"
@@ -19,6 +20,7 @@
 #include "avm/persons/PersonLayer.h"
 #include "avm/plugin/CAdaptiveOctoMap.h"
 #include "avm/plugin/ReferenceOctoMaps.h"
+#include "avm/plugin/TrailPixels.h"
 #include "avm/plugin/TrailShare.h"
 
 using avm::CAdaptiveOctoMap;
@@ -302,4 +304,88 @@ TEST(MovingPersons, TheFreeOnlyReferenceTreatsTheMovingPersonsAsTheMapDid)
 			  << r.insideFreeOnlyIoU << "); frames with free-only boxes " << framesWithFreeOnly << "\n";
 	EXPECT_LT(r.insideFreeOnlyReference, r.insideReference);
 	EXPECT_GT(r.insideFreeOnlyIoU, r.insideIoU);
+}
+
+TEST(MovingPersons, TheSurfaceInABoxBesideAMovingPersonIsBackgroundNotTheirSilhouette)
+{
+	// The box yardstick counts as trail what the map inserts of a detector's
+	// box: the pixels outside every free-only box. Were these mostly mixed
+	// pixels on the silhouette (a depth edge next to the person's band, their
+	// depth between the person and the background), they would move with the
+	// person, a real trail. They are mostly the background behind the band.
+	avm::maps::TrailOptions options;  // the person keys as ini/default.ini
+	options.sighting.depthBand = 0.3;
+	options.sighting.percentile = 0.08;
+	const double margin = 0.10, edgeRatio = 0.05;  // region_margin; the odometry's depth_edge_ratio
+	constexpr auto kClasses = static_cast<std::size_t>(avm::maps::TrailPixelClass::Count);
+	std::array<std::size_t, kClasses> inBoxes{}, surface{};
+	for (const auto& lf : labelledFrames())
+	{
+		const auto& obs = *lf.labelled;
+		const auto pose = lf.frame.pose + obs.sensorPose;
+		const auto cuts = avm::maps::personCuts(obs, pose, options);
+		std::vector<float> personDepth;
+		const auto cls = avm::maps::trailPixelClasses(obs, pose, options, cuts.boxes, edgeRatio, personDepth);
+		avm::persons::PersonLayer layer;
+		layer.observe(obs, pose, avm::persons::personPixelsFromLabels(obs, "person", options.sighting.minPixels),
+			lf.frame.index, options.sighting, margin, 0.05);
+		const auto freeOnly = layer.movingPersonBoxes(obs, 1.5, margin);
+		const auto camera = avm::io::DepthCamera::of(obs);
+		for (int v = 0; v < camera.height; v++)
+			for (int u = 0; u < camera.width; u++)
+			{
+				const auto c = cls[static_cast<std::size_t>(v) * camera.width + u];
+				const auto raw = obs.rangeImage(v, u);
+				if (raw == 0 || c == static_cast<std::uint8_t>(avm::maps::TrailPixelClass::Other)) continue;
+				++inBoxes[c];
+				const auto point = pose.composePoint(camera.unproject(u, v, raw * obs.rangeUnits));
+				surface[c] += std::none_of(freeOnly.begin(), freeOnly.end(),
+					[&](const mrpt::math::TBoundingBox& b) { return b.containsPoint(point); });
+			}
+	}
+	std::cout << "box pixels with depth, of them mapped as surface (outside every free-only box):\n";
+	for (std::size_t c = 0; c < kClasses; ++c)
+		std::cout << "  " << avm::maps::describe(static_cast<avm::maps::TrailPixelClass>(c)) << ": " << inBoxes[c]
+				  << ", " << surface[c] << "\n";
+	const auto of = [](const auto& counts, avm::maps::TrailPixelClass c)
+	{ return counts[static_cast<std::size_t>(c)]; };
+	using C = avm::maps::TrailPixelClass;
+	EXPECT_GT(of(inBoxes, C::Mixed), 0u);
+	EXPECT_EQ(of(surface, C::Band), 0u);  // the free-only box holds the band (test above)
+	EXPECT_LT(10 * of(surface, C::Mixed), of(surface, C::Behind));
+}
+
+TEST(MovingPersons, ALowVoxelTheFineReferenceHoldsSurfaceInIsNoTrailOfThatReading)
+{
+	// A 0.20 m reference frees a voxel that rays pass through beside a
+	// surface; the 0.05 m reference of the same frames still holds that
+	// surface, and octomap's own coarse view of it (an inner node is occupied
+	// if a child is) calls the 0.20 m voxel occupied. The reading that asks
+	// the finer reference too counts less trail, never more.
+	avm::maps::TrailReference high(0.05, 5.0), low(0.20, 5.0);
+	for (const auto& lf : labelledFrames())
+	{
+		const auto cuts = cutsOf(lf);
+		high.insert(*lf.frame.obs, lf.frame.pose, cuts);
+		low.insert(*lf.frame.obs, lf.frame.pose, cuts);
+	}
+	using avm::maps::Yardstick;
+	const auto single = low.judge(low.single(), "single 0.20 m", &high);
+	const auto masked = low.judge(low.reference(Yardstick::PersonMask), "without the persons' own pixels", &high);
+	const auto unread = low.judge(low.single(), "single 0.20 m");
+	for (const auto y : {Yardstick::PersonMask, Yardstick::Boxes})
+	{
+		std::cout << "0.20 m trail without " << avm::maps::describe(y) << ": single " << single.trail(y) << " -> "
+				  << single.trailNoFineSurface(y) << " m3, without the persons' own pixels " << masked.trail(y)
+				  << " -> " << masked.trailNoFineSurface(y) << " m3\n";
+		EXPECT_LE(single.trailNoFineSurface(y), single.trail(y));
+		EXPECT_LE(masked.trailNoFineSurface(y), masked.trail(y));
+		// Without a finer reference the reading is the plain one.
+		EXPECT_EQ(unread.trailNoFineSurface(y), unread.trail(y));
+	}
+	EXPECT_EQ(masked.trail(Yardstick::PersonMask), 0.0);
+	// The boxes' references never see the background behind the persons:
+	// the 0.20 m one frees voxels whose surface the 0.05 m one keeps.
+	EXPECT_LT(single.trailNoFineSurface(Yardstick::Boxes), single.trail(Yardstick::Boxes));
+	EXPECT_LT(masked.trailNoFineSurface(Yardstick::Boxes), masked.trail(Yardstick::Boxes));
 }

@@ -197,3 +197,26 @@ TEST(PersonSighting, APersonsShapeIsOnePointPerVoxelOfTheirPointsInsideTheBox)
 	EXPECT_LT(upper.size(), shape.size());
 	for (const auto& p : upper) EXPECT_GT(p.z, 0.0f) << p;
 }
+
+TEST(PersonBand, ADepthEdgeIsWhereTheNeighbourhoodSpansMoreThanTheRatioOfTheDepth)
+{
+	auto obs = personBeforeAWall();
+	// Inside the person and inside the wall: flat.
+	EXPECT_FALSE(onDepthEdge(obs, 320, 250, 0.05));
+	EXPECT_FALSE(onDepthEdge(obs, 100, 250, 0.05));
+	// On the silhouette, either side of it: 2 m against 4 m.
+	EXPECT_TRUE(onDepthEdge(obs, 260, 250, 0.05));
+	EXPECT_TRUE(onDepthEdge(obs, 259, 250, 0.05));
+	// A mixed pixel between the two is on the edge too.
+	obs.rangeImage(250, 258) = 3000;
+	EXPECT_TRUE(onDepthEdge(obs, 258, 250, 0.05));
+	// A small step is within the ratio: 2.00 against 2.08 m at 0.05.
+	obs.rangeImage(200, 321) = 2080;
+	EXPECT_FALSE(onDepthEdge(obs, 320, 200, 0.05));
+	EXPECT_TRUE(onDepthEdge(obs, 320, 200, 0.03));
+	// A neighbour without depth, or a neighbourhood leaving the image, is no
+	// stable depth either (the odometry's rule).
+	obs.rangeImage(300, 101) = 0;
+	EXPECT_TRUE(onDepthEdge(obs, 100, 300, 0.05));
+	EXPECT_TRUE(onDepthEdge(obs, 0, 250, 0.05));
+}

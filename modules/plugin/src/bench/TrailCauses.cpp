@@ -13,10 +13,8 @@
 #include <stdexcept>
 #include <unordered_map>
 
-#include "avm/io/DepthCamera.h"
-#include "avm/io/RawlogFrameReader.h"
 #include "avm/io/RunFolder.h"
-#include "avm/maps/OcTreeFile.h"
+#include "TrailVoxels.h"
 
 namespace avm::maps
 {
@@ -27,46 +25,6 @@ namespace
  *  a person pixel whose ray passed through a region box to end beyond it
  *  (with the boxes: background in the person's image box). */
 constexpr unsigned char kPersonOutsideRegions = 1, kPersonInRegion = 2, kOtherPixel = 4, kPersonPastRegion = 8;
-
-struct TrailVoxel
-{
-	octomap::point3d centre;
-	double size = 0;
-	/** Frame index -> which pixels ended in the voxel then (the k... flags). */
-	std::map<std::size_t, unsigned char> hits;
-};
-
-/** The trail voxels of one tree, found by key at each depth they have. */
-struct TrailVoxels
-{
-	const octomap::OcTree* tree = nullptr;
-	std::vector<TrailVoxel> voxels;
-	std::map<unsigned, std::unordered_map<octomap::OcTreeKey, std::size_t, octomap::OcTreeKey::KeyHash>> byDepth;
-
-	void collect(const octomap::OcTree& map, const octomap::OcTree& reference)
-	{
-		tree = &map;
-		for (auto it = map.begin_leafs(), end = map.end_leafs(); it != end; ++it)
-		{
-			if (!map.isNodeOccupied(*it)) continue;
-			const auto* ref = reference.search(it.getKey(), it.getDepth());
-			if (!ref || reference.isNodeOccupied(ref)) continue;
-			byDepth[it.getDepth()][map.adjustKeyAtDepth(it.getKey(), it.getDepth())] = voxels.size();
-			voxels.push_back({it.getCoordinate(), it.getSize(), {}});
-		}
-	}
-	/** The trail voxels `p` lies in. */
-	std::vector<TrailVoxel*> at(const octomap::point3d& p)
-	{
-		std::vector<TrailVoxel*> found;
-		octomap::OcTreeKey key;
-		if (!tree->coordToKeyChecked(p, key)) return found;
-		for (auto& [depth, index] : byDepth)
-			if (const auto it = index.find(tree->adjustKeyAtDepth(key, depth)); it != index.end())
-				found.push_back(&voxels[it->second]);
-		return found;
-	}
-};
 
 struct RegionSeen
 {
@@ -177,50 +135,32 @@ TrailCauses explainTrails(const TrailOptions& options, const std::filesystem::pa
 	const TrailReference& low, std::size_t lagFrames, double horizon, Yardstick yardstick)
 {
 	const io::RunFolder run(avmDir);
-	const auto files = run.map();
-	const auto highTree = readBinaryTree(files.highTree), lowTree = readBinaryTree(files.lowTree);
-	std::vector<TrailVoxels> trees(2);
-	trees[0].collect(*highTree, high.reference(yardstick));
-	trees[1].collect(*lowTree, low.reference(yardstick));
-
+	RunTrailVoxels found(run, high, low, yardstick);
 	const auto regions = readRegions(run.detections());
-	io::RawlogFrameReader reader(options.rawlog);
-	std::size_t frames = 0;
-	while (auto frame = reader.next())
-	{
-		if (options.maxFrames > 0 && frames >= options.maxFrames) break;
-		if (!frame->groundTruth) continue;
-		++frames;
-		const auto& obs = *frame->observation;
-		const auto camera = io::DepthCamera::of(obs);
-		const mrpt::poses::CPose3D sensor = *frame->groundTruth + obs.sensorPose;
-		const auto cuts = personCuts(obs, sensor, options);
-		const auto& cut = cuts.of(yardstick);
-		for (int v = 0; v < camera.height; v++)
-			for (int u = 0; u < camera.width; u++)
-			{
-				const std::uint16_t raw = obs.rangeImage(v, u);
-				if (raw == 0) continue;
-				const auto local = camera.unproject(u, v, raw * obs.rangeUnits);
-				if (local.norm() > options.maxRange) continue;  // octomap keeps no endpoint there
-				const auto p = sensor.composePoint(local);
-				const auto i = static_cast<std::size_t>(v) * camera.width + u;
-				for (auto& t : trees)
-					for (auto* voxel : t.at(octomap::point3d(p.x, p.y, p.z)))
-					{
-						unsigned char what = kOtherPixel;
-						if (!cut.empty() && cut[i])
-							what = pixelCause(
-								regions, frame->index, frame->timestamp(), sensor.translation(), p, lagFrames, horizon);
-						voxel->hits[frame->index] |= what;
-					}
-			}
-	}
+	const io::RgbdFrame* frame = nullptr;
+	const mrpt::poses::CPose3D* sensor = nullptr;
+	const std::vector<std::uint8_t>* cut = nullptr;
+	PersonCuts cuts;
+	forEachTrailPixel(
+		options, found.trees,
+		[&](const io::RgbdFrame& f, const mrpt::poses::CPose3D& s, PersonCuts c)
+		{
+			frame = &f, sensor = &s, cuts = std::move(c);
+			cut = &cuts.of(yardstick);
+		},
+		[&](std::size_t i, const mrpt::math::TPoint3D& p, std::size_t, TrailVoxel& voxel)
+		{
+			unsigned char what = kOtherPixel;
+			if (!cut->empty() && (*cut)[i])
+				what =
+					pixelCause(regions, frame->index, frame->timestamp(), sensor->translation(), p, lagFrames, horizon);
+			voxel.hits[frame->index] |= what;
+		});
 
 	TrailCauses out;
 	out.map = avmDir.string();
 	out.yardstick = yardstick;
-	for (const auto& t : trees)
+	for (const auto& t : found.trees)
 		for (const auto& v : t.voxels)
 		{
 			unsigned char all = 0;

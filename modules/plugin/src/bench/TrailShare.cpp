@@ -62,7 +62,11 @@ PersonCuts personCuts(
 TrailRow& TrailRow::operator+=(const TrailRow& other)
 {
 	occupiedM3 += other.occupiedM3;
-	for (std::size_t y = 0; y < trailM3.size(); ++y) trailM3[y] += other.trailM3[y];
+	for (std::size_t y = 0; y < trailM3.size(); ++y)
+	{
+		trailM3[y] += other.trailM3[y];
+		trailNoFineSurfaceM3[y] += other.trailNoFineSurfaceM3[y];
+	}
 	return *this;
 }
 
@@ -114,7 +118,21 @@ void TrailReference::insert(
 		m_references[y]->insertPointCloud(kept[y], origin, m_maxRange, false, true);
 }
 
-TrailRow TrailReference::judge(const octomap::OcTree& map, const std::string& name) const
+namespace
+{
+/** Whether `tree` holds an occupied leaf inside the cube of edge `size`
+ *  centred at `c` (its faces excluded). */
+bool occupiedInside(const octomap::OcTree& tree, const octomap::point3d& c, double size)
+{
+	const float h = static_cast<float>(size / 2 - tree.getResolution() / 4);
+	const octomap::point3d lo(c.x() - h, c.y() - h, c.z() - h), hi(c.x() + h, c.y() + h, c.z() + h);
+	for (auto it = tree.begin_leafs_bbx(lo, hi), end = tree.end_leafs_bbx(); it != end; ++it)
+		if (tree.isNodeOccupied(*it)) return true;
+	return false;
+}
+}  // namespace
+
+TrailRow TrailReference::judge(const octomap::OcTree& map, const std::string& name, const TrailReference* finer) const
 {
 	const double resolution = m_single->getResolution();
 	if (std::abs(map.getResolution() - resolution) > 1e-9)
@@ -130,7 +148,10 @@ TrailRow TrailReference::judge(const octomap::OcTree& map, const std::string& na
 		for (std::size_t y = 0; y < m_references.size(); ++y)
 		{
 			const auto* ref = m_references[y]->search(it.getKey(), it.getDepth());
-			if (ref && !m_references[y]->isNodeOccupied(ref)) row.trailM3[y] += volume;
+			if (!ref || m_references[y]->isNodeOccupied(ref)) continue;
+			row.trailM3[y] += volume;
+			if (!finer || !occupiedInside(finer->reference(static_cast<Yardstick>(y)), it.getCoordinate(), size))
+				row.trailNoFineSurfaceM3[y] += volume;
 		}
 	}
 	return row;
@@ -160,12 +181,19 @@ TrailResult measureTrails(const TrailOptions& options,
 	}
 	if (result.frames == 0) throw std::runtime_error(options.rawlog.string() + ": no frames with ground truth");
 	result.rows.push_back(high.judge(high.single(), "single OctoMap, high resolution, all pixels"));
-	result.rows.push_back(low.judge(low.single(), "single OctoMap, low resolution, all pixels"));
+	result.rows.push_back(low.judge(low.single(), "single OctoMap, low resolution, all pixels", &high));
+	// The persons' own pixels cut: a map with no trail against the person
+	// mask. What it still has against the boxes is background the boxes'
+	// reference does not see, a floor under any map that maps that background.
+	result.rows.push_back(high.judge(
+		high.reference(Yardstick::PersonMask), "single OctoMap, high resolution, without the persons' own pixels"));
+	result.rows.push_back(low.judge(low.reference(Yardstick::PersonMask),
+		"single OctoMap, low resolution, without the persons' own pixels", &high));
 	for (const auto& dir : options.avmMaps)
 	{
 		const auto files = io::RunFolder(dir).map();
 		auto row = high.judge(*readBinaryTree(files.highTree), files.highTree.string());
-		const auto lowRow = low.judge(*readBinaryTree(files.lowTree), files.lowTree.string());
+		const auto lowRow = low.judge(*readBinaryTree(files.lowTree), files.lowTree.string(), &high);
 		row.map = "avm " + dir.string() + " (low + high)";
 		row += lowRow;
 		result.rows.push_back(row);
@@ -188,6 +216,20 @@ std::string toMarkdown(const TrailResult& r)
 		char line[512];
 		std::snprintf(line, sizeof line, "| %s | %.3f | %.3f | %.1f %% | %.3f | %.1f %% |\n", row.map.c_str(),
 			row.occupiedM3, row.trail(mask), 100.0 * row.share(mask), row.trail(boxes), 100.0 * row.share(boxes));
+		out << line;
+	}
+	out << "\nthe same, a low-resolution voxel counted as trail only where the high-resolution reference of the same "
+		   "yardstick holds no occupied voxel inside it either\n\n"
+		   "| map | trail, person mask [m³] | trail share, person mask | trail, boxes [m³] | trail share, boxes |\n"
+		   "|---|---:|---:|---:|---:|\n";
+	for (const auto& row : r.rows)
+	{
+		char line[512];
+		std::snprintf(line, sizeof line, "| %s | %.3f | %.1f %% | %.3f | %.1f %% |\n", row.map.c_str(),
+			row.trailNoFineSurface(mask),
+			row.occupiedM3 > 0 ? 100.0 * row.trailNoFineSurface(mask) / row.occupiedM3 : 0.0,
+			row.trailNoFineSurface(boxes),
+			row.occupiedM3 > 0 ? 100.0 * row.trailNoFineSurface(boxes) / row.occupiedM3 : 0.0);
 		out << line;
 	}
 	return out.str();

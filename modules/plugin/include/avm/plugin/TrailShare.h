@@ -85,7 +85,14 @@ struct TrailRow
 	double occupiedM3 = 0;
 	/** Of it, the part each yardstick's reference says is free. */
 	std::array<double, static_cast<std::size_t>(Yardstick::Count)> trailM3{};
+	/** Of the trail, the part where the finer resolution's reference of the
+	 *  same yardstick holds no occupied voxel inside the voxel either: a
+	 *  0.20 m reference frees a voxel that rays pass through beside a surface
+	 *  the 0.05 m one still holds. Equal to trailM3 where there is no finer
+	 *  reference. */
+	std::array<double, static_cast<std::size_t>(Yardstick::Count)> trailNoFineSurfaceM3{};
 	double trail(Yardstick y) const { return trailM3[static_cast<std::size_t>(y)]; }
+	double trailNoFineSurface(Yardstick y) const { return trailNoFineSurfaceM3[static_cast<std::size_t>(y)]; }
 	double share(Yardstick y) const { return occupiedM3 > 0 ? trail(y) / occupiedM3 : 0; }
 	TrailRow& operator+=(const TrailRow& other);
 };
@@ -106,8 +113,9 @@ class TrailReference
 		const mrpt::obs::CObservation3DRangeScan& obs, const mrpt::poses::CPose3D& robotPose, const PersonCuts& cuts);
 	/** `map`'s occupied volume (a tree of this resolution) and the part of it
 	 *  each reference holds as free, each leaf judged at its own size. Throws
-	 *  std::invalid_argument on a tree of another resolution. */
-	TrailRow judge(const octomap::OcTree& map, const std::string& name) const;
+	 *  std::invalid_argument on a tree of another resolution. `finer`: the
+	 *  references at a finer resolution (TrailRow::trailNoFineSurfaceM3). */
+	TrailRow judge(const octomap::OcTree& map, const std::string& name, const TrailReference* finer = nullptr) const;
 	const octomap::OcTree& single() const { return *m_single; }
 	const octomap::OcTree& reference(Yardstick y) const { return *m_references[static_cast<std::size_t>(y)]; }
 
