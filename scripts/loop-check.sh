@@ -2,7 +2,8 @@
 # Does loop closing make a run worse? The main job (avm-map) with INI as it is
 # and with `loop_closure` turned the other way, on sequences beside those of
 # scripts/odometry-sequences.sh: the whole rgbd_bonn_crowd, its every 2nd
-# frame (from frame 0 and from frame 1) and every 3rd frame (from frame 1), and
+# frame (from frame 0 and from frame 1), every 3rd frame (from frame 1 and from
+# frame 2) and every 4th (from frame 0), and
 # sub300 and the whole sequence with people left unmasked (the odometry then
 # tracks people too and drifts: what loops are for). Prints a markdown table,
 # for each sequence the ATE RMSE [m] and the loops closed, off and on, and the
@@ -54,6 +55,8 @@ sequences=(
   "whole every 2nd from 0|$(thinned 2 0)|"
   "whole every 2nd from 1|$(thinned 2 1)|"
   "whole every 3rd from 1|$(thinned 3 1)|"
+  "whole every 3rd from 2|$(thinned 3 2)|"
+  "whole every 4th from 0|$(thinned 4 0)|"
   "bonn_crowd_sub300, people unmasked|datasets/bonn_crowd_sub300.rawlog|--set odometry:mask_people=false"
   "rgbd_bonn_crowd, people unmasked|$whole|--set odometry:mask_people=false"
 )
