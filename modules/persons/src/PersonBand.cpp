@@ -1,8 +1,8 @@
 #include "avm/persons/PersonBand.h"
 
-#include <algorithm>
 #include <cmath>
-#include <cstdint>
+
+#include "avm/io/DepthEdge.h"
 
 namespace avm::persons
 {
@@ -30,18 +30,8 @@ PixelSet personBandPixels(const mrpt::obs::CObservation3DRangeScan& obs, const P
 
 bool onDepthEdge(const mrpt::obs::CObservation3DRangeScan& obs, int u, int v, double ratio)
 {
+	// In raw units: the rule compares two depths of the same image.
 	const auto& img = obs.rangeImage;
-	if (u < 1 || v < 1 || u >= img.cols() - 1 || v >= img.rows() - 1) return true;
-	const std::uint16_t d = img(v, u);
-	std::uint16_t lo = d, hi = d;
-	for (int dv = -1; dv <= 1; ++dv)
-		for (int du = -1; du <= 1; ++du)
-		{
-			const std::uint16_t n = img(v + dv, u + du);
-			lo = std::min(lo, n);
-			hi = std::max(hi, n);
-		}
-	// In raw units: the ratio compares two depths of the same image.
-	return lo == 0 || double(hi - lo) > ratio * double(d);
+	return io::onDepthEdge([&](int x, int y) { return img(y, x); }, u, v, int(img.cols()), int(img.rows()), ratio);
 }
 }  // namespace avm::persons

@@ -8,6 +8,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "avm/io/DepthEdge.h"
+
 namespace avm::odometry::detail
 {
 namespace
@@ -19,16 +21,8 @@ std::optional<double> stableDepth(const cv::Mat& depth, int u, int v, const TOdo
 	if (u < 1 || v < 1 || u >= depth.cols - 1 || v >= depth.rows - 1) return std::nullopt;
 	const float d = depth.at<float>(v, u);
 	if (!(d >= o.min_depth && d <= o.max_depth)) return std::nullopt;
-	float lo = d, hi = d;
-	for (int dv = -1; dv <= 1; ++dv)
-		for (int du = -1; du <= 1; ++du)
-		{
-			const float n = depth.at<float>(v + dv, u + du);
-			if (!(n > 0)) return std::nullopt;
-			lo = std::min(lo, n);
-			hi = std::max(hi, n);
-		}
-	if (hi - lo > o.depth_edge_ratio * d) return std::nullopt;
+	const auto depthAt = [&](int x, int y) { return depth.at<float>(y, x); };
+	if (io::onDepthEdge(depthAt, u, v, depth.cols, depth.rows, o.depth_edge_ratio)) return std::nullopt;
 	return d;
 }
 

@@ -21,11 +21,9 @@ bool inPersonBand(float metres, float personDepth, const SightingOptions& option
 PixelSet personBandPixels(const mrpt::obs::CObservation3DRangeScan& obs, const PixelSet& pixels,
 	const PersonSighting& sighting, const SightingOptions& options);
 
-/** Whether depth pixel (u, v) of `obs` lies on a depth discontinuity: it or a
- *  pixel of its 3x3 neighbourhood has no depth, the neighbourhood leaves the
- *  image, or the neighbourhood's depth range exceeds `ratio` times its depth.
- *  The rule visual odometry drops features by (depth_edge_ratio); on a
- *  person's silhouette such a pixel is often a mixed one, its depth between
- *  the person's and the background's. */
+/** Whether depth pixel (u, v) of `obs` lies on a depth discontinuity
+ *  (io::onDepthEdge, the rule visual odometry drops features by with
+ *  depth_edge_ratio): on a person's silhouette such a pixel is often a mixed
+ *  one, its depth between the person's and the background's. */
 bool onDepthEdge(const mrpt::obs::CObservation3DRangeScan& obs, int u, int v, double ratio);
 }  // namespace avm::persons
