@@ -226,10 +226,8 @@ std::string toMarkdown(const TrailResult& r)
 	{
 		char line[512];
 		std::snprintf(line, sizeof line, "| %s | %.3f | %.1f %% | %.3f | %.1f %% |\n", row.map.c_str(),
-			row.trailNoFineSurface(mask),
-			row.occupiedM3 > 0 ? 100.0 * row.trailNoFineSurface(mask) / row.occupiedM3 : 0.0,
-			row.trailNoFineSurface(boxes),
-			row.occupiedM3 > 0 ? 100.0 * row.trailNoFineSurface(boxes) / row.occupiedM3 : 0.0);
+			row.trailNoFineSurface(mask), 100.0 * row.shareNoFineSurface(mask), row.trailNoFineSurface(boxes),
+			100.0 * row.shareNoFineSurface(boxes));
 		out << line;
 	}
 	return out.str();

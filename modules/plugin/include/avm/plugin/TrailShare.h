@@ -94,6 +94,7 @@ struct TrailRow
 	double trail(Yardstick y) const { return trailM3[static_cast<std::size_t>(y)]; }
 	double trailNoFineSurface(Yardstick y) const { return trailNoFineSurfaceM3[static_cast<std::size_t>(y)]; }
 	double share(Yardstick y) const { return occupiedM3 > 0 ? trail(y) / occupiedM3 : 0; }
+	double shareNoFineSurface(Yardstick y) const { return occupiedM3 > 0 ? trailNoFineSurface(y) / occupiedM3 : 0; }
 	TrailRow& operator+=(const TrailRow& other);
 };
 
