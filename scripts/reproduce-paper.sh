@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
 # Re-runs the paper's evaluation (Table 1 voxel counts, Table 2 map size against
 # the high-resolution share of the run, avm's per-person regions against single
-# OctoMaps), with ground-truth and with odometry poses, and writes
-# doc/results.md and doc/results/*.png. The datasets:
-#   bonn_crowd_sub300   the default dataset: the body of doc/results.md
+# OctoMaps), with ground-truth and with odometry poses, and writes a results
+# file, whole, with its pictures in doc/results/*.png. The datasets:
+#   bonn_crowd_sub300   the default dataset: doc/results.md
 #   rgbd_bonn_crowd     the whole sequence (scripts/get-data.sh --whole-sequence):
-#                       its section "The whole sequence"
+#                       doc/results-whole.md
 # Without a dataset named, both where they are in datasets/. Each writes only
-# its own part of doc/results.md. Options after -- go to avm-paper.
+# its own file. Options after -- go to avm-paper.
 # Usage: scripts/reproduce-paper.sh [DATASET...] [-- AVM-PAPER-OPTIONS...]
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -30,8 +30,7 @@ for d in "${datasets[@]}"; do
       "$build/bin/avm-paper" --rawlog "$rawlog" --work "$root/output/paper" --results "$root/doc/results.md" "$@" ;;
     rgbd_bonn_crowd)
       [ -n "$whole" ] || { echo "reproduce-paper.sh: datasets/rgbd_bonn_crowd is not there (scripts/get-data.sh --whole-sequence)" >&2; exit 1; }
-      "$build/bin/avm-paper" --rawlog "$whole" --work "$root/output/paper-whole" --results "$root/doc/results.md" \
-        --section "The whole sequence" "$@" ;;
+      "$build/bin/avm-paper" --rawlog "$whole" --work "$root/output/paper-whole" --results "$root/doc/results-whole.md" "$@" ;;
     *) echo "reproduce-paper.sh: unknown dataset '$d' (bonn_crowd_sub300 or rgbd_bonn_crowd)" >&2; exit 1 ;;
   esac
 done
