@@ -1,14 +1,14 @@
 #!/usr/bin/env bash
 # Runs the programs on bad inputs and writes what each says (exit status and
-# output, exactly as printed) into doc/reliability.md between the
-# "bad-inputs" markers, so that the list there is never typed by hand.
+# output, exactly as printed) as doc/bad-inputs.md, the whole file, so that the
+# list there is never typed by hand (doc/reliability.md links to it).
 #   scripts/bad-inputs.sh [BUILD_DIR]      (default: build)
 # Needs the built programs and ../shared (or $AVM_SHARED_DIR) for a dataset.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 bin=$(cd "${1:-$root/build}" && pwd)/bin
 shared=${AVM_SHARED_DIR:-$root/../shared}
-doc=$root/doc/reliability.md
+doc=$root/doc/bad-inputs.md
 for p in avm-map avm-tum2rawlog avm-odometry avm-detect avm-eval; do
   [ -x "$bin/$p" ] || { echo "bad-inputs.sh: $bin/$p not built" >&2; exit 1; }
 done
@@ -84,16 +84,18 @@ try "resume with another configuration" avm-map --resume damaged -c map.ini
 try "ground truth starts 6 ms after the first frame" avm-tum2rawlog late late.rawlog
 try "the same with --trim-to-ground-truth" avm-tum2rawlog -q --trim-to-ground-truth late late.rawlog
 
-table="<!-- bad-inputs: begin (written by scripts/bad-inputs.sh; do not edit) -->
-| input | command | exit | output |
-|---|---|---|---|
-${rows}<!-- bad-inputs: end -->"
-if grep -q '<!-- bad-inputs: begin' "$doc"; then
-  # ENVIRON, not awk -v, which would take the table's backslashes for escapes.
-  TABLE=$table awk '/<!-- bad-inputs: begin/ {print ENVIRON["TABLE"]; skip = 1} !skip {print} /<!-- bad-inputs: end/ {skip = 0}' \
-    "$doc" > "$work/reliability.md"
-else
-  { cat "$doc"; printf '\n## Bad input\n\n%s\n' "$table"; } > "$work/reliability.md"
-fi
-cp "$work/reliability.md" "$doc"
-echo "bad-inputs.sh: $doc updated"
+{
+  echo "# Bad input: what each program says"
+  echo
+  echo "Made by \`scripts/bad-inputs.sh\`: each program run on a bad input, with its exit status and everything it"
+  echo "printed (MRPT's INFO log lines left out). Every error is one line without a call stack (\`--verbose\` adds"
+  echo "it); option errors name the file (or \`--set\`), \`[section] key = value\` and why. Tests: \`ProgramErrors.*\`,"
+  echo "\`AllPrograms/Program.*\` (\`--help\`, \`--version\`, an unknown option, for each program), \`IniValues.*\`,"
+  echo "\`ErrorMessages.*\`, \`TumToRawlogBadInput.*\`."
+  echo
+  echo "| input | command | exit | output |"
+  echo "|---|---|---|---|"
+  printf '%s' "$rows"
+} > "$work/bad-inputs.md"
+cp "$work/bad-inputs.md" "$doc"
+echo "bad-inputs.sh: $doc written"
