@@ -9,7 +9,8 @@
 # doc/performance.md with the commands and the machine. Where the whole
 # rgbd_bonn_crowd is in datasets/ (scripts/get-data.sh --whole-sequence), also
 # avm-map on it on one core (taskset -c 0), twice, and whether the two
-# trajectories are the same bytes.
+# trajectories are the same bytes. avm-map's log lines (loops, lost frames)
+# are left out of the runs printed; each run's avm-map.log has them.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${AVM_BUILD_DIR:-$root/build}
@@ -31,7 +32,7 @@ run() {  # run NAME [--rawlog FILE] ARGS... : prints the command and avm-map's s
   map_command "$@"
   echo "\`\`\`"
   echo "${cmd[*]}"
-  (cd "$root" && "${cmd[@]}" | grep -vE '^ done\.$|^outputs in')
+  (cd "$root" && "${cmd[@]}" | grep -vE '^ done\.$|^outputs in|^\[[0-9:.]+\|(INFO |WARN )\|')
   echo "\`\`\`"
 }
 
@@ -65,7 +66,7 @@ tmp=$(mktemp "$root/doc/.performance.XXXX")
   echo "# End-to-end performance"
   echo
   echo "Made by \`scripts/benchmark.sh\` on $(date -u '+%Y-%m-%d %H:%M UTC'): $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //') (cpu family $(grep -m1 'cpu family' /proc/cpuinfo | cut -d: -f2 | tr -d ' '), model $(grep -m1 '^model[[:space:]]*:' /proc/cpuinfo | cut -d: -f2 | tr -d ' '): virtual machines that print the same name can differ in speed), $(nproc) cores, $(free -g | awk '/Mem:/{print $2}') GiB, load average before the runs $(cut -d' ' -f1-3 /proc/loadavg)."
-  echo "Release build. Every figure below is printed by the command above it (also in \`output/benchmark/*/stats.json\`)."
+  echo "Release build. Every figure below is printed by the command above it (also in \`output/benchmark/*/stats.json\`); avm-map's log lines are left out (each run's \`avm-map.log\` has them)."
   echo
   echo "## The default run: odometry + detection every third frame on a worker thread + region map"
   echo
@@ -136,7 +137,7 @@ tmp=$(mktemp "$root/doc/.performance.XXXX")
       cmd=(taskset -c 0 "${cmd[@]}")
       echo "\`\`\`"
       echo "${cmd[*]}"
-      (cd "$root" && "${cmd[@]}" | grep -vE '^ done\.$|^outputs in')
+      (cd "$root" && "${cmd[@]}" | grep -vE '^ done\.$|^outputs in|^\[[0-9:.]+\|(INFO |WARN )\|')
       echo "\`\`\`"
     done
     echo
