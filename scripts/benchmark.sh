@@ -1,17 +1,17 @@
 #!/usr/bin/env bash
 # End-to-end benchmark of avm-map on the default dataset (odometry + detection
 # + map, all 300 frames at 640x480, ini/default.ini, five times: the first
-# printed, all five in the closing tables), each speed
-# setting of the default against its alternative (detector input, read-ahead,
-# mapping thread, a gzip rawlog with PNG colour), and a long run (the sequence
-# replayed 10 times, 3000 frames, ground-truth poses), with the live view
+# printed, all five in the closing tables), each speed setting of the default
+# against its alternative (detector input, read-ahead, mapping thread, a gzip
+# rawlog with PNG colour, detection on every frame; a table), and a long run
+# (the sequence replayed 10 times, 3000 frames, ground-truth poses), with the live view
 # (--gui under xvfb-run: speed and peak memory against none, and the peak on
 # the whole sequence when it is there), written to
 # doc/performance.md with the commands and the machine. Where the whole
 # rgbd_bonn_crowd is in datasets/ (scripts/get-data.sh --whole-sequence), also
 # avm-map on it on one core (taskset -c 0), twice, and whether the two
-# trajectories are the same bytes. avm-map's log lines (loops, lost frames)
-# are left out of the runs printed; each run's avm-map.log has them.
+# trajectories are the same bytes (a table). avm-map's log lines (loops, lost
+# frames) are left out of the runs printed; each run's avm-map.log has them.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${AVM_BUILD_DIR:-$root/build}
@@ -80,12 +80,22 @@ tmp=$(mktemp "$root/doc/.performance.XXXX")
   echo
   echo "## What the default's speed settings buy"
   echo
-  echo "The default detects at 256x192 (the 640x480 frame scaled by 0.4, no padding), reads frames ahead on a thread of its own, inserts a frame into the map on a worker thread while odometry processes the next, and replays a rawlog that holds the frames as a camera gives them (\`avm-tum2rawlog --embed-images --compression 0\`). Against: YOLOX-Nano's native 416x416 input; 320x256; reading on the main loop's thread; the gzip rawlog with the colour as PNG files (the converter's default form):"
+  echo "The default detects at 256x192 (the 640x480 frame scaled by 0.4, no padding), reads frames ahead on a thread of its own, inserts a frame into the map on a worker thread while odometry processes the next, and replays a rawlog that holds the frames as a camera gives them (\`avm-tum2rawlog --embed-images --compression 0\`). Against: YOLOX-Nano's native 416x416 input; 320x256; reading on the main loop's thread; the gzip rawlog with the colour as PNG files (the converter's default form); and detection on every frame, synchronous (the slowest setting):"
   echo
-  run input-416 --set detection:input_width=416 --set detection:input_height=416
-  run input-320x256 --set detection:input_width=320 --set detection:input_height=256
-  run no-read-ahead --set pipeline:read_ahead_frames=0
-  run gzip-png-rawlog --rawlog output/benchmark/bonn_crowd_sub300_gz.rawlog
+  echo "\`\`\`"
+  settings=(input-416 input-320x256 no-read-ahead gzip-png-rawlog every-frame)
+  quiet_run input-416 --set detection:input_width=416 --set detection:input_height=416 && echo "${cmd[*]}"
+  quiet_run input-320x256 --set detection:input_width=320 --set detection:input_height=256 && echo "${cmd[*]}"
+  quiet_run no-read-ahead --set pipeline:read_ahead_frames=0 && echo "${cmd[*]}"
+  quiet_run gzip-png-rawlog --rawlog output/benchmark/bonn_crowd_sub300_gz.rawlog && echo "${cmd[*]}"
+  quiet_run every-frame --set pipeline:detect_every_n=1 --set pipeline:async_detection=false && echo "${cmd[*]}"
+  echo "\`\`\`"
+  echo
+  echo "| run | fps | CPU [ms a frame, all threads] | peak memory [MiB] | odometry [ms] | detection [ms a run] | map [ms] | odometry ATE RMSE [m] |"
+  echo "|---|---:|---:|---:|---:|---:|---:|---:|"
+  for r in "${defaults[0]}" "${settings[@]}"; do
+    echo "| $r | $(field "$r" fps | awk '{printf "%.1f", $1}') | $(field "$r" cpu_ms_per_frame | awk '{printf "%.1f", $1}') | $(field "$r" peak_memory_mb | awk '{printf "%.0f", $1}') | $(stage "$r" odometry) | $(stage "$r" detection) | $(stage "$r" map) | $(field "$r" odometry_ate_rmse_m | awk '{printf "%.4f", $1}') |"
+  done
   echo
   echo "## The mapping thread, alternating runs"
   echo
@@ -122,10 +132,6 @@ tmp=$(mktemp "$root/doc/.performance.XXXX")
   fi
   echo "The view draws on its own thread; the loop only takes a snapshot of the map when one is due (at most \`gui_fps\` a second, between two insertions): doc/viewer.md has its measured cost."
   echo
-  echo "## Detection on every frame, synchronous (the slowest setting)"
-  echo
-  run every-frame --set pipeline:detect_every_n=1 --set pipeline:async_detection=false
-  echo
   if [ -f "$root/datasets/rgbd_bonn_crowd/rgb.txt" ]; then
     [ -f "$root/datasets/rgbd_bonn_crowd.rawlog" ] ||
       "$build/bin/avm-tum2rawlog" -q --camera bonn --gt-body bonn --embed-images --compression 0 --trim-to-ground-truth \
@@ -134,14 +140,14 @@ tmp=$(mktemp "$root/doc/.performance.XXXX")
     echo
     echo "All 926 frames of \`rgbd_bonn_crowd\` that the ground truth covers, every thread of avm-map on the first core (\`taskset -c 0\`), twice. Targets: at least 30 frames per second, odometry at most 20 ms a frame, and the two runs' trajectories the same bytes:"
     echo
+    echo "\`\`\`"
     for i in 1 2; do
       map_command "whole-one-core-$i" --rawlog datasets/rgbd_bonn_crowd.rawlog
       cmd=(taskset -c 0 "${cmd[@]}")
-      echo "\`\`\`"
       echo "${cmd[*]}"
-      (cd "$root" && "${cmd[@]}" | grep -vE '^ done\.$|^outputs in|^\[[0-9:.]+\|(INFO |WARN )\|')
-      echo "\`\`\`"
+      (cd "$root" && "${cmd[@]}" >/dev/null)
     done
+    echo "\`\`\`"
     echo
     echo "The odometry's wall clock on one core also counts the detection and map threads that take the core meanwhile; its CPU time on its own thread (\`stages.odometry_cpu\`) is what one thread of odometry costs."
     echo
