@@ -87,11 +87,9 @@ try "the same with --trim-to-ground-truth" avm-tum2rawlog -q --trim-to-ground-tr
 {
   echo "# Bad input: what each program says"
   echo
-  echo "Made by \`scripts/bad-inputs.sh\`: each program run on a bad input, with its exit status and everything it"
-  echo "printed (MRPT's INFO log lines left out). Every error is one line without a call stack (\`--verbose\` adds"
-  echo "it); option errors name the file (or \`--set\`), \`[section] key = value\` and why. Tests: \`ProgramErrors.*\`,"
-  echo "\`AllPrograms/Program.*\` (\`--help\`, \`--version\`, an unknown option, for each program), \`IniValues.*\`,"
-  echo "\`ErrorMessages.*\`, \`TumToRawlogBadInput.*\`."
+  echo "Made by \`scripts/bad-inputs.sh\`: each program on a bad input, its exit status and all it printed (MRPT's INFO"
+  echo "log lines left out). Tests: \`ProgramErrors.*\`, \`AllPrograms/Program.*\`, \`IniValues.*\`, \`ErrorMessages.*\`,"
+  echo "\`TumToRawlogBadInput.*\`."
   echo
   echo "| input | command | exit | output |"
   echo "|---|---|---|---|"
