@@ -2,6 +2,7 @@
 // CObservation3DRangeScan (+ CObservationRobotPose ground truth).
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 
+#include <cstdio>
 #include <iostream>
 
 #include "avm/io/ProgramMain.h"
@@ -35,6 +36,10 @@ int main(int argc, char** argv)
 				"leave out the frames before the first and after the last ground-truth pose (listed as skipped) "
 				"instead of failing on them",
 				cmd);
+			TCLAP::ValueArg<std::string> argFrames("", "frames",
+				"only the frames FIRST..LAST (0-based, of the trimmed sequence with --trim-to-ground-truth, also with "
+				"--no-gt): one session cut from a sequence",
+				false, "", "FIRST:LAST", cmd);
 			TCLAP::SwitchArg argEmbed("", "embed-images", "store colour images inside the rawlog", cmd);
 			TCLAP::ValueArg<int> argCompression(
 				"", "compression", "gzip level of the rawlog 1..9, 0 = plain file (default 1)", false, 1, "0-9", cmd);
@@ -57,6 +62,14 @@ int main(int argc, char** argv)
 			opt.groundTruthBodyToCamera = avm::io::groundTruthBodyToCamera(argBody.getValue());
 			opt.useGroundTruth = !argNoGt.getValue();
 			opt.trimToGroundTruth = argTrim.getValue();
+			if (argFrames.isSet())
+			{
+				std::size_t first = 0, last = 0;
+				char end = 0;
+				if (std::sscanf(argFrames.getValue().c_str(), "%zu:%zu%c", &first, &last, &end) != 2)
+					throw std::runtime_error("--frames " + argFrames.getValue() + ": expected FIRST:LAST");
+				opt.frames = std::pair(first, last);
+			}
 			opt.embedImages = argEmbed.getValue();
 			opt.compressionLevel = argCompression.getValue();
 

@@ -162,13 +162,15 @@ std::unique_ptr<mrpt::io::CStream> openRawlogFile(const fs::path& file, int comp
 	return stream;
 }
 
-/** The dataset's ground truth when it is used (nothing otherwise), and with
- *  trimToGroundTruth `pairs` cut to its span. */
+/** The dataset's ground truth when it is used (nothing otherwise), and
+ *  `pairs` cut to its span with trimToGroundTruth, then to options.frames. */
 std::optional<Trajectory> readGroundTruth(const fs::path& gtFile, const TumConversionOptions& opt,
 	std::vector<RgbdPair>& pairs, std::vector<std::string>& skipped)
 {
 	std::optional<Trajectory> groundTruth;
-	if (opt.useGroundTruth && fs::exists(gtFile))
+	// Trimming reads the ground truth even when the rawlog is to have none:
+	// a cut of a sequence numbers its frames as the whole trimmed one does.
+	if ((opt.useGroundTruth || opt.trimToGroundTruth) && fs::exists(gtFile))
 	{
 		groundTruth = readTumTrajectory(gtFile);
 		if (groundTruth->empty()) throw std::runtime_error(gtFile.string() + ": no poses");
@@ -176,11 +178,19 @@ std::optional<Trajectory> readGroundTruth(const fs::path& gtFile, const TumConve
 	if (opt.trimToGroundTruth)
 	{
 		if (!groundTruth)
-			throw std::invalid_argument(opt.useGroundTruth
-											? gtFile.string() + ": not found; trimming to the ground truth needs it"
-											: std::string("trimming to the ground truth needs it, not --no-gt"));
+			throw std::invalid_argument(gtFile.string() + ": not found; trimming to the ground truth needs it");
 		pairs = trimmedToGroundTruth(std::move(pairs), *groundTruth, gtFile, skipped);
 	}
+	if (opt.frames)
+	{
+		const auto [first, last] = *opt.frames;
+		if (first > last || last >= pairs.size())
+			throw std::invalid_argument("frames " + std::to_string(first) + ":" + std::to_string(last) + ": the " +
+										(opt.trimToGroundTruth ? "trimmed " : "") +
+										"sequence has frames 0:" + std::to_string(pairs.size() - 1));
+		pairs = std::vector<RgbdPair>(pairs.begin() + std::ptrdiff_t(first), pairs.begin() + std::ptrdiff_t(last + 1));
+	}
+	if (!opt.useGroundTruth) groundTruth.reset();
 	return groundTruth;
 }
 

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <functional>
 #include <optional>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,10 @@ struct TumConversionOptions
 	 *  frame inside the span that the ground truth does not cover (a gap)
 	 *  still fails. Needs groundtruth.txt. */
 	bool trimToGroundTruth = false;
+	/** Only the frames first..last (0-based, of the trimmed sequence with
+	 *  trimToGroundTruth, whose ground truth it reads even without
+	 *  useGroundTruth): one session of a robot's runs cut from a sequence. */
+	std::optional<std::pair<std::size_t, std::size_t>> frames;
 };
 
 struct TumConversionSummary
