@@ -58,8 +58,10 @@ OdometryEstimate VisualOdometry::Impl::process(
 			grey, depth, K, options.mask_people ? boxes : std::vector<cv::Rect>{}, reportFeatures ? &masked : nullptr);
 	}();
 	const std::size_t bridged = std::size_t(lostFrames);
-	auto e = track(f);
-	frames.push_back({window.empty() ? -1 : window.back().id, T_cw, mrpt::Clock::toDouble(obs.timestamp)});
+	auto e = session.placing ? place(f) : track(f);
+	// A frame not placed in a continued session's map has no pose to keep.
+	if (e.placed)
+		frames.push_back({window.empty() ? -1 : window.back().id, T_cw, mrpt::Clock::toDouble(obs.timestamp)});
 	if (e.tracked && bridged > 0)
 	{
 		placeBridgedFrames(bridged);

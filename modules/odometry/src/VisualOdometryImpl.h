@@ -104,6 +104,19 @@ struct VisualOdometry::Impl
 		double timestamp = 0;  //!< [s] the observation's
 	};
 	std::vector<FramePose> frames;
+	/** The session this state tracks (continueSession): the keyframes of ids
+	 *  below firstKeyframe and the frames below firstFrame are the earlier
+	 *  sessions', held fixed; `placing` until a frame is found among them. */
+	struct Session
+	{
+		int firstKeyframe = 0;
+		std::size_t firstFrame = 0;
+		bool placing = false;
+		/** Where each continued session was placed: its first keyframe to the
+		 *  keyframe it was relocalised against, a constraint of the pose graph
+		 *  in place of the odometry that no camera measured across the gap. */
+		std::vector<PoseGraphEdge> placements;
+	} session;
 	mrpt::system::CTimeLogger stageTimer{true, "avm odometry stages"};
 	bool reportFeatures = false;
 
@@ -112,6 +125,10 @@ struct VisualOdometry::Impl
 	OdometryEstimate track(const FrameFeatures& f);
 	/** The first keyframe, at the initial pose, once a frame has enough features. */
 	OdometryEstimate initialise(const FrameFeatures& f);
+	/** A continued session's frame looked up among all the keyframes: placed
+	 *  there, a new local map starts at its pose; else not placed. */
+	OdometryEstimate place(const FrameFeatures& f);
+	void continueSession();
 	VisualOdometry::PlaceQuery queryPlace(
 		const mrpt::obs::CObservation3DRangeScan& obs, const std::vector<cv::Rect>& boxes) const;
 	/** Whether a frame tracked at T with `inliers` inliers makes a keyframe
@@ -134,9 +151,9 @@ struct VisualOdometry::Impl
 	/** The trajectory's pose of every map keyframe (KeyframePoses), the
 	 *  current frame's for a keyframe it made. */
 	KeyframePoses trackedPoses() const;
-	/** Moves every keyframe (the window's too) from its pose `from` to `to`,
-	 *  its keyframe map pose, landmarks and frames with it, and the current
-	 *  frame with the newest keyframe. */
+	/** Moves every keyframe of `to` (the window's too) from its pose `from`
+	 *  to `to`, its keyframe map pose, landmarks and this session's frames
+	 *  with it, and the current frame with the newest keyframe. */
 	void moveTo(const KeyframePoses& from, const KeyframePoses& to);
 	/** The newest keyframe's features that a loop matched observe the place's points from now on. */
 	void joinPlace(const LoopMeasurement& loop);

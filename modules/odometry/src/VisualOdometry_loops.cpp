@@ -47,8 +47,11 @@ VisualOdometry::LoopOutcome VisualOdometry::Impl::considerLoop(const LoopMeasure
 	if (judged.verdict == LoopVerdict::Unconfirmed) return {false, "kept, not confirmed (" + judged.why + ")"};
 	if (judged.verdict == LoopVerdict::WithinOwnError)
 		return {false, "kept, within the loops' own error (" + judged.why + ")"};
-	const auto poses = closeLoops(tracked, loops, options);
+	auto poses = closeLoops(tracked, loops, session.placements, session.firstKeyframe - 1, options);
 	if (!poses) return {false, "kept, the pose graph found no solution"};
+	// The earlier sessions' keyframes stay where they were: not even a
+	// rounding of their poses.
+	poses->erase(poses->begin(), poses->lower_bound(session.firstKeyframe));
 	moveTo(tracked, *poses);
 	joinPlace(loop);
 	return {true, "closed, poses corrected (" + judged.why + ")"};
@@ -144,12 +147,13 @@ void VisualOdometry::Impl::moveTo(const KeyframePoses& from, const KeyframePoses
 	}
 	T_cw = T_cw * newest;
 	for (const auto& [id, c] : corrections) keyframeMap.updatePose(id, keyframeMap.find(id)->T_cw * c);
-	// A frame whose keyframe has left the map moves with the next one kept.
-	for (auto& frame : frames)
+	// A frame whose keyframe has left the map moves with the next one kept;
+	// the earlier sessions' frames do not move.
+	for (auto frame = frames.begin() + std::ptrdiff_t(session.firstFrame); frame != frames.end(); ++frame)
 	{
-		auto c = corrections.lower_bound(frame.keyframe);
+		auto c = corrections.lower_bound(frame->keyframe);
 		if (c == corrections.end()) c = std::prev(c);
-		frame.T_cw = frame.T_cw * c->second;
+		frame->T_cw = frame->T_cw * c->second;
 	}
 }
 }  // namespace avm::odometry

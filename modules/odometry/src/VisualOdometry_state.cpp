@@ -14,7 +14,38 @@ namespace avm::odometry
 namespace
 {
 /** Layout version of the saveState stream; change it with the layout. */
-constexpr std::uint8_t stateVersion = 6;
+constexpr std::uint8_t stateVersion = 7;
+
+void writeEdges(mrpt::serialization::CArchive& out, const std::vector<PoseGraphEdge>& edges)
+{
+	out << std::uint32_t(edges.size());
+	for (const auto& e : edges)
+	{
+		out << std::int32_t(e.from) << std::int32_t(e.to);
+		writePose(out, e.T_to_from);
+		out << e.sigmaTranslation << e.sigmaRotation << e.robust;
+	}
+}
+
+/** Pose graph edges between keyframes of ids below nextKeyframe. */
+std::vector<PoseGraphEdge> readEdges(mrpt::serialization::CArchive& in, int nextKeyframe)
+{
+	std::vector<PoseGraphEdge> edges;
+	for (auto n = read<std::uint32_t>(in); n > 0; --n)
+	{
+		PoseGraphEdge& e = edges.emplace_back();
+		e.from = read<std::int32_t>(in);
+		e.to = read<std::int32_t>(in);
+		e.T_to_from = readPose(in);
+		e.sigmaTranslation = read<double>(in);
+		e.sigmaRotation = read<double>(in);
+		e.robust = read<bool>(in);
+		if (e.from < 0 || e.to < 0 || e.from >= nextKeyframe || e.to >= nextKeyframe || !(e.sigmaTranslation > 0) ||
+			!(e.sigmaRotation > 0))
+			throw badState("corrupt odometry state (pose graph constraint)");
+	}
+	return edges;
+}
 }  // namespace
 
 void VisualOdometry::Impl::saveState(mrpt::serialization::CArchive& out) const
@@ -53,13 +84,7 @@ void VisualOdometry::Impl::saveState(mrpt::serialization::CArchive& out) const
 	}
 	out << std::int32_t(nextKeyframeId) << std::int32_t(lostFrames) << std::int32_t(lostFramesWithFeatures);
 	keyframeMap.save(out);
-	out << std::uint32_t(loops.size());
-	for (const auto& e : loops)
-	{
-		out << std::int32_t(e.from) << std::int32_t(e.to);
-		writePose(out, e.T_to_from);
-		out << e.sigmaTranslation << e.sigmaRotation << e.robust;
-	}
+	writeEdges(out, loops);
 	out << std::uint64_t(frames.size());
 	for (const auto& frame : frames)
 	{
@@ -67,6 +92,8 @@ void VisualOdometry::Impl::saveState(mrpt::serialization::CArchive& out) const
 		writePose(out, frame.T_cw);
 		out << frame.timestamp;
 	}
+	out << std::int32_t(session.firstKeyframe) << std::uint64_t(session.firstFrame) << session.placing;
+	writeEdges(out, session.placements);
 }
 
 void VisualOdometry::Impl::loadState(mrpt::serialization::CArchive& in)
@@ -116,20 +143,7 @@ void VisualOdometry::Impl::loadState(mrpt::serialization::CArchive& in)
 	const int lost = read<std::int32_t>(in), lostWithFeatures = read<std::int32_t>(in);
 	KeyframeMap places(options);
 	places.load(in);
-	std::vector<PoseGraphEdge> loopEdges;
-	for (auto n = read<std::uint32_t>(in); n > 0; --n)
-	{
-		PoseGraphEdge& e = loopEdges.emplace_back();
-		e.from = read<std::int32_t>(in);
-		e.to = read<std::int32_t>(in);
-		e.T_to_from = readPose(in);
-		e.sigmaTranslation = read<double>(in);
-		e.sigmaRotation = read<double>(in);
-		e.robust = read<bool>(in);
-		if (e.from < 0 || e.to < 0 || e.from >= nextKeyframe || e.to >= nextKeyframe || !(e.sigmaTranslation > 0) ||
-			!(e.sigmaRotation > 0))
-			throw badState("corrupt odometry state (loop constraint)");
-	}
+	std::vector<PoseGraphEdge> loopEdges = readEdges(in, nextKeyframe);
 	std::vector<FramePose> framePoses;
 	for (auto n = read<std::uint64_t>(in); n > 0; --n)
 	{
@@ -141,6 +155,14 @@ void VisualOdometry::Impl::loadState(mrpt::serialization::CArchive& in)
 			throw badState("corrupt odometry state (frame of keyframe " + std::to_string(frame.keyframe) + ")");
 		if (!std::isfinite(frame.timestamp)) throw badState("corrupt odometry state (frame timestamp)");
 	}
+	Session continued;
+	continued.firstKeyframe = read<std::int32_t>(in);
+	continued.firstFrame = read<std::uint64_t>(in);
+	continued.placing = read<bool>(in);
+	continued.placements = readEdges(in, nextKeyframe);
+	if (continued.firstKeyframe < 0 || continued.firstKeyframe > nextKeyframe ||
+		continued.firstFrame > framePoses.size())
+		throw badState("corrupt odometry state (session start)");
 	for (const auto& kf : keyframes)
 		if (kf.id < 0 || kf.id >= nextKeyframe || !places.find(kf.id))
 			throw badState("corrupt odometry state (keyframe id " + std::to_string(kf.id) + ")");
@@ -159,5 +181,6 @@ void VisualOdometry::Impl::loadState(mrpt::serialization::CArchive& in)
 	keyframeMap = std::move(places);
 	loops = std::move(loopEdges);
 	frames = std::move(framePoses);
+	session = std::move(continued);
 }
 }  // namespace avm::odometry

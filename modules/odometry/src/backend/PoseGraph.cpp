@@ -63,7 +63,7 @@ struct RelativePoseCost
 }  // namespace
 
 PoseGraphResult optimisePoseGraph(const std::map<int, Eigen::Isometry3d>& nodes,
-	const std::vector<PoseGraphEdge>& edges, int fixedNode, int iterations)
+	const std::vector<PoseGraphEdge>& edges, int fixedUpTo, int iterations)
 {
 	PoseGraphResult result;
 	std::map<int, PoseParams> params;
@@ -80,9 +80,8 @@ PoseGraphResult optimisePoseGraph(const std::map<int, Eigen::Isometry3d>& nodes,
 		problem.AddResidualBlock(
 			cost, e.robust ? new ceres::HuberLoss(2.0) : nullptr, from->second.data(), to->second.data());
 	}
-	if (const auto fixed = params.find(fixedNode);
-		fixed != params.end() && problem.HasParameterBlock(fixed->second.data()))
-		problem.SetParameterBlockConstant(fixed->second.data());
+	for (auto& [id, p] : params)
+		if (id <= fixedUpTo && problem.HasParameterBlock(p.data())) problem.SetParameterBlockConstant(p.data());
 
 	ceres::Solver::Options options;
 	options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
@@ -97,7 +96,7 @@ PoseGraphResult optimisePoseGraph(const std::map<int, Eigen::Isometry3d>& nodes,
 	for (const auto& [id, p] : params)
 	{
 		result.usable = result.usable && isFinite(p);
-		result.poses[id] = fromParams(p, nodes.at(id));
+		result.poses[id] = id <= fixedUpTo ? nodes.at(id) : fromParams(p, nodes.at(id));
 	}
 	return result;
 }

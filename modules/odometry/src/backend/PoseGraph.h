@@ -28,13 +28,14 @@ struct PoseGraphResult
 {
 	bool usable = false;  //!< Ceres returned a finite solution
 	double initialCost = 0, finalCost = 0;
-	/** The poses (T_cw) of every node, optimised; the fixed node unchanged. */
+	/** The poses (T_cw) of every node, optimised; the fixed nodes unchanged. */
 	std::map<int, Eigen::Isometry3d> poses;
 };
 
 /** Optimises the poses T_cw of `nodes` (by id) under `edges` (edges naming a
- *  node that is not there are left out), holding `fixedNode` (the gauge);
+ *  node that is not there are left out), holding the nodes of ids up to
+ *  `fixedUpTo` (the gauge), which come back exactly as given;
  *  single-threaded, so the same graph always gives the same poses. */
 PoseGraphResult optimisePoseGraph(const std::map<int, Eigen::Isometry3d>& nodes,
-	const std::vector<PoseGraphEdge>& edges, int fixedNode, int iterations);
+	const std::vector<PoseGraphEdge>& edges, int fixedUpTo, int iterations);
 }  // namespace avm::odometry::detail

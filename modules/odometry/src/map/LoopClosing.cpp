@@ -4,6 +4,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -160,14 +161,24 @@ PoseGraphEdge loopEdge(
 	return e;
 }
 
-std::optional<KeyframePoses> closeLoops(
-	const KeyframePoses& poses, const std::vector<PoseGraphEdge>& loops, const TOdometryOptions& options)
+std::optional<KeyframePoses> closeLoops(const KeyframePoses& poses, const std::vector<PoseGraphEdge>& loops,
+	const std::vector<PoseGraphEdge>& placements, int fixedUpTo, const TOdometryOptions& options)
 {
 	if (poses.size() < 2) return std::nullopt;
+	// A continued session's first keyframe is tied to the earlier sessions by
+	// where it was placed, not by odometry from their last keyframe: no
+	// camera moved between the two (while the keyframe it was placed on is
+	// in the map; else the odometry edge is all that holds it).
+	const auto placedOn = [&](int to)
+	{
+		return std::any_of(placements.begin(), placements.end(),
+			[&](const PoseGraphEdge& p) { return p.to == to && poses.count(p.from); });
+	};
 	std::vector<PoseGraphEdge> edges;
 	for (auto it = poses.begin(); std::next(it) != poses.end(); ++it)
 	{
 		const auto next = std::next(it);
+		if (placedOn(next->first)) continue;
 		// The odometry between consecutive keyframes, as it stands.
 		PoseGraphEdge e;
 		e.from = it->first;
@@ -178,9 +189,10 @@ std::optional<KeyframePoses> closeLoops(
 		edges.push_back(e);
 	}
 	edges.insert(edges.end(), loops.begin(), loops.end());
+	edges.insert(edges.end(), placements.begin(), placements.end());
 	// A few hundred keyframes converge in a few iterations from the odometry's poses.
 	constexpr int kIterations = 20;
-	auto result = optimisePoseGraph(poses, edges, poses.begin()->first, kIterations);
+	auto result = optimisePoseGraph(poses, edges, std::max(fixedUpTo, poses.begin()->first), kIterations);
 	if (!result.usable) return std::nullopt;
 	return std::move(result.poses);
 }

@@ -64,10 +64,13 @@ std::optional<LoopMeasurement> measureLoop(const FrameFeatures& f, const Eigen::
 
 /** The keyframes' `poses` after optimising the pose graph of their
  *  odometry (each keyframe tied to the next by their relative pose in
- *  `poses`) and the loop constraints; the oldest keyframe holds the gauge.
+ *  `poses`, but for a continued session's first keyframe, which its
+ *  placement ties to the keyframe it was placed on), the loop constraints and
+ *  the `placements`; the keyframes up to id `fixedUpTo` (the earlier
+ *  sessions'), and the oldest keyframe, hold the gauge and come back as given.
  *  Nothing when Ceres returns no usable solution. */
-std::optional<KeyframePoses> closeLoops(
-	const KeyframePoses& poses, const std::vector<PoseGraphEdge>& loops, const TOdometryOptions& options);
+std::optional<KeyframePoses> closeLoops(const KeyframePoses& poses, const std::vector<PoseGraphEdge>& loops,
+	const std::vector<PoseGraphEdge>& placements, int fixedUpTo, const TOdometryOptions& options);
 
 /** What the loop check makes of a loop measured at the newest keyframe. */
 enum class LoopVerdict

@@ -73,8 +73,12 @@ struct TrackQuality
 struct OdometryEstimate
 {
 	mrpt::poses::CPose3D pose;  //!< camera optical frame in the world (never NaN)
-	bool tracked = false;       //!< false: the pose is bridged by the motion model
-	bool keyframe = false;      //!< the frame became a keyframe
+	/** False while a continued session has not yet found its frames in the
+	 *  earlier sessions' keyframe map (VisualOdometry::continueSession): the
+	 *  frame has no pose, `pose` means nothing, and trajectory() leaves it out. */
+	bool placed = true;
+	bool tracked = false;   //!< false: the pose is bridged by the motion model
+	bool keyframe = false;  //!< the frame became a keyframe
 	/** A loop closed at this frame and moved the poses of earlier frames:
 	 *  VisualOdometry::trajectory() has them. */
 	bool loopClosed = false;
@@ -120,6 +124,19 @@ class VisualOdometry
 	 *  Throws std::runtime_error on a truncated, corrupt or other-version
 	 *  stream, and then leaves the state as it was. */
 	void loadState(mrpt::serialization::CArchive& in);
+
+	/** Makes the state loadState() read (a finished run's) the start of a new
+	 *  session, as a robot's next run in the same building: the keyframe map,
+	 *  its place index and loops and the frames' poses are kept and stay where
+	 *  they are (a later loop holds every earlier keyframe and frame fixed);
+	 *  the tracking starts over, not placed. Each frame is then looked up
+	 *  among all the keyframes by place recognition (as a lost frame is
+	 *  relocalised) until one is placed; the frames before it are not placed
+	 *  (OdometryEstimate::placed) and get no pose. From the placed frame on,
+	 *  tracking, relocalisation and loop closing work on the whole map. */
+	void continueSession();
+	/** Frames of the earlier sessions (continueSession), at the front of trajectory(). */
+	std::size_t framesBeforeSession() const;
 
 	/** Fills OdometryEstimate::features and maskedFeatures from now on. The
 	 *  masked ones cost a second ORB detection on the masked pixels; tracking
