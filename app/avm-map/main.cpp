@@ -73,6 +73,11 @@ struct Arguments
 			  "checkpoint (its configuration and rawlog "
 			  "come from the checkpoint); the outputs go to DIR",
 			  false, "", "DIR", cmd),
+		  continueFrom("", "continue",
+			  "map the rawlog as the next session of the finished run whose output folder is PREV (read, never "
+			  "written): it starts with PREV's maps, persons and keyframes, places its frames among PREV's keyframes "
+			  "and maps on in PREV's world; --config defaults to PREV's configuration",
+			  false, "", "PREV", cmd),
 		  poses("p", "poses", "pose source, overrides [pipeline] pose_source", false, "", "vo|gt", cmd),
 		  set("s", "set",
 			  "override one ini value, e.g. --set pipeline:detect_every_n=1 "
@@ -93,30 +98,31 @@ struct Arguments
 	}
 
 	/** --resume excludes the arguments the checkpoint holds; without it,
-   *  --config and --rawlog are required. */
+   *  --rawlog is required, and --config unless --continue (PREV's then). */
 	void check() const
 	{
 		if (resume.isSet())
 		{
-			for (const TCLAP::Arg* a : std::initializer_list<const TCLAP::Arg*>{&config, &rawlog, &out, &poses, &set})
+			for (const TCLAP::Arg* a :
+				std::initializer_list<const TCLAP::Arg*>{&config, &rawlog, &out, &poses, &set, &continueFrom})
 				if (a->isSet())
 					throw std::invalid_argument("--resume: --" + a->getName() +
 												" is not allowed with it (the checkpoint holds the run's "
 												"configuration, rawlog and folder)");
+			return;
 		}
-		else if (!config.isSet() || !rawlog.isSet())
-		{
-			std::string missing;
-			for (const TCLAP::Arg* a : std::initializer_list<const TCLAP::Arg*>{&rawlog, &config})
-				if (!a->isSet())  // shortID() brackets an optional argument: "[-r
-								  // <RAWLOG>]"
-					missing += (missing.empty() ? " " : ", ") + a->shortID().substr(1, a->shortID().size() - 2);
+		std::vector<const TCLAP::Arg*> required{&rawlog};
+		if (!continueFrom.isSet()) required.push_back(&config);
+		std::string missing;
+		for (const TCLAP::Arg* a : required)
+			if (!a->isSet())  // shortID() brackets an optional argument: "[-r <RAWLOG>]"
+				missing += (missing.empty() ? " " : ", ") + a->shortID().substr(1, a->shortID().size() - 2);
+		if (!missing.empty())
 			throw std::invalid_argument(
 				"missing required argument" + missing + " (or --resume DIR; see avm-map --help)");
-		}
 	}
 
-	TCLAP::ValueArg<std::string> config, rawlog, out, resume, poses;
+	TCLAP::ValueArg<std::string> config, rawlog, out, resume, continueFrom, poses;
 	TCLAP::MultiArg<std::string> set;
 	TCLAP::SwitchArg quiet, gui, guiNoWait;
 	TCLAP::ValueArg<std::string> guiShot;
@@ -182,6 +188,10 @@ avm::pipeline::RunSummary withProgressBar(
 void printSummary(const avm::pipeline::RunSummary& summary, const std::string& outDir)
 {
 	if (summary.resumedAfterFrame) std::cout << "resumed:     after frame " << *summary.resumedAfterFrame << "\n";
+	if (const auto& c = summary.continuation)
+		std::cout << "continued:   " << c->previous.string() << " (session " << c->session << ", " << c->posesBefore
+				  << " poses before); " << c->unplacedFrames << " frames not placed, placed at frame "
+				  << (c->placedAtFrame ? std::to_string(*c->placedAtFrame) : std::string("none")) << "\n";
 	std::cout << "frames:      " << summary.frames << (summary.interrupted ? " (interrupted, saved)" : "") << "\n"
 			  << "speed:       " << summary.fps << " fps, real-time factor " << summary.realTimeFactor << "\n"
 			  << "switch:      "
@@ -218,17 +228,28 @@ int main(int argc, char** argv)
 			cmd.parse(argc, argv);
 			args.check();
 
-			const bool resume = args.resume.isSet();
-			std::optional<avm::pipeline::CheckpointedRun> checkpointed;
-			if (resume) checkpointed = avm::pipeline::readCheckpointedRun(args.resume.getValue());
-			const std::string iniSource =
-				resume ? avm::pipeline::checkpointFile(args.resume.getValue()).string() : args.config.getValue();
+			const bool resume = args.resume.isSet(), continues = args.continueFrom.isSet();
+			// The run whose configuration this one reads when no --config is given.
+			std::optional<avm::pipeline::CheckpointedRun> earlier;
+			std::string iniSource = args.config.getValue();
+			if (resume)
+			{
+				earlier = avm::pipeline::readCheckpointedRun(args.resume.getValue());
+				iniSource = avm::pipeline::checkpointFile(args.resume.getValue()).string();
+			}
+			else if (continues)
+			{
+				earlier = avm::pipeline::readSessionRun(args.continueFrom.getValue());
+				if (!args.config.isSet())
+					iniSource = avm::io::RunFolder(args.continueFrom.getValue()).session().string();
+			}
 			const std::string outDir = resume ? args.resume.getValue() : args.out.getValue();
 			const std::filesystem::path rawlog =
-				resume ? checkpointed->rawlog : std::filesystem::path(args.rawlog.getValue());
+				resume ? earlier->rawlog : std::filesystem::path(args.rawlog.getValue());
 			avm::io::useImagesFolderOf(rawlog);
 
-			mrpt::config::CConfigFileMemory ini(resume ? checkpointed->ini : readIni(args.config.getValue()));
+			mrpt::config::CConfigFileMemory ini(
+				earlier && !args.config.isSet() ? earlier->ini : readIni(args.config.getValue()));
 			std::vector<Override> overrides;
 			for (const auto& assignment : args.set.getValue()) overrides.push_back(parseOverride(assignment));
 			if (args.gui.getValue()) overrides.push_back(parseOverride("pipeline:gui=true"));
@@ -237,7 +258,10 @@ int main(int argc, char** argv)
 			// Process-wide: the ini's OpenCV threads apply to the whole run.
 			if (pipeline.openCvThreads() > 0) cv::setNumThreads(pipeline.openCvThreads());
 			pipeline.setMinLoggingLevel(mrpt::system::LVL_INFO);
-			if (args.poses.isSet()) pipeline.setPoseSource(avm::pipeline::poseSourceFromString(args.poses.getValue()));
+			if (args.poses.isSet())
+				pipeline.setPoseSource(avm::pipeline::poseSourceFromString(args.poses.getValue()));
+			else if (continues && !args.config.isSet())
+				pipeline.setPoseSource(earlier->poseSource);  // PREV's, as its configuration
 
 			RunObservers observers(pipeline.options().checkpointIntervalSeconds);
 			observers.connect(pipeline, args, rawlog);
@@ -248,8 +272,11 @@ int main(int argc, char** argv)
 			const auto summary = withProgressBar(args.quiet.getValue(),
 				[&](const Progress& progress)
 				{
-					return resume ? pipeline.resume(outDir, &stopRequested, progress)
-								  : pipeline.run(rawlog, outDir, &stopRequested, progress);
+					if (resume) return pipeline.resume(outDir, &stopRequested, progress);
+					if (continues)
+						return pipeline.continueRun(
+							args.continueFrom.getValue(), rawlog, outDir, &stopRequested, progress);
+					return pipeline.run(rawlog, outDir, &stopRequested, progress);
 				});
 			printSummary(summary, outDir);
 			return summary.interrupted ? 130 : 0;

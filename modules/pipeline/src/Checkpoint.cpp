@@ -21,17 +21,11 @@ namespace
 const std::string kMagic = "avm-checkpoint";
 constexpr std::uint8_t kVersion = 1;
 
-/** Reads the file's header and run; `rest(archive)` reads on. Any failure
- *  becomes one line naming the file. */
+/** Reads a checkpoint's header and run; `rest(archive)` reads on. Any
+ *  failure becomes one line naming the file, `what` the use it failed for. */
 template <typename Rest>
-CheckpointedRun readFile(const fs::path& outDir, Rest rest)
+CheckpointedRun readFile(const fs::path& file, const std::string& what, Rest rest)
 {
-	const fs::path file = checkpointFile(outDir);
-	if (!fs::exists(file))
-		throw std::runtime_error(file.string() +
-								 ": no checkpoint (the run finished, which removes it, or was stopped before its "
-								 "first frame, or " +
-								 outDir.string() + " is not an avm-map output folder)");
 	try
 	{
 		mrpt::io::CFileInputStream stream(file.string());
@@ -56,24 +50,58 @@ CheckpointedRun readFile(const fs::path& outDir, Rest rest)
 		// MRPT's words for a stream that ends inside a value.
 		if (why.find("Cannot read requested number of bytes") != std::string::npos)
 			why = "the file ends early (cut short while it was copied?)";
-		throw std::runtime_error(file.string() + ": cannot resume from this checkpoint: " + why);
+		throw std::runtime_error(file.string() + ": " + what + ": " + why);
 	}
 }
+
+/** outDir's checkpoint, which must exist. */
+fs::path existingCheckpoint(const fs::path& outDir)
+{
+	const fs::path file = checkpointFile(outDir);
+	if (!fs::exists(file))
+		throw std::runtime_error(file.string() +
+								 ": no checkpoint (the run finished, which removes it, or was stopped before its "
+								 "first frame, or " +
+								 outDir.string() + " is not an avm-map output folder)");
+	return file;
+}
+
+constexpr const char* kCannotResume = "cannot resume from this checkpoint";
+constexpr const char* kCannotContinue = "cannot continue from this session";
 }  // namespace
 
 fs::path checkpointFile(const fs::path& outDir) { return io::RunFolder(outDir).checkpoint(); }
 
 CheckpointedRun readCheckpointedRun(const fs::path& outDir)
 {
-	return readFile(outDir, [](CArchive&) {});
+	return readFile(existingCheckpoint(outDir), kCannotResume, [](CArchive&) {});
+}
+
+fs::path detail::sessionFile(const fs::path& previous)
+{
+	const io::RunFolder run(previous);
+	if (!fs::is_directory(previous)) throw std::runtime_error(previous.string() + ": no such folder");
+	if (fs::exists(run.session())) return run.session();
+	if (fs::exists(run.checkpoint()))
+		throw std::runtime_error(previous.string() +
+								 ": the run was interrupted (it has a checkpoint, no session): finish it with "
+								 "avm-map --resume " +
+								 previous.string() + ", then continue it");
+	throw std::runtime_error(run.session().string() + ": no session (" + previous.string() +
+							 " is not the output folder of a finished avm-map run)");
+}
+
+CheckpointedRun readSessionRun(const fs::path& previous)
+{
+	return readFile(detail::sessionFile(previous), kCannotContinue, [](CArchive&) {});
 }
 
 namespace detail
 {
-void writeCheckpoint(const fs::path& outDir, const CheckpointedRun& run, const CheckpointProgress& progress,
+void writeCheckpoint(const fs::path& file, const CheckpointedRun& run, const CheckpointProgress& progress,
 	const mrpt::maps::CMultiMetricMap& maps, FrameProcessor& processor)
 {
-	io::writeFileAtomically(pipeline::checkpointFile(outDir),
+	io::writeFileAtomically(file,
 		[&](const fs::path& tmp)
 		{
 			mrpt::io::CFileOutputStream stream;
@@ -95,8 +123,19 @@ void writeCheckpoint(const fs::path& outDir, const CheckpointedRun& run, const C
 
 CheckpointProgress readCheckpoint(const fs::path& outDir, mrpt::maps::CMultiMetricMap& maps, FrameProcessor& processor)
 {
+	return readState(existingCheckpoint(outDir), kCannotResume, maps, processor);
+}
+
+CheckpointProgress readSession(const fs::path& previous, mrpt::maps::CMultiMetricMap& maps, FrameProcessor& processor)
+{
+	return readState(sessionFile(previous), kCannotContinue, maps, processor);
+}
+
+CheckpointProgress readState(
+	const fs::path& file, const std::string& what, mrpt::maps::CMultiMetricMap& maps, FrameProcessor& processor)
+{
 	CheckpointProgress progress;
-	readFile(outDir,
+	readFile(file, what,
 		[&](CArchive& in)
 		{
 			in >> progress.seconds >> progress.cpuSeconds >> progress.log;

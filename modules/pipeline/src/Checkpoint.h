@@ -1,5 +1,7 @@
 // avm-map's checkpoint, OUTDIR/checkpoint.bin: all a killed run needs to go
-// on (avm-map --resume OUTDIR). One MRPT archive, in this order:
+// on (avm-map --resume OUTDIR). A finished run writes the same at its end as
+// its session, OUTDIR/session.bin: all a next run needs to continue it
+// (avm-map --continue OUTDIR). One MRPT archive, in this order:
 //   "avm-checkpoint", version
 //   CheckpointedRun    the configuration (with --set), rawlog, pose source
 //   CheckpointProgress the run's time so far and its log
@@ -26,14 +28,25 @@ struct CheckpointProgress
 	std::string log;                     //!< the run's log so far
 };
 
-/** Writes outDir's checkpoint (finishing the processor's insertion in
- *  flight); the processor must be readyForCheckpoint(). */
-void writeCheckpoint(const std::filesystem::path& outDir, const CheckpointedRun& run,
-	const CheckpointProgress& progress, const mrpt::maps::CMultiMetricMap& maps, FrameProcessor& processor);
+/** Writes a checkpoint into `file` (outDir's checkpointFile, or a finished
+ *  run's session: io::RunFolder::session), finishing the processor's
+ *  insertion in flight; the processor must be readyForCheckpoint(). */
+void writeCheckpoint(const std::filesystem::path& file, const CheckpointedRun& run, const CheckpointProgress& progress,
+	const mrpt::maps::CMultiMetricMap& maps, FrameProcessor& processor);
 
 /** Restores the maps (made from the same definition) and a fresh processor
  *  from outDir's checkpoint. Throws std::runtime_error naming the file when it
  *  is missing, truncated or holds another run's maps. */
 CheckpointProgress readCheckpoint(
 	const std::filesystem::path& outDir, mrpt::maps::CMultiMetricMap& maps, FrameProcessor& processor);
+/** The same from the session of the finished run in `previous`. */
+CheckpointProgress readSession(
+	const std::filesystem::path& previous, mrpt::maps::CMultiMetricMap& maps, FrameProcessor& processor);
+/** The same from `file`; an error names it and `what` failed. */
+CheckpointProgress readState(const std::filesystem::path& file, const std::string& what,
+	mrpt::maps::CMultiMetricMap& maps, FrameProcessor& processor);
+/** The session file of the finished run in `previous`; throws
+ *  std::runtime_error in one line when there is none (an interrupted run's
+ *  folder: it says to resume it first). */
+std::filesystem::path sessionFile(const std::filesystem::path& previous);
 }  // namespace avm::pipeline::detail

@@ -5,7 +5,9 @@ namespace avm::pipeline
 bool CheckpointWriter::betweenFrames(RunState& run)
 {
 	if (m_interval <= 0) return true;
-	const bool first = !m_written && !run.resumed() && !run.lastFrame();
+	// Before the first frame of a new run or of a continued session (whose
+	// last frame is the earlier session's): a kill at any instant resumes.
+	const bool first = !m_written && !run.resumed();
 	if (first || (m_sinceLast.Tac() >= m_interval && run.canCheckpoint())) write(run);
 	return true;
 }

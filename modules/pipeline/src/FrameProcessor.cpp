@@ -1,8 +1,12 @@
 #include "FrameProcessor.h"
 
+#include <mrpt/core/bits_math.h>
 #include <mrpt/system/CTicTac.h>
 
+#include <Eigen/Geometry>
+
 #include <limits>
+#include <stdexcept>
 #include <utility>
 
 #include "avm/detection/PersonLabels.h"
@@ -37,17 +41,20 @@ FrameProcessor::~FrameProcessor() = default;
 bool FrameProcessor::process(const io::RgbdFrame& frame)
 {
 	m_lastFrame = frame.index;
+	if (!m_camera) m_camera = frame.observation->cameraParams;
 	startDetection(frame);
 	applyDueDetections(frame.index);
 	const auto pose = estimatePose(frame);
 	if (!pose)
 	{
-		++m_counts.skippedFrames;
+		if (m_lastEstimate.placed) ++m_counts.skippedFrames;
 		return false;
 	}
+	const bool groundTruthPoses = m_options.poseSource == PoseSource::GroundTruth;
 	if (frame.groundTruth) m_groundTruth.push_back({frame.timestamp(), *frame.groundTruth});
+	m_keyframePoses.push_back(groundTruthPoses ? spacedFromLastKeyframe(*pose) : m_lastEstimate.keyframe);
 	m_trajectory.push_back({frame.timestamp(), *pose});
-	m_trackedPoses.push_back(m_options.poseSource == PoseSource::GroundTruth || m_lastEstimate.tracked);
+	m_trackedPoses.push_back(groundTruthPoses || m_lastEstimate.tracked);
 	mapFrame(frame, *pose, true);
 	++m_counts.frames;
 	return true;
@@ -184,6 +191,18 @@ std::optional<CPose3D> FrameProcessor::estimatePose(const io::RgbdFrame& frame)
 		m_lastEstimate = m_odometry->process(*frame.observation, m_latestPersonBoxes);
 		m_stages.odometry.add(timer.Tac() * 1e3);
 		m_stages.odometryCpu.add(io::threadCpuMs() - cpu);
+		if (!m_lastEstimate.placed)
+		{
+			++m_counts.continuation->unplacedFrames;
+			m_log.logFmt(mrpt::system::LVL_INFO, "frame %zu: %s\n", frame.index, m_lastEstimate.status.c_str());
+			return std::nullopt;
+		}
+		if (m_counts.continuation && !m_counts.continuation->placedAtFrame)
+		{
+			m_counts.continuation->placedAtFrame = frame.index;
+			m_log.logFmt(mrpt::system::LVL_INFO, "frame %zu: %s, after %zu frames not placed\n", frame.index,
+				m_lastEstimate.status.c_str(), m_counts.continuation->unplacedFrames);
+		}
 		if (!m_lastEstimate.tracked)
 			m_log.logFmt(mrpt::system::LVL_WARN, "frame %zu: odometry lost (%s), pose bridged\n", frame.index,
 				m_lastEstimate.status.c_str());
@@ -197,6 +216,44 @@ std::optional<CPose3D> FrameProcessor::estimatePose(const io::RgbdFrame& frame)
 		return std::nullopt;
 	}
 	return pose;
+}
+
+bool FrameProcessor::spacedFromLastKeyframe(const CPose3D& pose) const
+{
+	for (std::size_t i = m_keyframePoses.size(); i-- > 0;)
+		if (m_keyframePoses[i])
+		{
+			const CPose3D moved = pose - m_trajectory[i].pose;
+			const Eigen::Matrix3d R = moved.getRotationMatrix().asEigen();
+			return moved.norm() > m_odometryOptions.keyframe_translation ||
+				   mrpt::RAD2DEG(Eigen::AngleAxisd(R).angle()) > m_odometryOptions.keyframe_rotation;
+		}
+	return true;
+}
+
+void FrameProcessor::continueSession(const std::filesystem::path& previous)
+{
+	if (m_options.poseSource == PoseSource::VisualOdometry && !m_odometry)
+		throw std::runtime_error(
+			"it was mapped at ground-truth poses and holds no keyframes to place this run's frames in (continue it "
+			"with --poses gt)");
+	RunSummary::Continuation next;
+	next.previous = previous;
+	next.session = m_counts.continuation ? m_counts.continuation->session + 1 : 2;
+	next.posesBefore = m_trajectory.size();
+	next.detectionsBefore = m_personDetections.size();
+	next.firstFrameIndex = m_lastFrame ? *m_lastFrame + 1 : 0;
+	// The earlier sessions' map, poses and persons stay; what this run costs
+	// and counts starts again. The switch to high resolution is the map's.
+	const auto switchFrame = m_counts.switchFrame;
+	m_counts = {};
+	m_counts.switchFrame = switchFrame;
+	m_counts.continuation = next;
+	m_stages = {};
+	m_recentPoses.clear();
+	m_latestPersonBoxes.clear();
+	m_personWork = {};
+	if (m_odometry) m_odometry->continueSession();
 }
 
 void FrameProcessor::takeCorrectedTrajectory(std::size_t frameIndex)

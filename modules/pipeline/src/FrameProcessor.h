@@ -13,6 +13,7 @@
 // flight has finished, so the map is the same with threads or without.
 #pragma once
 
+#include <mrpt/img/TCamera.h>
 #include <mrpt/maps/CMultiMetricMap.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/poses/CPose3D.h>
@@ -22,6 +23,7 @@
 
 #include <cstddef>
 #include <deque>
+#include <filesystem>
 #include <functional>
 #include <future>
 #include <map>
@@ -83,7 +85,15 @@ class FrameProcessor
 	 *  at unchanged poses, the same map byte for byte. Updates the persons of
 	 *  personDetections(), regions and switchFrame. Throws std::runtime_error
 	 *  when the frames end before the trajectory's last. */
-	RunSummary::MapRebuildCost rebuildMap(const std::function<std::optional<io::RgbdFrame>()>& nextFrame);
+	RunSummary::MapRebuildCost rebuildMap(const std::function<std::optional<io::RgbdFrame>()>& nextFrame)
+	{
+		return rebuildMap(nextFrame, [this] { m_maps.clear(); });
+	}
+	/** rebuildMap of a continued session: the map is made again on top of
+	 *  the earlier sessions' (restored by `restoreEarlierSessions`, which
+	 *  loads them into the maps) from this session's frames alone. */
+	RunSummary::MapRebuildCost rebuildMap(const std::function<std::optional<io::RgbdFrame>()>& nextFrame,
+		const std::function<void()>& restoreEarlierSessions);
 	/** The observers told of each frame before its insertion
 	 *  (FrameObserver::onFrameMapped); they must outlive the processor. */
 	void watchedBy(const std::vector<FrameObserver*>& observers);
@@ -109,6 +119,18 @@ class FrameProcessor
 	/** The last frame given to process(), or restored by loadState(). */
 	std::optional<std::size_t> lastFrame() const { return m_lastFrame; }
 
+	/** After loadState() of a finished run's session (the output folder
+	 *  `previous`): the start of the next session. The earlier sessions'
+	 *  poses, person records and map stay; the counts and stage times start
+	 *  again; the odometry looks the next frames up in the earlier keyframe
+	 *  map (VisualOdometry::continueSession), and frames are numbered on from
+	 *  the last one. Throws std::runtime_error when the session has no
+	 *  keyframes to place frames in (it was mapped at ground-truth poses)
+	 *  and this run's poses come from the odometry. */
+	void continueSession(const std::filesystem::path& previous);
+	/** The camera of the first frame processed (of the first session). */
+	const std::optional<mrpt::img::TCamera>& camera() const { return m_camera; }
+
 	/** frames, skippedFrames, switchFrame, detectionRuns, framesWithPerson,
 	 *  regions so far. */
 	const RunSummary& counts() const { return m_counts; }
@@ -117,6 +139,11 @@ class FrameProcessor
 	/** Per pose of trajectory(): false when the odometry had lost the track
 	 *  and the pose is bridged by its motion model. */
 	const std::vector<bool>& trackedPoses() const { return m_trackedPoses; }
+	/** Per pose of trajectory(): the frame made an odometry keyframe (with
+	 *  ground-truth poses: it moved keyframe_translation or turned
+	 *  keyframe_rotation since the last such frame), the frames a session
+	 *  hands on (keyframes.simplemap). */
+	const std::vector<bool>& keyframePoses() const { return m_keyframePoses; }
 	/** The frames' ground truth, where the rawlog has it. */
 	const io::Trajectory& groundTruth() const { return m_groundTruth; }
 	const std::vector<PersonDetectionRecord>& personDetections() const { return m_personDetections; }
@@ -156,6 +183,9 @@ class FrameProcessor
 	/** After the odometry closed a loop or placed the frames it bridged
 	 *  through a loss: the earlier poses as it has them now. */
 	void takeCorrectedTrajectory(std::size_t frameIndex);
+	/** Whether the frame at `pose` is a keyframe of a run at ground-truth
+	 *  poses: the odometry's spacing, keyframe_translation or keyframe_rotation. */
+	bool spacedFromLastKeyframe(const mrpt::poses::CPose3D& pose) const;
 	/** A loop the odometry verified at this frame, and the loop check's verdict, to the log. */
 	void reportLoop(std::size_t frameIndex);
 	// 3. Persons and their regions, once the previous frame is in the map.
@@ -189,7 +219,8 @@ class FrameProcessor
 	RunSummary m_counts;
 	StageSamples m_stages;
 	io::Trajectory m_trajectory, m_groundTruth;
-	std::vector<bool> m_trackedPoses;  // per pose of m_trajectory
+	std::vector<bool> m_trackedPoses, m_keyframePoses;  // per pose of m_trajectory
+	std::optional<mrpt::img::TCamera> m_camera;
 	std::vector<PersonDetectionRecord> m_personDetections;
 
 	std::map<std::size_t, mrpt::poses::CPose3D> m_recentPoses;  // frame index -> pose, for lagging detections

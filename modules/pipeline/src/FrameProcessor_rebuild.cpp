@@ -18,7 +18,8 @@
 
 namespace avm::pipeline::detail
 {
-RunSummary::MapRebuildCost FrameProcessor::rebuildMap(const std::function<std::optional<io::RgbdFrame>()>& nextFrame)
+RunSummary::MapRebuildCost FrameProcessor::rebuildMap(
+	const std::function<std::optional<io::RgbdFrame>()>& nextFrame, const std::function<void()>& restoreEarlierSessions)
 {
 	finishInsertion();
 	mrpt::system::CTicTac timer;
@@ -27,22 +28,28 @@ RunSummary::MapRebuildCost FrameProcessor::rebuildMap(const std::function<std::o
 	// figures: detections, frames and stage times stay the run's.
 	const RunSummary runCounts = m_counts;
 	const StageSamples runStages = m_stages;
-	m_maps.clear();
+	restoreEarlierSessions();
 	if (m_reference) m_reference->clear();
+	// A continued session's frames go again on top of the earlier sessions',
+	// whose poses no loop of this session moved.
+	const std::size_t firstPose = runCounts.continuation ? runCounts.continuation->posesBefore : 0;
+	const std::size_t firstRecord = runCounts.continuation ? runCounts.continuation->detectionsBefore : 0;
 	m_counts.regions = 0;
-	m_counts.switchFrame.reset();
+	// An earlier session's switch stays in its map.
+	if (!m_adaptive.hasSwitched()) m_counts.switchFrame.reset();
 
 	// The run's detections with persons, by frame: a detection's records are
 	// consecutive, one per person, in the order its persons were observed.
 	std::map<std::size_t, DetectionResult> detections;
-	for (const auto& r : m_personDetections)
+	for (const auto& r :
+		std::vector(m_personDetections.begin() + std::ptrdiff_t(firstRecord), m_personDetections.end()))
 	{
 		auto& d = detections[r.frameIndex];
 		d.frameIndex = r.frameIndex;
 		d.timestamp = r.timestamp;
 		d.persons.push_back(r.person);
 	}
-	m_personDetections.clear();
+	m_personDetections.resize(firstRecord);
 	m_recentPoses.clear();
 	const auto replay = [this](DetectionResult d)
 	{
@@ -50,7 +57,7 @@ RunSummary::MapRebuildCost FrameProcessor::rebuildMap(const std::function<std::o
 		m_pendingDetections.push_back({applyAt, std::async(std::launch::deferred, [d = std::move(d)] { return d; })});
 	};
 
-	std::size_t mapped = 0;
+	std::size_t mapped = firstPose;
 	while (mapped < m_trajectory.size())
 	{
 		const auto frame = nextFrame();
@@ -80,6 +87,6 @@ RunSummary::MapRebuildCost FrameProcessor::rebuildMap(const std::function<std::o
 	m_counts.regions = regions;
 	m_counts.switchFrame = switchFrame;
 	m_stages = runStages;
-	return {mapped, timer.Tac(), processCpuSeconds() - cpuAtStart};
+	return {mapped - firstPose, timer.Tac(), processCpuSeconds() - cpuAtStart};
 }
 }  // namespace avm::pipeline::detail

@@ -15,7 +15,7 @@ using mrpt::serialization::CArchive;
 
 namespace
 {
-constexpr std::uint8_t kStateVersion = 4;
+constexpr std::uint8_t kStateVersion = 5;
 
 void write(CArchive& out, const mrpt::math::TPoint3D& p) { out << p.x << p.y << p.z; }
 void read(CArchive& in, mrpt::math::TPoint3D& p) { in >> p.x >> p.y >> p.z; }
@@ -62,6 +62,41 @@ void read(CArchive& in, io::Trajectory& poses)
 {
 	poses.resize(readSize(in));
 	for (auto& p : poses) in >> p.timestamp >> p.pose;
+}
+
+void write(CArchive& out, const mrpt::img::TCamera& c)
+{
+	out.WriteAs<std::uint32_t>(c.ncols);
+	out.WriteAs<std::uint32_t>(c.nrows);
+	out << c.fx() << c.fy() << c.cx() << c.cy();
+}
+void read(CArchive& in, mrpt::img::TCamera& c)
+{
+	c.ncols = in.ReadAs<std::uint32_t>();
+	c.nrows = in.ReadAs<std::uint32_t>();
+	double fx, fy, cx, cy;
+	in >> fx >> fy >> cx >> cy;
+	c.fx(fx);
+	c.fy(fy);
+	c.cx(cx);
+	c.cy(cy);
+}
+
+void write(CArchive& out, const RunSummary::Continuation& c)
+{
+	out << c.previous.string();
+	for (const std::size_t n : {c.session, c.posesBefore, c.detectionsBefore, c.firstFrameIndex, c.unplacedFrames})
+		write(out, n);
+	writeOptional(out, c.placedAtFrame, [&](std::size_t i) { write(out, i); });
+}
+void read(CArchive& in, RunSummary::Continuation& c)
+{
+	std::string previous;
+	in >> previous;
+	c.previous = previous;
+	for (std::size_t* n : {&c.session, &c.posesBefore, &c.detectionsBefore, &c.firstFrameIndex, &c.unplacedFrames})
+		*n = readSize(in);
+	readOptional(in, c.placedAtFrame, [&](std::size_t& i) { i = readSize(in); });
 }
 
 void write(CArchive& out, const PersonDetectionRecord& r)
@@ -132,6 +167,9 @@ void FrameProcessor::saveState(CArchive& out)
 		write(out, *t);
 	write(out, m_trajectory);
 	for (const bool tracked : m_trackedPoses) out.WriteAs<std::uint8_t>(tracked);
+	for (const bool keyframe : m_keyframePoses) out.WriteAs<std::uint8_t>(keyframe);
+	writeOptional(out, m_camera, [&](const mrpt::img::TCamera& c) { write(out, c); });
+	writeOptional(out, c.continuation, [&](const RunSummary::Continuation& s) { write(out, s); });
 	write(out, m_groundTruth);
 	write(out, m_personDetections.size());
 	for (const auto& r : m_personDetections) write(out, r);
@@ -173,6 +211,10 @@ void FrameProcessor::loadState(CArchive& in)
 	read(in, m_trajectory);
 	m_trackedPoses.resize(m_trajectory.size());
 	for (std::size_t i = 0; i < m_trackedPoses.size(); ++i) m_trackedPoses[i] = in.ReadAs<std::uint8_t>() != 0;
+	m_keyframePoses.resize(m_trajectory.size());
+	for (std::size_t i = 0; i < m_keyframePoses.size(); ++i) m_keyframePoses[i] = in.ReadAs<std::uint8_t>() != 0;
+	readOptional(in, m_camera, [&](mrpt::img::TCamera& camera) { read(in, camera); });
+	readOptional(in, c.continuation, [&](RunSummary::Continuation& s) { read(in, s); });
 	read(in, m_groundTruth);
 	m_personDetections.resize(readSize(in));
 	for (auto& r : m_personDetections) read(in, r);

@@ -9,8 +9,8 @@ namespace avm::pipeline::detail
 {
 namespace fs = std::filesystem;
 
-FrameSequence::FrameSequence(const fs::path& rawlog, unsigned repeat, unsigned readAhead)
-	: m_rawlog(rawlog), m_repeat(repeat), m_readAhead(readAhead)
+FrameSequence::FrameSequence(const fs::path& rawlog, unsigned repeat, unsigned readAhead, std::size_t firstIndex)
+	: m_rawlog(rawlog), m_repeat(repeat), m_indexOffset(firstIndex), m_readAhead(readAhead)
 {
 	// Opened here, so a missing rawlog is an error of the constructor.
 	m_reader = std::make_unique<io::RawlogFrameReader>(rawlog);

@@ -26,8 +26,10 @@ class FrameSequence
 {
    public:
 	/** readAhead = 0 reads on the caller's thread; otherwise a reader thread
-	 *  keeps up to readAhead frames decoded and waiting. */
-	FrameSequence(const std::filesystem::path& rawlog, unsigned repeat, unsigned readAhead);
+	 *  keeps up to readAhead frames decoded and waiting. The frames are
+	 *  numbered from firstIndex (a continued session's, on from the earlier
+	 *  sessions'). */
+	FrameSequence(const std::filesystem::path& rawlog, unsigned repeat, unsigned readAhead, std::size_t firstIndex = 0);
 	~FrameSequence();  //!< stops and joins the reader thread
 	FrameSequence(const FrameSequence&) = delete;
 	FrameSequence& operator=(const FrameSequence&) = delete;

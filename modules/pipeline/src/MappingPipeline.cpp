@@ -4,6 +4,7 @@
 #include <mrpt/system/CTicTac.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <optional>
@@ -12,6 +13,7 @@
 #include "Checkpoint.h"
 #include "FrameProcessor.h"
 #include "FrameSequence.h"
+#include "KeyframeSimplemap.h"
 #include "ProcessUsage.h"
 #include "RunOutputs.h"
 #include "avm/detection/Detector.h"
@@ -21,6 +23,7 @@
 #include "avm/io/IniKeys.h"
 #include "avm/io/IniOptions.h"
 #include "avm/io/RawlogFrameReader.h"
+#include "avm/io/RunFolder.h"
 #include "avm/io/TimingSummary.h"
 #include "avm/plugin/CAdaptiveOctoMap.h"
 #include "avm/plugin/ReferenceOctoMaps.h"
@@ -221,15 +224,22 @@ class RunBetweenFrames : public RunState
 	bool canCheckpoint() const override { return m_processor.readyForCheckpoint(); }
 	void writeCheckpoint() override
 	{
-		const RunCost cost = m_clock.read();
 		mrpt::system::CTicTac timer;
-		detail::writeCheckpoint(m_outDir, m_run, {cost.seconds, cost.cpuSeconds, m_logBefore + m_log.getLogAsString()},
-			m_maps, m_processor);
+		write(checkpointFile(m_outDir));
 		m_times.add(timer.Tac() * 1e3);
 	}
+	/** The finished run's session: its last checkpoint, kept as what a next run continues. */
+	void writeSession() { write(io::RunFolder(m_outDir).session()); }
 	const io::TimingSamples& checkpointTimes() const { return m_times; }
 
    private:
+	void write(const fs::path& file)
+	{
+		const RunCost cost = m_clock.read();
+		detail::writeCheckpoint(
+			file, m_run, {cost.seconds, cost.cpuSeconds, m_logBefore + m_log.getLogAsString()}, m_maps, m_processor);
+	}
+
 	fs::path m_outDir;
 	CheckpointedRun m_run;
 	bool m_resumed;
@@ -241,10 +251,43 @@ class RunBetweenFrames : public RunState
 	io::TimingSamples m_times;
 };
 
+/** The index of the run's first frame: a continued session numbers its
+ *  frames on from the earlier sessions'. */
+std::size_t firstFrameIndex(const detail::FrameProcessor& processor)
+{
+	const auto& continuation = processor.counts().continuation;
+	return continuation ? continuation->firstFrameIndex : 0;
+}
+
+/** Throws, naming the files, when the rawlog's camera is not the one the
+ *  earlier sessions were mapped with: their keyframes' points and the new
+ *  frames' would not agree. */
+void checkSameCamera(const fs::path& rawlog, const mrpt::img::TCamera& earlier, const fs::path& session)
+{
+	io::RawlogFrameReader reader(rawlog, false);
+	const auto frame = reader.next();
+	if (!frame) return;  // the run says what is wrong with the rawlog
+	const auto& c = frame->observation->cameraParams;
+	const auto near = [](double a, double b) { return std::abs(a - b) <= 1e-6 * std::max(std::abs(a), 1.0); };
+	if (c.ncols == earlier.ncols && c.nrows == earlier.nrows && near(c.fx(), earlier.fx()) &&
+		near(c.fy(), earlier.fy()) && near(c.cx(), earlier.cx()) && near(c.cy(), earlier.cy()))
+		return;
+	const auto describe = [](const mrpt::img::TCamera& k)
+	{
+		char text[128];
+		std::snprintf(text, sizeof(text), "%ux%u, fx %.3f fy %.3f cx %.3f cy %.3f", k.ncols, k.nrows, k.fx(), k.fy(),
+			k.cx(), k.cy());
+		return std::string(text);
+	};
+	throw std::runtime_error(rawlog.string() + ": its camera (" + describe(c) + ") is not the one " + session.string() +
+							 " was mapped with (" + describe(earlier) + "): a continued run needs the same camera");
+}
+
 /** [pipeline] rebuild_map, at the end of a run: what it cost, or nothing when
  *  it was not due (or the run was interrupted). */
 std::optional<RunSummary::MapRebuildCost> rebuildMap(const TPipelineOptions& opt, const fs::path& rawlog,
-	detail::FrameProcessor& processor, bool interrupted, mrpt::system::COutputLogger& log)
+	detail::FrameProcessor& processor, bool interrupted, const std::function<void()>& restoreEarlierSessions,
+	mrpt::system::COutputLogger& log)
 {
 	const std::size_t loops = processor.counts().loopsClosed;
 	if (opt.rebuildMap == MapRebuild::Never || (opt.rebuildMap == MapRebuild::AfterLoops && loops == 0))
@@ -257,8 +300,10 @@ std::optional<RunSummary::MapRebuildCost> rebuildMap(const TPipelineOptions& opt
 	}
 	log.logFmt(mrpt::system::LVL_INFO, "rebuilding the map at the final poses (%zu loops closed): reading %s again\n",
 		loops, rawlog.c_str());
-	detail::FrameSequence frames(rawlog, opt.repeat, opt.readAheadFrames);
-	const auto cost = processor.rebuildMap([&frames] { return frames.next(); });
+	detail::FrameSequence frames(rawlog, opt.repeat, opt.readAheadFrames, firstFrameIndex(processor));
+	const auto next = [&frames] { return frames.next(); };
+	const auto cost =
+		restoreEarlierSessions ? processor.rebuildMap(next, restoreEarlierSessions) : processor.rebuildMap(next);
 	log.logFmt(mrpt::system::LVL_INFO, "map rebuilt: %zu frames in %.2f s (%.2f s CPU)\n", cost.frames, cost.seconds,
 		cost.cpuSeconds);
 	return cost;
@@ -305,6 +350,13 @@ struct MappingPipeline::Impl
 
 	/** Fresh maps for a run of `rawlog`. */
 	CAdaptiveOctoMap& startMaps(const fs::path& rawlog);
+	/** The maps and processor (made from this configuration) as the finished
+	 *  run in `previous` left them, at the start of a next session of `rawlog`. */
+	void continueSession(const fs::path& previous, const fs::path& rawlog, detail::FrameProcessor& processor,
+		mrpt::system::COutputLogger& log);
+	/** A finished run's keyframes.simplemap and session.bin. */
+	void handOn(const fs::path& rawlog, const fs::path& outDir, const detail::FrameProcessor& processor,
+		RunBetweenFrames& state, mrpt::system::COutputLogger& log) const;
 	RunSummary summarise(
 		const detail::FrameProcessor& processor, const detail::FrameSequence& frames, const RunCost& cost) const;
 };
@@ -347,8 +399,14 @@ RunSummary MappingPipeline::Impl::summarise(
 	summary.mapCpu = stages.mapCpu.summary();
 	summary.odometryCpu = stages.odometryCpu.summary();
 	summary.persons = maps->mapByClass<CAdaptiveOctoMap>()->personTracks().size();
-	if (options.poseSource == PoseSource::VisualOdometry && processor.groundTruth().size() >= 3)
-		summary.ateRmse = evaluation::evaluateTrajectory(trajectory, processor.groundTruth(), {}).ate.rmse;
+	// Of all the sessions' poses, under one alignment; a continued session
+	// whose rawlog has no ground truth has none of its own to be judged by.
+	const auto& gt = processor.groundTruth();
+	const std::size_t firstPose = summary.continuation ? summary.continuation->posesBefore : 0;
+	const bool judged =
+		gt.size() >= 3 && firstPose < trajectory.size() && gt.back().timestamp >= trajectory[firstPose].timestamp;
+	if (options.poseSource == PoseSource::VisualOdometry && judged)
+		summary.ateRmse = evaluation::evaluateTrajectory(trajectory, gt, {}).ate.rmse;
 	return summary;
 }
 
@@ -405,10 +463,21 @@ const TPipelineOptions& MappingPipeline::options() const { return m_impl->option
 
 const CAdaptiveOctoMap& MappingPipeline::map() const { return *m_impl->maps->mapByClass<CAdaptiveOctoMap>(); }
 
+struct MappingPipeline::Start
+{
+	enum class From
+	{
+		Nothing,     //!< a new run
+		Checkpoint,  //!< outDir's checkpoint: the run resumed
+		Session      //!< the finished run in `previous`: its next session
+	} from = From::Nothing;
+	fs::path previous;
+};
+
 RunSummary MappingPipeline::run(const fs::path& rawlog, const fs::path& outDir, const std::atomic<bool>* stop,
 	const std::function<void(double, std::size_t)>& progress)
 {
-	return runFrames(rawlog, outDir, false, stop, progress);
+	return runFrames(rawlog, outDir, {}, stop, progress);
 }
 
 RunSummary MappingPipeline::resume(
@@ -416,21 +485,88 @@ RunSummary MappingPipeline::resume(
 {
 	const auto checkpointed = readCheckpointedRun(outDir);
 	setPoseSource(checkpointed.poseSource);
-	return runFrames(checkpointed.rawlog, outDir, true, stop, progress);
+	return runFrames(checkpointed.rawlog, outDir, {Start::From::Checkpoint, {}}, stop, progress);
 }
 
-RunSummary MappingPipeline::runFrames(const fs::path& rawlog, const fs::path& outDir, bool resume,
+RunSummary MappingPipeline::continueRun(const fs::path& previous, const fs::path& rawlog, const fs::path& outDir,
+	const std::atomic<bool>* stop, const std::function<void(double, std::size_t)>& progress)
+{
+	std::error_code ignored;
+	if (fs::weakly_canonical(outDir, ignored) == fs::weakly_canonical(previous, ignored))
+		throw std::invalid_argument(outDir.string() +
+									": the output folder is the run being continued, which a continuation only "
+									"reads: give the continued run a folder of its own");
+	return runFrames(rawlog, outDir, {Start::From::Session, previous}, stop, progress);
+}
+
+void MappingPipeline::Impl::continueSession(const fs::path& previous, const fs::path& rawlog,
+	detail::FrameProcessor& processor, mrpt::system::COutputLogger& log)
+{
+	const fs::path session = detail::sessionFile(previous);
+	if (!fs::exists(io::RunFolder(previous).keyframes()))
+		throw std::runtime_error(
+			io::RunFolder(previous).keyframes().string() + ": missing (a finished run writes it beside its session)");
+	auto& map = *maps->mapByClass<CAdaptiveOctoMap>();
+	const auto configured = map.creationOptions();
+	mrpt::system::CTicTac timer;
+	detail::readSession(previous, *maps, processor);
+	const double loadSeconds = timer.Tac();
+	const auto& earlier = map.creationOptions();
+	if (earlier.low.resolution != configured.low.resolution || earlier.high.resolution != configured.high.resolution)
+		throw std::runtime_error(
+			session.string() + ": its map is at " + std::to_string(earlier.low.resolution) + " / " +
+			std::to_string(earlier.high.resolution) + " m (low / high), the configuration's at " +
+			std::to_string(configured.low.resolution) + " / " + std::to_string(configured.high.resolution) +
+			" m: a continued run maps at the earlier sessions' resolutions");
+	try
+	{
+		processor.continueSession(previous);
+	}
+	catch (const std::runtime_error& e)
+	{
+		throw std::runtime_error(session.string() + ": " + e.what());
+	}
+	if (processor.camera()) checkSameCamera(rawlog, *processor.camera(), session);
+	log.logFmt(mrpt::system::LVL_INFO,
+		"continuing %s (session %zu): %zu poses, %zu persons, loaded in %.2f s; frames numbered from %zu\n",
+		previous.c_str(), processor.counts().continuation->session, processor.trajectory().size(),
+		map.personTracks().size(), loadSeconds, firstFrameIndex(processor));
+}
+
+void MappingPipeline::Impl::handOn(const fs::path& rawlog, const fs::path& outDir,
+	const detail::FrameProcessor& processor, RunBetweenFrames& state, mrpt::system::COutputLogger& log) const
+{
+	mrpt::system::CTicTac timer;
+	const io::RunFolder run(outDir);
+	const auto& continuation = processor.counts().continuation;
+	detail::FrameSequence frames(rawlog, options.repeat, options.readAheadFrames, firstFrameIndex(processor));
+	const std::size_t keyframes = detail::writeKeyframeSimplemap(run.keyframes(),
+		continuation ? std::optional(io::RunFolder(continuation->previous).keyframes()) : std::nullopt,
+		processor.trajectory(), processor.keyframePoses(), continuation ? continuation->posesBefore : 0,
+		[&frames] { return frames.next(); });
+	log.logFmt(mrpt::system::LVL_INFO, "%s: %zu keyframes; writing %s\n", run.keyframes().filename().c_str(), keyframes,
+		run.session().filename().c_str());
+	state.writeSession();
+	log.logFmt(mrpt::system::LVL_INFO, "handed on in %.2f s: %s %.1f MB, %s %.1f MB\n", timer.Tac(),
+		run.session().filename().c_str(), double(fs::file_size(run.session())) / 1e6,
+		run.keyframes().filename().c_str(), double(fs::file_size(run.keyframes())) / 1e6);
+}
+
+RunSummary MappingPipeline::runFrames(const fs::path& rawlog, const fs::path& outDir, const Start& start,
 	const std::atomic<bool>* stop, const std::function<void(double, std::size_t)>& progress)
 {
 	auto& d = *m_impl;
 	const auto& opt = d.options;
+	const bool resume = start.from == Start::From::Checkpoint;
 	detail::prepareOutputFolder(outDir);
 	logStr(mrpt::system::LVL_INFO, "rawlog: " + rawlog.string() + ", poses: " + toString(opt.poseSource) + "\n");
 	auto& map = d.startMaps(rawlog);
 	std::optional<ReferenceOctoMaps> reference;
 	if (opt.referenceMaps)
 	{
-		if (resume) throw std::invalid_argument("a run with [pipeline] reference_maps = true cannot be resumed");
+		if (start.from != Start::From::Nothing)
+			throw std::invalid_argument(
+				"a run with [pipeline] reference_maps = true cannot be resumed or continue another");
 		const auto& c = map.creationOptions();
 		reference.emplace(c.high.resolution, c.low.resolution, c.high.maxRange, c.low.maxRange);
 	}
@@ -446,23 +582,38 @@ RunSummary MappingPipeline::runFrames(const fs::path& rawlog, const fs::path& ou
 		logFmt(mrpt::system::LVL_INFO, "resumed from %s: %zu frames mapped before\n", checkpointFile(outDir).c_str(),
 			processor.counts().frames);
 	}
+	if (start.from == Start::From::Session) d.continueSession(start.previous, rawlog, processor, *this);
+	// A continued session's map is made again on top of the earlier sessions'.
+	const auto& continuation = processor.counts().continuation;
+	std::function<void()> restoreEarlierSessions;
+	if (continuation)
+		restoreEarlierSessions = [&, previous = continuation->previous]
+		{
+			detail::FrameProcessor earlier(opt, d.odometryOptions, nullptr, *d.maps, nullptr, *this);
+			detail::readSession(previous, *d.maps, earlier);
+		};
 	processor.watchedBy(d.observers);
 	// The clock starts before the reader thread does: reading is part of the run.
 	const RunClock clock(before);
 	RunBetweenFrames state(outDir, {d.iniText, fs::absolute(rawlog), opt.poseSource}, resume, clock, before.log, *this,
 		*d.maps, processor);
-	detail::FrameSequence frames(rawlog, opt.repeat, opt.readAheadFrames);  // a missing rawlog fails here
+	// A missing rawlog fails here.
+	detail::FrameSequence frames(rawlog, opt.repeat, opt.readAheadFrames, firstFrameIndex(processor));
 	try
 	{
 		const bool endedByObserver = !mapFrames(opt.maxFrames, frames, processor, d.observers, state, stop, progress);
 		for (auto* o : d.observers) o->onFramesEnded(state);
 		processor.finish();
 		frames.close();
+		if (continuation && !continuation->placedAtFrame)
+			throw std::runtime_error(rawlog.string() + ": none of its " + std::to_string(continuation->unplacedFrames) +
+									 " frames was placed among the keyframes of " + continuation->previous.string() +
+									 " (do they see a place it saw?): nothing merged, no outputs written");
 		if (processor.counts().frames == 0)
 			throw std::runtime_error(rawlog.string() + ": no frame could be mapped" +
 									 (frames.skipped().empty() ? "" : " (" + frames.skipped().front() + ")"));
 		const bool interrupted = (stop && stop->load()) || endedByObserver;
-		const auto rebuild = rebuildMap(opt, rawlog, processor, interrupted, *this);
+		const auto rebuild = rebuildMap(opt, rawlog, processor, interrupted, restoreEarlierSessions, *this);
 		RunSummary summary = d.summarise(processor, frames, clock.read());
 		summary.interrupted = interrupted;
 		summary.mapRebuild = rebuild;
@@ -471,6 +622,8 @@ RunSummary MappingPipeline::runFrames(const fs::path& rawlog, const fs::path& ou
 		if (reference) summary.reference = reference->compare(map);
 		logFmt(mrpt::system::LVL_INFO, "%zu frames in %.2f s (%.1f fps, real-time factor %.2f)%s\n", summary.frames,
 			summary.seconds, summary.fps, summary.realTimeFactor, summary.interrupted ? ", interrupted" : "");
+		// What a next run continues, of a finished run only.
+		if (!interrupted) d.handOn(rawlog, outDir, processor, state, *this);
 		detail::RunRecord record{rawlog, &opt, d.detector ? d.detector->description() : std::string("none"),
 			processor.trajectory(), processor.trackedPoses(), processor.personDetections(),
 			frames.peakMemoryPerReplay(), before.log + getLogAsString() + frames.log()};

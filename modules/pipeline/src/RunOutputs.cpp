@@ -201,6 +201,15 @@ std::string statsJson(
 	writeStages(json, summary);
 	json.value("checkpoint_interval_s", opt.checkpointIntervalSeconds);
 	json.value("resumed_after_frame", summary.resumedAfterFrame);
+	if (const auto& c = summary.continuation)
+		json.beginObject("continuation")
+			.value("previous", c->previous.string())
+			.value("session", c->session)
+			.value("poses_before", c->posesBefore)
+			.value("first_frame_index", c->firstFrameIndex)
+			.value("unplaced_frames", c->unplacedFrames)
+			.value("placed_at_frame", c->placedAtFrame)
+			.endObject();
 	json.beginObject("detection")
 		.value("detector", record.detector)
 		.value("every_n_frames", static_cast<int>(opt.detectEveryN))

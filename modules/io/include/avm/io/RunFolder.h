@@ -1,6 +1,7 @@
 // The files of an avm-map output folder, each named here and nowhere else: the
-// pipeline writes them, avm-map --resume reads the checkpoint, and avm-view
-// reads a finished run (map, trajectory, persons, stats).
+// pipeline writes them, avm-map --resume reads the checkpoint, avm-map
+// --continue the session, and avm-view reads a finished run (map,
+// trajectory, persons, stats).
 #pragma once
 
 #include <filesystem>
@@ -42,13 +43,18 @@ class RunFolder
 	std::filesystem::path stats() const { return m_dir / "stats.json"; }
 	std::filesystem::path log() const { return m_dir / "avm-map.log"; }
 	std::filesystem::path checkpoint() const { return m_dir / "checkpoint.bin"; }
+	/** What a next run continues (avm-map --continue): the finished run's
+	 *  checkpoint, its maps, persons, keyframes and trajectory. */
+	std::filesystem::path session() const { return m_dir / "session.bin"; }
+	/** The run's keyframes at their final poses, MRPT's CSimpleMap (observations2map). */
+	std::filesystem::path keyframes() const { return m_dir / "keyframes.simplemap"; }
 	/** The files of a finished run, map first (not the checkpoint, which
 	 *  only an interrupted run keeps). */
 	std::vector<std::filesystem::path> outputs() const
 	{
 		const auto m = map();
 		return {m.lowTree, m.highTree, m.scene, trajectory(), trajectoryStatus(), detections(), persons(),
-			personShapes(), stats(), topPicture(), perspectivePicture(), log()};
+			personShapes(), stats(), topPicture(), perspectivePicture(), log(), keyframes(), session()};
 	}
 
    private:

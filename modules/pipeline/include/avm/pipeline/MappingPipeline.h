@@ -139,10 +139,25 @@ struct RunSummary
 	io::TimingSummary checkpoint;
 	/** A resumed run: the last frame its checkpoint had processed. */
 	std::optional<std::size_t> resumedAfterFrame;
+	/** A run that continued a finished one (MappingPipeline::continueRun):
+	 *  its frames are looked up in the earlier sessions' map until one is
+	 *  placed there; those before are counted here, not mapped. */
+	struct Continuation
+	{
+		std::filesystem::path previous;    //!< the output folder of the run it continued
+		std::size_t session = 2;           //!< this run's place in the chain of sessions (the first run is 1)
+		std::size_t posesBefore = 0;       //!< the earlier sessions' poses, at the front of trajectory.txt
+		std::size_t detectionsBefore = 0;  //!< the earlier sessions' person boxes, at the front of detections.txt
+		std::size_t firstFrameIndex = 0;   //!< this run's frames are numbered on from the earlier sessions'
+		std::size_t unplacedFrames = 0;    //!< frames before the first one placed in the earlier sessions' map
+		std::optional<std::size_t> placedAtFrame;  //!< the first frame placed
+	};
+	std::optional<Continuation> continuation;
 };
 
-/** The run a checkpoint belongs to: what `avm-map --resume OUTDIR` needs to
- *  make the pipeline again. */
+/** The run a checkpoint or a session belongs to: what `avm-map --resume
+ *  OUTDIR` needs to make the pipeline again, and what `avm-map --continue
+ *  PREV` takes its configuration from. */
 struct CheckpointedRun
 {
 	std::string ini;               //!< the configuration the run read, --set values included
@@ -154,6 +169,12 @@ std::filesystem::path checkpointFile(const std::filesystem::path& outDir);
 /** The run of outDir's checkpoint. Throws std::runtime_error naming the file
  *  when there is none or it is not a complete checkpoint. */
 CheckpointedRun readCheckpointedRun(const std::filesystem::path& outDir);
+/** The finished run whose output folder is `previous`, from its session
+ *  (session.bin: the checkpoint of the finished run, what continueRun
+ *  starts from). Throws std::runtime_error in one line naming the file when
+ *  the folder holds none (an interrupted run: resume it first), or the file
+ *  is damaged, foreign or of another version. */
+CheckpointedRun readSessionRun(const std::filesystem::path& previous);
 
 class MappingPipeline : public mrpt::system::COutputLogger
 {
@@ -201,12 +222,29 @@ class MappingPipeline : public mrpt::system::COutputLogger
 	RunSummary resume(const std::filesystem::path& outDir, const std::atomic<bool>* stop = nullptr,
 		const std::function<void(double, std::size_t)>& progress = {});
 
+	/** Maps `rawlog` as the next session of the finished run whose output
+	 *  folder is `previous` (read, never written): the run starts with its
+	 *  maps, persons and keyframes, looks its frames up among all its
+	 *  keyframes until one is placed (the frames before are counted in
+	 *  RunSummary::continuation, not mapped) and maps on in its world frame;
+	 *  outDir gets the outputs of all the sessions together (trajectory.txt,
+	 *  persons.csv, the map) and a session of its own, which a next run can
+	 *  continue. This pipeline's configuration must map at the earlier
+	 *  sessions' resolutions (readSessionRun(previous).ini by default), and
+	 *  the rawlog come from their camera. Throws, writing nothing, when
+	 *  `previous` holds no finished run, the two differ, outDir is `previous`,
+	 *  or no frame is ever placed. */
+	RunSummary continueRun(const std::filesystem::path& previous, const std::filesystem::path& rawlog,
+		const std::filesystem::path& outDir, const std::atomic<bool>* stop = nullptr,
+		const std::function<void(double, std::size_t)>& progress = {});
+
 	/** The map of the last run. */
 	const CAdaptiveOctoMap& map() const;
 
    private:
-	/** run() and resume(): with `resume`, the state comes from outDir's checkpoint. */
-	RunSummary runFrames(const std::filesystem::path& rawlog, const std::filesystem::path& outDir, bool resume,
+	/** How a run starts: from nothing, from outDir's checkpoint, or from a finished run's session. */
+	struct Start;
+	RunSummary runFrames(const std::filesystem::path& rawlog, const std::filesystem::path& outDir, const Start& start,
 		const std::atomic<bool>* stop, const std::function<void(double, std::size_t)>& progress);
 
 	struct Impl;
