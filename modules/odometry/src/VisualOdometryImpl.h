@@ -155,8 +155,10 @@ struct VisualOdometry::Impl
 	 *  to `to`, its keyframe map pose, landmarks and this session's frames
 	 *  with it, and the current frame with the newest keyframe. */
 	void moveTo(const KeyframePoses& from, const KeyframePoses& to);
-	/** The newest keyframe's features that a loop matched observe the place's points from now on. */
-	void joinPlace(const LoopMeasurement& loop);
+	/** The newest keyframe's features that a loop matched observe the place's
+	 *  points (placeAround the loop's candidate, of keyframes up to
+	 *  newestPlaceKeyframe) from now on. */
+	void joinPlace(const LoopMeasurement& loop, int newestPlaceKeyframe);
 	/** The `count` frames before the newest, bridged while the track was
 	 *  lost, placed between the last tracked frame and the newest one,
 	 *  which found the track again, by timestamp (io::interpolatePose): the

@@ -46,14 +46,23 @@ VisualOdometry::LoopOutcome VisualOdometry::Impl::considerLoop(const LoopMeasure
 	loops.push_back(loopEdge(loop, newest.id, tracked, options));
 	if (judged.verdict == LoopVerdict::Unconfirmed) return {false, "kept, not confirmed (" + judged.why + ")"};
 	if (judged.verdict == LoopVerdict::WithinOwnError)
-		return {false, "kept, within the loops' own error (" + judged.why + ")"};
+	{
+		// A continued session that sees an earlier session's place again, as
+		// the track has it: tracking goes on against that place's points, so
+		// that the session stays in the earlier sessions' map instead of
+		// drifting beside it within the loops' error.
+		const bool earlierSession = loop.candidate < session.firstKeyframe;
+		if (earlierSession) joinPlace(loop, newest.id - options.loop_min_separation);
+		return {false, std::string("kept, within the loops' own error") +
+						   (earlierSession ? ", the earlier session's place joined" : "") + " (" + judged.why + ")"};
+	}
 	auto poses = closeLoops(tracked, loops, session.placements, session.firstKeyframe - 1, options);
 	if (!poses) return {false, "kept, the pose graph found no solution"};
 	// The earlier sessions' keyframes stay where they were: not even a
 	// rounding of their poses.
 	poses->erase(poses->begin(), poses->lower_bound(session.firstKeyframe));
 	moveTo(tracked, *poses);
-	joinPlace(loop);
+	joinPlace(loop, newest.id - options.loop_min_separation);
 	return {true, "closed, poses corrected (" + judged.why + ")"};
 }
 
@@ -80,15 +89,14 @@ VisualOdometry::LoopOutcome VisualOdometry::Impl::offerLoop(std::size_t oldFrame
 	return considerLoop(measuredFrom(std::move(loop), T_cw));
 }
 
-void VisualOdometry::Impl::joinPlace(const LoopMeasurement& loop)
+void VisualOdometry::Impl::joinPlace(const LoopMeasurement& loop, int newestPlaceKeyframe)
 {
 	// The new keyframe's features that matched the place now observe the
 	// place's points: tracking goes on against the old map there, not against
 	// the drifted copy the local map made of it.
 	if (loop.inlierMatches.empty()) return;
 	Keyframe& newest = window.back();
-	const LandmarkMap place =
-		placeAround(loop.candidate, newest.id - options.loop_min_separation, keyframeMap, options.loop_neighbours);
+	const LandmarkMap place = placeAround(loop.candidate, newestPlaceKeyframe, keyframeMap, options.loop_neighbours);
 	// The place's points stand where the keyframe map has the candidate; the
 	// loop was measured, and the graph has moved the trajectory, relative to
 	// the candidate's trajectory pose, which the window bundle adjustment's

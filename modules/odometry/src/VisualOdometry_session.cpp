@@ -42,21 +42,40 @@ OdometryEstimate VisualOdometry::Impl::place(const FrameFeatures& f)
 				   std::to_string(options.relocalisation_min_inliers) + " inliers with this frame";
 		return e;
 	}
-	restartLocalMap(f, r->T_cw);
+	// The place around the keyframe found (its neighbours' points too)
+	// measures the pose as a loop is measured: more points over a wider view
+	// than one keyframe's, so the session starts as well placed as the
+	// odometry tracks.
+	const int newestEarlier = session.firstKeyframe - 1;
+	auto measured = measureLoop(f, r->T_cw, newestEarlier, keyframeMap, frontend, backend, options);
+	if (!measured)
+	{
+		measured.emplace();
+		measured->candidate = r->keyframe;
+		measured->T_cw = r->T_cw;
+		measured->inliers = r->inliers.size();
+	}
+	// Measured against the keyframe map's pose of the keyframe; the earlier
+	// sessions' trajectory, and so their map, has it where the frame that
+	// made it was tracked, apart by the window adjustment's offset.
+	const Eigen::Isometry3d candidate = keyframeMap.find(measured->candidate)->T_cw;
+	const std::size_t made = frameThatMade(measured->candidate);
+	const Eigen::Isometry3d tracked = made < frames.size() ? frames[made].T_cw : candidate;
+	restartLocalMap(f, measured->T_cw * candidate.inverse() * tracked);
 	T_cw = keyframeMap.find(window.back().id)->T_cw;
+	joinPlace(*measured, newestEarlier);
 	session.placing = false;
 	PoseGraphEdge placement;
-	placement.from = r->keyframe;
+	placement.from = measured->candidate;
 	placement.to = window.back().id;
-	placement.T_to_from = T_cw * keyframeMap.find(r->keyframe)->T_cw.inverse();
+	placement.T_to_from = T_cw * tracked.inverse();
 	placement.sigmaTranslation = placement.sigmaRotation = options.loop_sigma;
 	session.placements.push_back(placement);
 	e.placed = e.tracked = e.keyframe = true;
-	e.inliers = r->inliers.size();
-	e.reprojectionRmse = r->rmse;
+	e.inliers = measured->inliers;
 	char said[128];
-	std::snprintf(said, sizeof(said), "placed in the earlier sessions' map on keyframe %d (%zu inliers, %.2f px)",
-		r->keyframe, r->inliers.size(), r->rmse);
+	std::snprintf(said, sizeof(said), "placed in the earlier sessions' map on keyframe %d (%zu inliers)",
+		measured->candidate, measured->inliers);
 	e.status = said;
 	e.pose = toPose(T_cw.inverse());
 	return e;

@@ -51,6 +51,14 @@ bool FrameProcessor::process(const io::RgbdFrame& frame)
 		return false;
 	}
 	const bool groundTruthPoses = m_options.poseSource == PoseSource::GroundTruth;
+	if (auto& c = m_counts.continuation; c && !c->placedAtFrame)
+	{
+		c->placedAtFrame = frame.index;
+		m_log.logFmt(mrpt::system::LVL_INFO, "frame %zu: %s, after %zu frames not placed\n", frame.index,
+			groundTruthPoses ? "at its ground-truth pose in the earlier sessions' world"
+							 : m_lastEstimate.status.c_str(),
+			c->unplacedFrames);
+	}
 	if (frame.groundTruth) m_groundTruth.push_back({frame.timestamp(), *frame.groundTruth});
 	m_keyframePoses.push_back(groundTruthPoses ? spacedFromLastKeyframe(*pose) : m_lastEstimate.keyframe);
 	m_trajectory.push_back({frame.timestamp(), *pose});
@@ -196,12 +204,6 @@ std::optional<CPose3D> FrameProcessor::estimatePose(const io::RgbdFrame& frame)
 			++m_counts.continuation->unplacedFrames;
 			m_log.logFmt(mrpt::system::LVL_INFO, "frame %zu: %s\n", frame.index, m_lastEstimate.status.c_str());
 			return std::nullopt;
-		}
-		if (m_counts.continuation && !m_counts.continuation->placedAtFrame)
-		{
-			m_counts.continuation->placedAtFrame = frame.index;
-			m_log.logFmt(mrpt::system::LVL_INFO, "frame %zu: %s, after %zu frames not placed\n", frame.index,
-				m_lastEstimate.status.c_str(), m_counts.continuation->unplacedFrames);
 		}
 		if (!m_lastEstimate.tracked)
 			m_log.logFmt(mrpt::system::LVL_WARN, "frame %zu: odometry lost (%s), pose bridged\n", frame.index,

@@ -1,0 +1,172 @@
+#!/usr/bin/env bash
+# Mapping a building over several runs, measured: sessions cut from the whole
+# rgbd_bonn_crowd (avm-tum2rawlog --frames), the first with ground truth in
+# its rawlog, every continuation without (a real next run has none), each
+# continuing the one before with avm-map --continue. For each chain: how many
+# of each continuation's frames were placed in the earlier sessions' map, the
+# ATE of all the sessions' poses together under one alignment, the loops
+# closed, the CPU a frame of the last session beside a fresh run of the same
+# frames, and the session's size and load time; and the same space mapped
+# over two sessions at ground-truth poses against one run of the whole
+# sequence (IoU of the occupied space, avm-eval --maps). Writes
+# doc/sessions-results.md whole, with the commands.
+#
+# Usage: scripts/sessions.sh [--out FILE] [INI]
+#          the doc's chains, into doc/sessions-results.md (or FILE)
+#        scripts/sessions.sh --chain FIRST:LAST FIRST:LAST [...] [--gt] [INI]
+#          one chain of cuts of the whole (trimmed) sequence, printed
+#          (--gt: at ground-truth poses, every cut with its ground truth,
+#          compared with one run of the whole sequence)
+# Needs the whole sequence in datasets/ (scripts/get-data.sh --whole-sequence).
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+build=${AVM_BUILD_DIR:-$root/build}
+doc=$root/doc/sessions-results.md
+ini=ini/default.ini
+chain=() groundTruth=0 last="" placed=() loops=0
+while [ $# -gt 0 ]; do
+  case $1 in
+    --out) doc=$2; shift 2 ;;
+    --chain) shift; while [ $# -gt 0 ] && [[ $1 == *:* ]]; do chain+=("$1"); shift; done ;;
+    --gt) groundTruth=1; shift ;;
+    -*) echo "sessions: unknown option $1 (see the header of $0)" >&2; exit 2 ;;
+    *) ini=$1; shift ;;
+  esac
+done
+out=output/sessions  # relative to the root, as the printed commands are
+work=$root/$out
+
+source "$root/scripts/prepare.sh"
+avm_prepare "$build" -DCMAKE_BUILD_TYPE=Release avm-map avm-eval >&2
+whole=$(avm_whole_sequence "$build") ||
+  { echo "sessions: the whole rgbd_bonn_crowd is not in datasets/ (scripts/get-data.sh --whole-sequence)" >&2; exit 1; }
+whole=${whole#"$root/"}
+gt=${whole%.rawlog}_groundtruth.txt
+cd "$root"
+mkdir -p "$work"
+
+# cut FIRST:LAST [gt]: a rawlog of those frames of the trimmed whole sequence,
+# made once; without ground truth unless asked.
+cut() {
+  local name=frames-${1/:/-}${2:+-gt} without=--no-gt
+  [ -z "${2:-}" ] || without=
+  if [ ! -f "$work/$name.rawlog" ]; then
+    # shellcheck disable=SC2086  # --no-gt or nothing
+    "$build/bin/avm-tum2rawlog" -q --camera bonn --gt-body bonn --embed-images --compression 0 \
+      --trim-to-ground-truth --frames "$1" $without datasets/rgbd_bonn_crowd "$work/$name.rawlog" >&2
+  fi
+  echo "$out/$name.rawlog"
+}
+
+json() { sed -n "s/.*\"$2\": \([0-9.e+-]*\).*/\1/p" "$1/stats.json" | head -1; }
+ate() { "$build/bin/avm-eval" "$1" "$gt" | awk '/^ATE/ {print $3}'; }
+commands=()
+run() { commands+=("build/bin/avm-map -q $*"); "$build/bin/avm-map" -q "$@" >/dev/null; }
+
+# runChain POSES CUT...: each cut continuing the one before; sets $last (the
+# last session's folder), $placed (each continuation's placed frames) and
+# $loops (closed in all the sessions).
+runChain() {
+  local poses=$1 name="" prev="" dir rawlog first=1
+  shift
+  placed=() loops=0
+  for c in "$@"; do
+    name=${name:+$name+}${c/:/-}
+    dir=$work/$poses-$name
+    if [ $first = 1 ]; then
+      run -c "$ini" -p "$poses" -r "$(cut "$c" gt)" -o "$out/$poses-$name"
+    else
+      [ "$poses" = gt ] && rawlog=$(cut "$c" gt) || rawlog=$(cut "$c")
+      run --continue "$prev" -p "$poses" -r "$rawlog" -o "$out/$poses-$name"
+      local frames unplaced
+      frames=$(echo "$c" | awk -F: '{print $2 - $1 + 1}')
+      unplaced=$(json "$dir" unplaced_frames)
+      placed+=("$(awk -v f="$frames" -v u="$unplaced" 'BEGIN { printf "%d / %d (%.1f %%)", f - u, f, 100 * (f - u) / f }')")
+    fi
+    loops=$((loops + $(json "$dir" odometry_loops_closed)))
+    first=0
+    prev=$out/$poses-$name
+  done
+  last=$work/$poses-$name
+}
+
+# chainRow CUT...: the chain at the odometry's poses, its table row.
+chainRow() {
+  runChain vo "$@"
+  # The last session's frames run fresh: the CPU a frame a continuation is held to.
+  local lastCut=${!#}
+  local fresh=vo-fresh-${lastCut/:/-} load
+  run -c "$ini" -r "$(cut "$lastCut")" -o "$out/$fresh"
+  load=$(sed -n 's/.*loaded in \([0-9.]*\) s.*/\1/p' "$last/avm-map.log" | tail -1)
+  printf '| %s | %s | %s | %s | %s / %s | %.1f MB, %s s |\n' "$*" "$(printf '%s; ' "${placed[@]}" | sed 's/; $//')" \
+    "$(ate "$last/trajectory.txt")" "$loops" "$(json "$last" cpu_ms_per_frame)" "$(json "$work/$fresh" cpu_ms_per_frame)" \
+    "$(awk -v b="$(stat -c %s "$last/session.bin")" 'BEGIN { printf "%.1f", b / 1e6 }')" "${load:-?}"
+}
+
+# spaceRow CUT...: the chain at ground-truth poses against one run of the whole sequence.
+spaceRow() {
+  local name
+  name=$(IFS=+; echo "$*" | sed 's/:/-/g')
+  [ -f "$work/gt-whole/stats.json" ] || run -c "$ini" -p gt -r "$whole" -o "$out/gt-whole"
+  runChain gt "$@"
+  "$build/bin/avm-eval" --maps "$out/gt-whole" "$out/gt-$name" | awk -v n="$*" '
+    /^occupied/ {s = $3 " / " $5 ", IoU " $NF} /^low/ {l = $NF} /^high/ {h = $NF}
+    END {printf "| %s | %s | %s | %s |\n", n, s, l, h}'
+}
+
+tableHead() {
+  echo "| sessions (frames of the whole sequence) | placed, each continuation | ATE, all sessions [m] | loops closed | CPU a frame, last session: continued / fresh [ms] | session.bin, load |"
+  echo "|---|---|---|---|---|---|"
+}
+spaceHead() {
+  echo "| sessions at ground-truth poses | occupied voxels (0.05 m): whole run / sessions, IoU | low tree IoU | high tree IoU |"
+  echo "|---|---|---|---|"
+}
+
+if [ ${#chain[@]} -gt 0 ]; then
+  if [ "$groundTruth" = 1 ]; then spaceHead; spaceRow "${chain[@]}"; else tableHead; chainRow "${chain[@]}"; fi
+  exit 0
+fi
+
+tmp=$(mktemp)
+{
+  tableHead
+  chainRow 0:462 463:925
+  chainRow 0:462 600:925
+  chainRow 0:308 309:617 618:925
+  echo
+  spaceHead
+  spaceRow 0:462 463:925
+} >"$tmp"
+# Without --continue: the second half run on its own lives in a world of its own.
+run -c "$ini" -r "$(cut 463:925)" -o "$out/vo-alone-463-925"
+cat "$work/vo-0-462/trajectory.txt" <(grep -v '^#' "$work/vo-alone-463-925/trajectory.txt") >"$work/vo-0-462-and-alone.txt"
+alone=$(ate "$work/vo-0-462-and-alone.txt")
+
+{
+  echo "# Sessions: measured"
+  echo
+  echo "Generated by \`scripts/sessions.sh\` ($(date -u +%Y-%m-%d), $(git rev-parse --short HEAD)$(git diff --quiet HEAD -- modules app || echo -dirty),"
+  echo "$(lscpu | sed -n 's/^Model name: *//p' | head -1), $(nproc) cores); what the figures mean: [sessions.md](sessions.md)."
+  echo "Cuts of the whole \`rgbd_bonn_crowd\` (926 frames after trimming to its ground truth) with"
+  echo "\`avm-tum2rawlog --trim-to-ground-truth --frames FIRST:LAST\`, every continuation with \`--no-gt\`; ATE of"
+  echo "the chain's last \`trajectory.txt\` (all its sessions' poses) against the whole sequence's ground truth,"
+  echo "one SE(3) alignment (\`avm-eval\`)."
+  echo
+  sed -n '1,/^$/p' "$tmp" | sed '/^$/d'
+  echo
+  echo "Without \`--continue\`, the second half run alone lives in a world of its own: with the first half's"
+  echo "trajectory under one alignment, ATE $alone m."
+  echo
+  sed -n '/^$/,$p' "$tmp" | sed '/^$/d'
+  echo
+  echo "Commands (from the repository's root, in this order):"
+  echo
+  echo '```sh'
+  printf '%s\n' "${commands[@]}"
+  echo "build/bin/avm-eval --maps $out/gt-whole $out/gt-0-462+463-925"
+  echo '```'
+} >"$doc.tmp"
+mv "$doc.tmp" "$doc"
+rm -f "$tmp"
+echo "sessions: wrote ${doc#"$root/"}" >&2
