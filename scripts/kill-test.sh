@@ -8,19 +8,23 @@
 # Markdown table (doc/reliability.md). Part of the test suite (ctest, label
 # kill); exits non-zero on any difference.
 #
-# Usage: scripts/kill-test.sh --rawlog FILE [--model FILE] [--bin DIR] [--work DIR]
-#                             [--kills N] [--seed S] [--frames N] [--interval S]
+# With --continue PREV, every run continues the finished run in PREV
+# (avm-map --continue): a continued run killed at any instant resumes too.
+#
+# Usage: scripts/kill-test.sh --rawlog FILE [--continue PREV] [--model FILE] [--bin DIR]
+#                             [--work DIR] [--kills N] [--seed S] [--frames N] [--interval S]
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 bin=$root/build/bin
 rawlog=$root/datasets/bonn_crowd_sub300.rawlog
 model=$root/datasets/yolox_nano.onnx
 work=$root/output/kill-test
-kills=4 seed=15 frames=200 interval=1
+kills=4 seed=15 frames=200 interval=1 previous=
 
 while [ $# -gt 0 ]; do
   case $1 in
     --rawlog) rawlog=$2; shift 2 ;;
+    --continue) previous=$2; shift 2 ;;
     --model) model=$2; shift 2 ;;
     --bin) bin=$2; shift 2 ;;
     --work) work=$2; shift 2 ;;
@@ -40,7 +44,8 @@ mkdir -p "$work"
 run=("$bin/avm-map" -q -c "$root/ini/default.ini" -r "$rawlog"
      --set "pipeline:checkpoint_interval_s=$interval" --set "pipeline:max_frames=$frames"
      --set pipeline:picture_size=0 --set "detection:model=$model")
-compared=(trajectory.txt detections.txt persons.csv map_low.bt map_high.bt)
+[ -z "$previous" ] || run+=(--continue "$previous")
+compared=(trajectory.txt detections.txt persons.csv map_low.bt map_high.bt keyframes.simplemap)
 
 # The uninterrupted run: the reference, and how long a run takes.
 start=$(date +%s.%N)

@@ -23,6 +23,7 @@
 #include "BonnFrames.h"
 #include "avm/plugin/CAdaptiveOctoMap.h"
 #include "avm/maps/OcTreeFile.h"
+#include "avm/maps/OccupiedKeys.h"
 
 namespace fs = std::filesystem;
 
@@ -205,4 +206,43 @@ TEST(StockApps, IcpSlamRunsWithTheAdaptiveMap)
 	std::size_t occupied = 0;
 	for (auto it = low.begin_leafs(); it != low.end_leafs(); ++it) occupied += low.isNodeOccupied(*it);
 	EXPECT_GT(occupied, 100u) << "icp-slam inserted (almost) nothing into the adaptive map";
+}
+
+// A finished avm-map run handed on the MRPT way: observations2map builds a
+// point map, an OctoMap and the adaptive map from its keyframes.simplemap
+// (ini/map-keyframes-observations2map.ini), and they hold the space the run
+// mapped.
+TEST(StockApps, Observations2MapBuildsMapsFromARunsKeyframes)
+{
+	const auto dir = avm::test::scratchDir("stock-apps-keyframes");
+	const fs::path session = fs::path(AVM_SESSION_RAWLOGS) / "first";
+	fs::create_directories(dir / "out");
+	const auto r = run("cd " + quoted(dir) + " && LD_PRELOAD=" + quoted(kPlugin) + " " +
+						stockApp("observations2map") + " " + quoted(kIniDir / "map-keyframes-observations2map.ini") +
+						" " + quoted(session / "keyframes.simplemap") + " out/keyframes < /dev/null");
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	const auto find = [&](const std::string& ending)
+	{
+		for (const auto& e : fs::directory_iterator(dir / "out"))
+		{
+			const std::string name = e.path().filename().string();
+			if (name.size() >= ending.size() && name.compare(name.size() - ending.size(), ending.size(), ending) == 0)
+				return e.path();
+		}
+		ADD_FAILURE() << "observations2map wrote no *" << ending << "\n" << r.output;
+		return fs::path();
+	};
+	std::ifstream points(find("CSimplePointsMap_02.txt"));
+	const auto lines = std::count(std::istreambuf_iterator<char>(points), std::istreambuf_iterator<char>(), '\n');
+	EXPECT_GT(lines, 20000) << "points of the keyframes";
+	const auto octoMap = avm::readBinaryTree(find("COctoMap_01_binary.bt"));
+	std::size_t occupied = 0;
+	for (auto it = octoMap->begin_leafs(); it != octoMap->end_leafs(); ++it) occupied += octoMap->isNodeOccupied(*it);
+	EXPECT_GT(occupied, 1000u) << "occupied leaves of MRPT's OctoMap";
+	// The keyframes alone describe most of the space all the frames mapped.
+	const auto all = [](double, double, double) { return true; };
+	const auto keyframes = avm::maps::occupiedFinestKeys(*avm::readBinaryTree(find("CAdaptiveOctoMap_00_low.bt")), all);
+	const auto mapped = avm::maps::occupiedFinestKeys(*avm::readBinaryTree(session / "map_low.bt"), all);
+	EXPECT_GT(keyframes.size(), 500u);
+	EXPECT_GT(avm::maps::intersectionOverUnion(keyframes, mapped), 0.6);
 }
