@@ -98,7 +98,7 @@ chainRow() {
   local fresh=vo-fresh-${lastCut/:/-} load
   run -c "$ini" -r "$(cut "$lastCut")" -o "$out/$fresh"
   load=$(sed -n 's/.*loaded in \([0-9.]*\) s.*/\1/p' "$last/avm-map.log" | tail -1)
-  printf '| %s | %s | %s | %s | %s / %s | %.1f MB, %s s |\n' "$*" "$(printf '%s; ' "${placed[@]}" | sed 's/; $//')" \
+  printf '| %s | %s | %s | %s | %.1f / %.1f | %.1f MB, %s s |\n' "$*" "$(printf '%s; ' "${placed[@]}" | sed 's/; $//')" \
     "$(ate "$last/trajectory.txt")" "$loops" "$(json "$last" cpu_ms_per_frame)" "$(json "$work/$fresh" cpu_ms_per_frame)" \
     "$(awk -v b="$(stat -c %s "$last/session.bin")" 'BEGIN { printf "%.1f", b / 1e6 }')" "${load:-?}"
 }

@@ -116,6 +116,10 @@ struct VisualOdometry::Impl
 		 *  keyframe it was relocalised against, a constraint of the pose graph
 		 *  in place of the odometry that no camera measured across the gap. */
 		std::vector<PoseGraphEdge> placements;
+		/** Earlier sessions' places whose points the local map joined: the
+		 *  place's keyframe -> the keyframe that joined it. While that one is in
+		 *  the window the place is tracked, not a loop to measure again. */
+		std::map<int, int> joined;
 	} session;
 	mrpt::system::CTimeLogger stageTimer{true, "avm odometry stages"};
 	bool reportFeatures = false;
@@ -159,6 +163,9 @@ struct VisualOdometry::Impl
 	 *  points (placeAround the loop's candidate, of keyframes up to
 	 *  newestPlaceKeyframe) from now on. */
 	void joinPlace(const LoopMeasurement& loop, int newestPlaceKeyframe);
+	/** Whether `keyframe` is within loop_neighbours of an earlier session's
+	 *  place that a keyframe of the window joined. */
+	bool inJoinedPlace(int keyframe) const;
 	/** The `count` frames before the newest, bridged while the track was
 	 *  lost, placed between the last tracked frame and the newest one,
 	 *  which found the track again, by timestamp (io::interpolatePose): the

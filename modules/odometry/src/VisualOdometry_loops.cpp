@@ -3,6 +3,7 @@
 // keyframes, the local map and every frame, and the place joined.
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <stdexcept>
 
 #include "VisualOdometryImpl.h"
@@ -14,8 +15,8 @@ void VisualOdometry::Impl::closeLoop(const FrameFeatures& f, OdometryEstimate& e
 {
 	mrpt::system::CTimeLoggerEntry timer(stageTimer, "6 loop closing");
 	const Keyframe& newest = window.back();
-	const auto loop =
-		measureLoop(f, T_cw, newest.id - options.loop_min_separation, keyframeMap, frontend, backend, options);
+	const auto loop = measureLoop(f, T_cw, newest.id - options.loop_min_separation, keyframeMap, frontend, backend,
+		options, [this](int keyframe) { return inJoinedPlace(keyframe); });
 	if (!loop) return;
 	const Eigen::Isometry3d T_candidate = keyframeMap.find(loop->candidate)->T_cw;
 	e.loop = LoopReport{frameThatMade(loop->candidate), loop->inliers, toPose(T_candidate * loop->T_cw.inverse()),
@@ -52,7 +53,11 @@ VisualOdometry::LoopOutcome VisualOdometry::Impl::considerLoop(const LoopMeasure
 		// that the session stays in the earlier sessions' map instead of
 		// drifting beside it within the loops' error.
 		const bool earlierSession = loop.candidate < session.firstKeyframe;
-		if (earlierSession) joinPlace(loop, newest.id - options.loop_min_separation);
+		if (earlierSession)
+		{
+			joinPlace(loop, newest.id - options.loop_min_separation);
+			session.joined[loop.candidate] = newest.id;
+		}
 		return {false, std::string("kept, within the loops' own error") +
 						   (earlierSession ? ", the earlier session's place joined" : "") + " (" + judged.why + ")"};
 	}
@@ -116,6 +121,13 @@ void VisualOdometry::Impl::joinPlace(const LoopMeasurement& loop, int newestPlac
 		o->landmark = id;
 	}
 	forgetUnobservedLandmarks();
+}
+
+bool VisualOdometry::Impl::inJoinedPlace(int keyframe) const
+{
+	for (const auto& [place, by] : session.joined)
+		if (by >= window.front().id && std::abs(keyframe - place) <= options.loop_neighbours) return true;
+	return false;
 }
 
 KeyframePoses VisualOdometry::Impl::trackedPoses() const

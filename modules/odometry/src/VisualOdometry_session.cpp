@@ -64,6 +64,7 @@ OdometryEstimate VisualOdometry::Impl::place(const FrameFeatures& f)
 	restartLocalMap(f, measured->T_cw * candidate.inverse() * tracked);
 	T_cw = keyframeMap.find(window.back().id)->T_cw;
 	joinPlace(*measured, newestEarlier);
+	session.joined[measured->candidate] = window.back().id;
 	session.placing = false;
 	PoseGraphEdge placement;
 	placement.from = measured->candidate;

@@ -94,6 +94,8 @@ void VisualOdometry::Impl::saveState(mrpt::serialization::CArchive& out) const
 	}
 	out << std::int32_t(session.firstKeyframe) << std::uint64_t(session.firstFrame) << session.placing;
 	writeEdges(out, session.placements);
+	out << std::uint32_t(session.joined.size());
+	for (const auto& [place, by] : session.joined) out << std::int32_t(place) << std::int32_t(by);
 }
 
 void VisualOdometry::Impl::loadState(mrpt::serialization::CArchive& in)
@@ -160,6 +162,12 @@ void VisualOdometry::Impl::loadState(mrpt::serialization::CArchive& in)
 	continued.firstFrame = read<std::uint64_t>(in);
 	continued.placing = read<bool>(in);
 	continued.placements = readEdges(in, nextKeyframe);
+	for (auto n = read<std::uint32_t>(in); n > 0; --n)
+	{
+		const int place = read<std::int32_t>(in), by = read<std::int32_t>(in);
+		if (place < 0 || by < place || by >= nextKeyframe || !continued.joined.emplace(place, by).second)
+			throw badState("corrupt odometry state (joined place)");
+	}
 	if (continued.firstKeyframe < 0 || continued.firstKeyframe > nextKeyframe ||
 		continued.firstFrame > framePoses.size())
 		throw badState("corrupt odometry state (session start)");

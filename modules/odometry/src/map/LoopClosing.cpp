@@ -39,13 +39,14 @@ LandmarkMap placeAround(int candidate, int newestId, const KeyframeMap& map, int
 
 std::optional<LoopMeasurement> measureLoop(const FrameFeatures& f, const Eigen::Isometry3d& T_cw, int newestId,
 	const KeyframeMap& map, const FeatureFrontend& frontend, const CeresBackend& backend,
-	const TOdometryOptions& options)
+	const TOdometryOptions& options, const std::function<bool(int)>& skip)
 {
 	// Before the vocabulary exists every keyframe is a candidate; loops wait for it.
 	if (!map.trained()) return std::nullopt;
 	std::optional<LoopMeasurement> best;
 	for (const auto& c : map.candidates(f.descriptors, std::size_t(options.loop_candidates), newestId))
 	{
+		if (skip && skip(c.keyframe)) continue;
 		const LandmarkMap place = placeAround(c.keyframe, newestId, map, options.loop_neighbours);
 		if (place.empty()) continue;
 		// Where the odometry thinks the camera is, the place should project

@@ -14,6 +14,7 @@
 #include <Eigen/Geometry>
 
 #include <cstddef>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -57,10 +58,11 @@ LandmarkMap placeAround(int candidate, int newestId, const KeyframeMap& map, int
 
 /** The best verified loop of the keyframe with features `f` at its tracked
  *  pose T_cw, among the place index's loop_candidates most similar keyframes
- *  of ids up to newestId; nothing when none has loop_min_inliers. */
+ *  of ids up to newestId but those `skip` names; nothing when none has
+ *  loop_min_inliers. */
 std::optional<LoopMeasurement> measureLoop(const FrameFeatures& f, const Eigen::Isometry3d& T_cw, int newestId,
 	const KeyframeMap& map, const FeatureFrontend& frontend, const CeresBackend& backend,
-	const TOdometryOptions& options);
+	const TOdometryOptions& options, const std::function<bool(int)>& skip = {});
 
 /** The keyframes' `poses` after optimising the pose graph of their
  *  odometry (each keyframe tied to the next by their relative pose in
