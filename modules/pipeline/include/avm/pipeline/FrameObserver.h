@@ -33,7 +33,8 @@ class RunState
 	virtual ~RunState() = default;
 	/** A run resumed from a checkpoint (it did not start at the first frame). */
 	virtual bool resumed() const = 0;
-	/** The last frame processed (restored by a resume); nothing before the first. */
+	/** The last frame processed (restored by a resume); before the first,
+	 *  nothing, or a continued run's earlier session's last frame. */
 	virtual std::optional<std::size_t> lastFrame() const = 0;
 	/** False while an applied detection's persons wait for a frame with a
 	 *  pose: a checkpoint then could not be resumed from. */
