@@ -217,9 +217,9 @@ TEST(StockApps, Observations2MapBuildsMapsFromARunsKeyframes)
 	const auto dir = avm::test::scratchDir("stock-apps-keyframes");
 	const fs::path session = fs::path(AVM_SESSION_RAWLOGS) / "first";
 	fs::create_directories(dir / "out");
-	const auto r = run("cd " + quoted(dir) + " && LD_PRELOAD=" + quoted(kPlugin) + " " +
-						stockApp("observations2map") + " " + quoted(kIniDir / "map-keyframes-observations2map.ini") +
-						" " + quoted(session / "keyframes.simplemap") + " out/keyframes < /dev/null");
+	const auto r = run("cd " + quoted(dir) + " && LD_PRELOAD=" + quoted(kPlugin) + " " + stockApp("observations2map") +
+					   " " + quoted(kIniDir / "map-keyframes-observations2map.ini") + " " +
+					   quoted(session / "keyframes.simplemap") + " out/keyframes < /dev/null");
 	ASSERT_EQ(r.exitCode, 0) << r.output;
 	const auto find = [&](const std::string& ending)
 	{

@@ -114,8 +114,14 @@ TEST(Sessions, ASecondRunIsPlacedInTheFirstsMapAndMapsOnInItsWorld)
 		ASSERT_NE(same, after.end()) << "person " << p.id << " of the first run is gone";
 		EXPECT_EQ(same->firstFrame, p.firstFrame);
 	}
+	std::size_t seenAgain = 0;
 	for (const auto& p : after)
+	{
 		if (p.firstFrame >= 100) EXPECT_GT(p.id, lastId) << "a person first seen in the second run";
+		if (p.id <= lastId && p.lastFrame >= 100) ++seenAgain;
+	}
+	// The people still in view when the first run ended are the same persons in the second.
+	EXPECT_GE(seenAgain, 1u) << "no person of the first run was seen again as themselves";
 
 	// The keyframes handed on: the first run's, then the second's.
 	mrpt::maps::CSimpleMap firstKeyframes, keyframes;
