@@ -26,7 +26,7 @@ TEST(TOdometryOptions, SaveAndLoadUseTheSameKeys)
 	EXPECT_DOUBLE_EQ(b.huber_delta, 1.5);
 	std::vector<std::string> keys;
 	cfg.getAllKeys("odometry", keys);
-	EXPECT_EQ(keys.size(), 46u);
+	EXPECT_EQ(keys.size(), 43u);
 }
 
 TEST(TOdometryOptions, BadValueNamesSectionAndKey)

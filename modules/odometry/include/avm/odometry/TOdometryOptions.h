@@ -53,16 +53,6 @@ struct TOdometryOptions : public io::CIniKeyOptions<TOdometryOptions>
 	 *  can agree on a wrong pose; a camera does not jump by ten times its
 	 *  usual deviation from one frame to the next. */
 	double motion_gate = 0.0;
-	/** A tracked frame is not trusted, and bridged as motion_gate's are, when
-	 *  its own measurement says it is poor (0 = off; else a probability in
-	 *  [0.9, 1)): its camera centre is less certain than the motion model's
-	 *  prediction (TrackQuality::centreSigma above predictionSigma: few
-	 *  inliers in a corner of a view filled by people, blur, no depth), or
-	 *  the two disagree beyond this quantile of chi-square with 3 degrees of
-	 *  freedom in the metric of both uncertainties (motionChi2). Both
-	 *  uncertainties are the odometry's own: the inliers' covariance and the
-	 *  recent frames' agreement with the motion model. */
-	double quality_gate = 0.0;
 	int window_size = 8;         //!< keyframes in the sliding-window bundle adjustment (0 = no BA)
 	int ba_iterations = 8;       //!< Ceres iterations of one bundle adjustment
 	int ba_max_landmarks = 250;  //!< landmarks in one bundle adjustment, the most-viewed first (0 = all)
@@ -75,13 +65,6 @@ struct TOdometryOptions : public io::CIniKeyOptions<TOdometryOptions>
 	 *  the one the window bundle adjustment gives the keyframe, which the
 	 *  next frames' landmarks (placed from the tracked pose) disagree with. */
 	bool keyframe_tracked_pose = false;
-	/** A tracked frame whose camera centre is less certain than the motion
-	 *  model's prediction (TrackQuality: a view filled by people, blur) makes
-	 *  no keyframe, whatever keyframe_translation, keyframe_rotation and
-	 *  keyframe_overlap say: the landmarks it would add, placed from its
-	 *  poor pose, would pull the next frames off. The next frame good enough
-	 *  makes it, or the track is lost and relocalised against the keyframe map. */
-	bool keyframe_needs_quality = false;
 	// --- keyframe map (kept through tracking loss) and relocalisation
 	/** Keyframes kept for the whole run (about 70 kB each); beyond, the most redundant goes. */
 	int map_max_keyframes = 300;
@@ -108,15 +91,6 @@ struct TOdometryOptions : public io::CIniKeyOptions<TOdometryOptions>
 	 *  against the ground truth is 2.7-3.5 cm on average, a per-axis sigma of
 	 *  1.7-2.2 cm (doc/odometry.md). */
 	double loop_sigma = 0.02;
-	/** How many times the standard deviation its inliers alone give (their
-	 *  refinement's covariance, the place's points taken as exact) a loop's
-	 *  camera centre is off, on top of loop_sigma: a loop on few points or on
-	 *  points to one side weighs less in the check and in the pose graph.
-	 *  0: loop_sigma alone for every loop. A loop's error on Bonn is about 10
-	 *  times its inliers' worst-axis sigma, a fit with loop_sigma's kind of
-	 *  floor gives 4-7; at 5 the whole sequence and the forward-backward test
-	 *  got worse, so 0 (doc/odometry.md, "The loop's own uncertainty"). */
-	double loop_covariance_scale = 0;
 	/** [m] Standard deviation of the odometry between consecutive keyframes
 	 *  on each axis (and [rad]): how far the track may have drifted since a
 	 *  loop's candidate (a loop beyond that and its own error is refused), and
