@@ -119,7 +119,7 @@ std::vector<RegionRow> perPersonRows(Experiments& e, PoseSource poses)
 	const Override reference{"pipeline", "reference_maps", "true"};
 	std::vector<RegionRow> rows;
 	rows.push_back({"follow (default)", e.run("regions_follow", poses, {reference})});
-	rows.push_back({"follow, region_margin 0.20 m (the code's default; default.ini has 0.10 m)",
+	rows.push_back({"follow, region_margin 0.20 m (twice the default)",
 		e.run("regions_follow_margin020", poses, {reference, {kInsertion, "region_margin", "0.20"}})});
 	rows.push_back(
 		{"persist", e.run("regions_persist", poses, {reference, {kInsertion, "region_lifetime", "persist"}})});

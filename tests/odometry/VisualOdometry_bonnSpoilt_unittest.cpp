@@ -21,10 +21,10 @@ TEST(VisualOdometryBonn, LensCoveredForElevenFramesIsReportedAndRelocalised)
 {
 	constexpr std::size_t first = 150, last = 160;
 	io::Trajectory covered;
-	// With loop closing on, as in ini/default.ini; after the loss, a false
-	// loop is offered: it must not move the track.
+	// The built-in odometry (loop closing on); after the loss, a false loop
+	// is offered: it must not move the track.
 	WrongLoop wrongLoop{last + 10, 0.3};
-	const auto estimates = runBonnSpoilt(first, last, test::coverLens, covered, withLoops(), std::ref(wrongLoop));
+	const auto estimates = runBonnSpoilt(first, last, test::coverLens, covered, {}, std::ref(wrongLoop));
 	ASSERT_EQ(estimates.size(), 300u);
 	wrongLoop.expectRefused();
 	for (std::size_t i = first; i <= last; ++i)
@@ -42,7 +42,7 @@ TEST(VisualOdometryBonn, LensCoveredForElevenFramesIsReportedAndRelocalised)
 		if (i < first || i > last) lost += !estimates[i].tracked;
 	EXPECT_EQ(lost, back - last - 1) << "no loss outside the covered frames and the recovery";
 
-	const auto reference = runBonn(true, withLoops()).trajectory();
+	const auto reference = runBonn(true).trajectory();
 	const double uncovered = ate(reference, 0, 0), withCover = ate(covered, 0, 0);
 	std::cout << "ATE uncovered " << uncovered << " m, lens covered " << withCover << " m; frames after the cover "
 			  << ate(reference, last + 1, 0) << " m and " << ate(covered, last + 1, 0) << " m\n";
@@ -55,13 +55,14 @@ TEST(VisualOdometryBonn, LensCoveredForElevenFramesIsReportedAndRelocalised)
 
 TEST(VisualOdometryBonn, HeavilyBlurredFramesKeepTheRunAccurate)
 {
-	// Frames 150-160 blurred beyond use for ORB (or nearly), loop closing on:
+	// Frames 150-160 blurred beyond use for ORB (or nearly), the built-in
+	// odometry (loop closing on):
 	// lost or not, the run stays as accurate as without the blur, and any
 	// loss ends within 5 frames of the view coming back.
 	constexpr std::size_t first = 150, last = 160;
 	io::Trajectory blurred;
 	WrongLoop wrongLoop{last + 10, 0.3};
-	const auto estimates = runBonnSpoilt(first, last, blurView, blurred, withLoops(), std::ref(wrongLoop));
+	const auto estimates = runBonnSpoilt(first, last, blurView, blurred, {}, std::ref(wrongLoop));
 	ASSERT_EQ(estimates.size(), 300u);
 	wrongLoop.expectRefused();
 	std::size_t lostInBlur = 0;
@@ -72,7 +73,7 @@ TEST(VisualOdometryBonn, HeavilyBlurredFramesKeepTheRunAccurate)
 		else
 			EXPECT_TRUE(estimates[i].tracked || (i > last && i <= last + 5)) << i << ": " << estimates[i].status;
 	}
-	const auto reference = runBonn(true, withLoops()).trajectory();
+	const auto reference = runBonn(true).trajectory();
 	const double clear = ate(reference, 0, 0), withBlur = ate(blurred, 0, 0);
 	std::cout << "blurred frames lost: " << lostInBlur << " of " << last - first + 1 << "; ATE clear " << clear
 			  << " m, blurred " << withBlur << " m\n";
@@ -91,8 +92,6 @@ TEST(VisualOdometryBonn, AViewThatAgreesOnAWrongPoseIsBridgedNotTrusted)
 	const auto run = [&](double gate, io::Trajectory& trajectory)
 	{
 		odometry::TOdometryOptions opt;
-		opt.keyframe_tracked_pose = true;
-		opt.motion_prior_sigma = 0.005;
 		opt.motion_gate = gate;
 		std::size_t next = 0;
 		const auto showLater = [&](mrpt::obs::CObservation3DRangeScan& obs)
@@ -145,10 +144,7 @@ TEST(VisualOdometryBonn, AViewFilledByPeopleIsReportedPoorAndTheRunStaysWithinTh
 	// accurate), and the run's error stays bounded.
 	constexpr std::size_t first = 150, last = 154;
 	io::Trajectory filled;
-	odometry::TOdometryOptions opt;
-	opt.keyframe_tracked_pose = true;
-	opt.motion_prior_sigma = 0.005;
-	const auto estimates = runBonnSpoilt(first, last, fillViewWithPeople, filled, opt);
+	const auto estimates = runBonnSpoilt(first, last, fillViewWithPeople, filled);
 	const auto& clearView = estimates[first - 1].quality;
 	EXPECT_GT(clearView.spread, 0.4);
 	EXPECT_GT(clearView.predictionSigma, clearView.centreSigma);
@@ -166,7 +162,7 @@ TEST(VisualOdometryBonn, AViewFilledByPeopleIsReportedPoorAndTheRunStaysWithinTh
 	ASSERT_LE(back, last + 1) << "the track goes on by the time the view clears";
 	EXPECT_EQ(estimates[back].bridgedFramesPlaced, back - first);
 
-	const auto clear = odometry::runOdometry(test::bonnRawlog(), opt, personBoxesOf);
+	const auto clear = odometry::runOdometry(test::bonnRawlog(), {}, personBoxesOf);
 	const double clearAte = ate(clear.trajectory(), 0, 0), filledAte = ate(filled, 0, 0);
 	std::cout << "ATE clear " << clearAte << " m (" << clear.lostFrames() << " frames bridged), view filled "
 			  << filledAte << " m\n";
