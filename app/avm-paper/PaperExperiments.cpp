@@ -92,7 +92,7 @@ class Experiments
 		out.low = pipeline.map().lowResolutionStats();
 		out.high = pipeline.map().highResolutionStats();
 		out.regionsAtEnd = pipeline.map().highResolutionRegions().size();
-		out.tracks = pipeline.map().personTracks();
+		out.tracks = pipeline.map().confirmedPersons();
 		m_log.logFmt(mrpt::system::LVL_INFO, "%-28s %-2s: %zu frames, occupied low %zu high %zu, %.2f KiB .bt\n",
 			name.c_str(), toString(poses).c_str(), out.summary.frames, out.low.occupiedLeaves, out.high.occupiedLeaves,
 			out.btKiB());

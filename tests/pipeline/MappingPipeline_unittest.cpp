@@ -175,6 +175,28 @@ TEST(PipelineOnBonn, PersonTracksCrossTheViewAndLieInTheMappedSpace)
 	const auto tracks = persons::readPersonsCsv(out / "persons.csv");
 	ASSERT_FALSE(tracks.empty());
 	EXPECT_EQ(tracks.size(), summary.persons);
+	// persons.csv lists the tracks confirmed by track_min_sightings sightings,
+	// each with as many as detections.txt gives it; a track seen less often
+	// placed its region but is no person.
+	const auto minSightings = static_cast<std::size_t>(
+		test::defaultIni().read_int("map_adaptiveOctoMap_00_insertOpts", "track_min_sightings", 0));
+	ASSERT_GE(minSightings, 2u);
+	std::map<std::uint32_t, std::size_t> detectionsOf;
+	for (const auto& d : personsIn(out / "detections.txt"))
+		if (d.personId) ++detectionsOf[*d.personId];
+	for (const auto& t : tracks)
+	{
+		EXPECT_GE(t.sightings, minSightings) << "person " << t.id;
+		EXPECT_EQ(t.sightings, detectionsOf[t.id]) << "person " << t.id;
+	}
+	std::size_t unconfirmed = 0;
+	for (const auto& [id, n] : detectionsOf)
+		if (std::none_of(tracks.begin(), tracks.end(), [id = id](const auto& t) { return t.id == id; }))
+		{
+			EXPECT_LT(n, minSightings) << "track " << id << " is missing from persons.csv";
+			++unconfirmed;
+		}
+	std::cout << tracks.size() << " persons, " << unconfirmed << " tracks seen too few times to be one\n";
 	// People walk through the view for the last 230 frames; some detector
 	// box sequence there is one person for over 100 frames.
 	std::size_t longest = 0;

@@ -200,7 +200,9 @@ TEST(MapSnapshot, CopiesBothTreesTheRegionsAndFreeSpaceOnlyWhenAsked)
 }
 
 // The live view draws each person's last shape: the snapshot holds it as the
-// track does (a patch of a real Bonn frame taken for a person).
+// track does (a patch of a real Bonn frame taken for a person), once the
+// track is confirmed as a person (track_min_sightings, 3: before, it is not
+// shown as one).
 TEST(MapSnapshot, CopiesEachPersonsLastShape)
 {
 	avm::io::RawlogFrameReader reader(avm::test::bonnRawlog());
@@ -209,9 +211,14 @@ TEST(MapSnapshot, CopiesEachPersonsLastShape)
 	ASSERT_TRUE(f);
 	const int rows = f->observation->rangeImage.rows(), cols = f->observation->rangeImage.cols();
 	avm::CAdaptiveOctoMap map;
-	map.observePersons(*f->observation, *f->groundTruth,
-		{avm::persons::pixelsOfBox(cols / 2 - 30, rows / 2 - 60, cols / 2 + 30, rows / 2 + 60, cols, rows)}, 0);
-	ASSERT_EQ(map.personTracks().size(), 1u);
+	for (std::size_t sighting = 1; sighting <= 3; ++sighting)
+	{
+		map.observePersons(*f->observation, *f->groundTruth,
+			{avm::persons::pixelsOfBox(cols / 2 - 30, rows / 2 - 60, cols / 2 + 30, rows / 2 + 60, cols, rows)},
+			sighting);
+		ASSERT_EQ(map.personTracks().size(), 1u);
+		EXPECT_EQ(avm::viewer::snapshotOf(map).persons.size(), sighting >= 3 ? 1u : 0u) << "sighting " << sighting;
+	}
 	const auto s = avm::viewer::snapshotOf(map);
 	ASSERT_EQ(s.persons.size(), 1u);
 	EXPECT_FALSE(s.persons[0].shape.empty());

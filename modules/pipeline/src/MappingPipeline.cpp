@@ -346,7 +346,7 @@ RunSummary MappingPipeline::Impl::summarise(
 	summary.map = stages.map.summary();
 	summary.mapCpu = stages.mapCpu.summary();
 	summary.odometryCpu = stages.odometryCpu.summary();
-	summary.persons = maps->mapByClass<CAdaptiveOctoMap>()->personTracks().size();
+	summary.persons = maps->mapByClass<CAdaptiveOctoMap>()->confirmedPersons().size();
 	if (options.poseSource == PoseSource::VisualOdometry && processor.groundTruth().size() >= 3)
 		summary.ateRmse = evaluation::evaluateTrajectory(trajectory, processor.groundTruth(), {}).ate.rmse;
 	return summary;
