@@ -1,4 +1,4 @@
-// People are objects, not walls (issue 32), on real data: Bonn crowd frames
+// People are objects, not walls, on real data: Bonn crowd frames
 // with ground-truth poses and YOLOX person boxes. A person walking through
 // leaves (almost) no occupied voxels where a reference that never saw the
 // people says the space is free; a person who stays still is mapped; the

@@ -1,4 +1,4 @@
-// Checkpoints of the odometry (issue 15): a run resumed from saveState()
+// Checkpoints of the odometry: a run resumed from saveState()
 // continues with exactly the poses of the uninterrupted run, on real Bonn
 // frames; a damaged state is refused with a clear message.
 #include <gtest/gtest.h>

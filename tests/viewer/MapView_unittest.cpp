@@ -474,7 +474,7 @@ TEST(AvmMapGui, TheFinishedMapStaysOnScreenUntilTheUserEndsIt)
 // leaks so when MRPT_REVEAL_OPENGL_BUFFER_LEAKS is set: none may come from a
 // draw. And the peak of the whole sub300 run stays close to that of its first
 // 100 frames (both past the switch, frame 74; the map itself grows between
-// them) and within issue 33's 300 MiB.
+// them) and within the 300 MiB a live view's run may take.
 TEST(AvmMapGui, PeakMemoryDoesNotGrowWithTheRunsLength)
 {
 	const auto& x = xserver();
@@ -496,7 +496,7 @@ TEST(AvmMapGui, PeakMemoryDoesNotGrowWithTheRunsLength)
 	// Measured (Xvfb, llvmpipe, AMD EPYC 2 cores, shared): 262 and 275 MiB;
 	// the view that made a new voxel object per draw: 313 and 362-365. The
 	// growth bound lies between the two growths (13 and ~50 MiB), twice the
-	// new one for a loaded machine's noise; the peak is issue 33's bound.
+	// new one for a loaded machine's noise; the peak is held to 300 MiB.
 	EXPECT_LT(peak[300], peak[100] + 30) << "the view's memory grows with the run";
 	EXPECT_LE(peak[300], 300) << "avm-map --gui peak above 300 MiB";
 }
