@@ -123,7 +123,7 @@ tmp=$(mktemp "$root/doc/.performance.XXXX")
   done
   echo
   if [ -f "$root/datasets/rgbd_bonn_crowd.rawlog" ]; then
-    # The view's memory must not grow with the run (issue 33): the whole
+    # The view's memory must not grow with the run: the whole
     # sequence, three times sub300's frames, with the view.
     map_command gui-whole --rawlog datasets/rgbd_bonn_crowd.rawlog --gui --gui-no-wait
     (cd "$root" && xvfb-run -a "${cmd[@]}" >/dev/null)

@@ -2,7 +2,8 @@
 # the worst-axis sigma its inliers alone give (the loop status of --stats,
 # "(inliers S m)") a loop is off the ground truth (measured_error_m of --loops),
 # and the least-squares fit of the per-axis squared error to a floor plus a
-# multiple of that sigma squared (loop_sigma, loop_covariance_scale).
+# multiple of that sigma squared (loop_sigma; a multiple that weighed loops by
+# their inliers made the runs worse, so the loop check does not use one).
 # Usage: awk -f scripts/loop-error-fit.awk STATS.csv LOOPS.csv
 FNR == NR { if (match($0, /inliers [0-9.]+ m\)/)) { split($0, c, ","); s[c[1]] = substr($0, RSTART + 8, RLENGTH - 11) + 0 } next }
 FNR > 1 { split($0, c, ","); if (!(c[1] in s)) next; x = s[c[1]]^2; y = c[21]^2 / 3; n++

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The trail moving people leave (issue 32): labels every frame with avm-detect
+# The trail moving people leave: labels every frame with avm-detect
 # (--every 1, whole detector boxes), runs avm-map with ground-truth poses, and
 # prints avm-trail's table: occupied volume that an octomap reference built
 # without the persons' pixels says is free, for avm and single OctoMaps, with

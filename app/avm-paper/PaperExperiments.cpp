@@ -92,7 +92,7 @@ class Experiments
 		out.low = pipeline.map().lowResolutionStats();
 		out.high = pipeline.map().highResolutionStats();
 		out.regionsAtEnd = pipeline.map().highResolutionRegions().size();
-		out.tracks = pipeline.map().personTracks();
+		out.tracks = pipeline.map().confirmedPersons();
 		m_log.logFmt(mrpt::system::LVL_INFO, "%-28s %-2s: %zu frames, occupied low %zu high %zu, %.2f KiB .bt\n",
 			name.c_str(), toString(poses).c_str(), out.summary.frames, out.low.occupiedLeaves, out.high.occupiedLeaves,
 			out.btKiB());
@@ -119,7 +119,7 @@ std::vector<RegionRow> perPersonRows(Experiments& e, PoseSource poses)
 	const Override reference{"pipeline", "reference_maps", "true"};
 	std::vector<RegionRow> rows;
 	rows.push_back({"follow (default)", e.run("regions_follow", poses, {reference})});
-	rows.push_back({"follow, region_margin 0.20 m (the code's default; default.ini has 0.10 m)",
+	rows.push_back({"follow, region_margin 0.20 m (twice the default)",
 		e.run("regions_follow_margin020", poses, {reference, {kInsertion, "region_margin", "0.20"}})});
 	rows.push_back(
 		{"persist", e.run("regions_persist", poses, {reference, {kInsertion, "region_lifetime", "persist"}})});

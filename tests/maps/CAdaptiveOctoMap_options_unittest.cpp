@@ -4,12 +4,14 @@
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/io/CMemoryStream.h>
 #include <mrpt/maps/CMultiMetricMap.h>
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/maps/TMetricMapInitializer.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/obs/CObservationPointCloud.h>
+#include <mrpt/serialization/CArchive.h>
 
 #include <filesystem>
 
@@ -38,6 +40,7 @@ switch_policy = paper
 switch_at_fraction = 0.25
 expected_frame_count = 300
 region_margin = 0.2
+track_min_sightings = 5
 
 [map_adaptiveOctoMap_00_likelihoodOpts]
 decimation = 4
@@ -91,8 +94,18 @@ TEST(CAdaptiveOctoMapOptions, MapDefinitionFromIniCreatesTheMapWithItsValues)
 	EXPECT_DOUBLE_EQ(map->insertionOptions.switchAtFraction, 0.25);
 	EXPECT_EQ(map->insertionOptions.expectedFrameCount, 300u);
 	EXPECT_DOUBLE_EQ(map->personOptions.regionMargin, 0.2);
+	EXPECT_EQ(map->personOptions.tracking.minSightings, 5u);
 	EXPECT_EQ(map->likelihoodOptions.decimation, 4u);
 	EXPECT_TRUE(map->isEmpty());
+	// A copy (CMultiMetricMap copies by serialization, checkpoints too) keeps them.
+	mrpt::io::CMemoryStream buf;
+	auto arch = mrpt::serialization::archiveFrom(buf);
+	arch << *map;
+	buf.Seek(0);
+	const auto copy = std::dynamic_pointer_cast<CAdaptiveOctoMap>(arch.ReadObject());
+	ASSERT_TRUE(copy);
+	EXPECT_EQ(copy->personOptions.tracking.minSightings, 5u);
+	EXPECT_DOUBLE_EQ(copy->personOptions.regionMargin, 0.2);
 }
 
 TEST(CAdaptiveOctoMapOptions, SaveThenLoadGivesTheSameOptionsAndKeySet)
@@ -129,6 +142,7 @@ TEST(CAdaptiveOctoMapOptions, SaveThenLoadGivesTheSameOptionsAndKeySet)
 	EXPECT_EQ(i.expectedFrameCount, map->insertionOptions.expectedFrameCount);
 	EXPECT_EQ(p.regionMargin, map->personOptions.regionMargin);
 	EXPECT_EQ(p.personLabel, map->personOptions.personLabel);
+	EXPECT_EQ(p.tracking.minSightings, map->personOptions.tracking.minSightings);
 	EXPECT_EQ(l.decimation, map->likelihoodOptions.decimation);
 
 	// The key set a user's ini is checked against: 7 per tree in creationOpts.
@@ -136,7 +150,7 @@ TEST(CAdaptiveOctoMapOptions, SaveThenLoadGivesTheSameOptionsAndKeySet)
 	saved.getAllKeys("c", keys);
 	EXPECT_EQ(keys.size(), 14u);
 	saved.getAllKeys("i", keys);
-	EXPECT_EQ(keys.size(), 18u);  // with person_still_fraction, person_still_after_s
+	EXPECT_EQ(keys.size(), 19u);  // with person_still_fraction, person_still_after_s, track_min_sightings
 }
 
 TEST(CAdaptiveOctoMapOptions, RejectsBadValuesNamingTheKey)
@@ -274,4 +288,35 @@ TEST(CAdaptiveOctoMapOptions, ExampleIniFilesCreateTheMap)
 		EXPECT_DOUBLE_EQ(map->creationOptions().high.resolution, 0.05) << file;
 		EXPECT_EQ(map->insertionOptions.switchPolicy, avm::SwitchPolicy::Region) << file;
 	}
+}
+
+// ini/map-observations2map.ini documents every key of the map for stock MRPT
+// apps, each at its built-in default (the values avm-map's ini/default.ini has).
+TEST(CAdaptiveOctoMapOptions, TheObservations2mapExampleHasEveryKeyAtItsDefault)
+{
+	const mrpt::config::CConfigFile ini(
+		(std::filesystem::path(AVM_SOURCE_DIR) / "ini/map-observations2map.ini").string());
+	const std::string prefix = "MappingApplication_adaptiveOctoMap_00_";
+	const auto expectEveryKeyAtItsDefault = [&](const auto& defaults, const std::string& section)
+	{
+		auto loaded = defaults;
+		loaded.loadFromConfigFile(ini, prefix + section);
+		mrpt::config::CConfigFileMemory builtIn, fromFile;
+		defaults.saveToConfigFile(builtIn, "s");
+		loaded.saveToConfigFile(fromFile, "s");
+		std::vector<std::string> keys;
+		builtIn.getAllKeys("s", keys);
+		for (const auto& key : keys)
+		{
+			EXPECT_TRUE(ini.keyExists(prefix + section, key)) << section << " " << key << " is not documented";
+			EXPECT_EQ(fromFile.read_string("s", key, ""), builtIn.read_string("s", key, ""))
+				<< section << " " << key << " is not at its default";
+		}
+	};
+	const CAdaptiveOctoMap map;
+	expectEveryKeyAtItsDefault(map.creationOptions(), "creationOpts");
+	expectEveryKeyAtItsDefault(map.insertionOptions, "insertOpts");
+	expectEveryKeyAtItsDefault(map.personOptions, "insertOpts");
+	expectEveryKeyAtItsDefault(map.likelihoodOptions, "likelihoodOpts");
+	expectEveryKeyAtItsDefault(map.renderingOptions, "renderOpts");
 }

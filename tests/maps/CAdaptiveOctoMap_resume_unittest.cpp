@@ -1,4 +1,4 @@
-// Checkpoints (issue 15, `avm-map --resume`): a map serialized mid-run and read
+// Checkpoints (`avm-map --resume`): a map serialized mid-run and read
 // back must go on exactly as the map that was never interrupted. Real Bonn
 // frames, persons observed on some of them so that regions start, move, end
 // and coarsen on both sides of the checkpoint; after the checkpoint both maps

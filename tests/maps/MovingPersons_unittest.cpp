@@ -1,4 +1,4 @@
-// People are objects, not walls (issue 32), on real data: Bonn crowd frames
+// People are objects, not walls, on real data: Bonn crowd frames
 // with ground-truth poses and YOLOX person boxes. A person walking through
 // leaves (almost) no occupied voxels where a reference that never saw the
 // people says the space is free; a person who stays still is mapped; the
@@ -201,10 +201,8 @@ TEST(MovingPersons, AMovingPersonsFreeOnlyBoxHoldsEveryPixelOfTheirBand)
 	// outside would be mapped as a wall. The region box, the sighting's
 	// percentile box grown by the margin, misses some of them: the ends of
 	// the band and the limbs.
-	avm::persons::SightingOptions sighting;  // as ini/default.ini
-	sighting.depthBand = 0.3;
-	sighting.percentile = 0.08;
-	const double margin = 0.10;
+	const avm::persons::SightingOptions sighting;  // the built-in defaults, ini/default.ini's
+	const double margin = avm::persons::TPersonLayerOptions().regionMargin;
 	std::size_t bandPixels = 0, outsideFreeOnly = 0, outsideRegion = 0;
 	for (const auto& lf : labelledFrames())
 	{
@@ -313,10 +311,9 @@ TEST(MovingPersons, TheSurfaceInABoxBesideAMovingPersonIsBackgroundNotTheirSilho
 	// pixels on the silhouette (a depth edge next to the person's band, their
 	// depth between the person and the background), they would move with the
 	// person, a real trail. They are mostly the background behind the band.
-	avm::maps::TrailOptions options;  // the person keys as ini/default.ini
-	options.sighting.depthBand = 0.3;
-	options.sighting.percentile = 0.08;
-	const double margin = 0.10, edgeRatio = 0.05;  // region_margin; the odometry's depth_edge_ratio
+	const avm::maps::TrailOptions options;  // the person keys at their built-in defaults, ini/default.ini's
+	// region_margin; the odometry's depth_edge_ratio
+	const double margin = avm::persons::TPersonLayerOptions().regionMargin, edgeRatio = 0.05;
 	constexpr auto kClasses = static_cast<std::size_t>(avm::maps::TrailPixelClass::Count);
 	std::array<std::size_t, kClasses> inBoxes{}, surface{};
 	for (const auto& lf : labelledFrames())

@@ -1,4 +1,4 @@
-// Each person's last shape (issue 32, item 3) on real Bonn frames with ground
+// Each person's last shape on real Bonn frames with ground
 // truth poses: a patch of pixels labelled "person" in each frame, inserted
 // through the plugin map as any MRPT app does. The track keeps the shape of
 // the last sighting at the high resolution inside the person's region; the

@@ -47,11 +47,17 @@ odometry::OdometryRun runBonn(bool maskPeople, odometry::TOdometryOptions opt)
 		bonnRawlog(), opt, maskPeople ? odometry::PersonBoxSource(personBoxesOf) : odometry::PersonBoxSource());
 }
 
-odometry::TOdometryOptions withLoops()
+odometry::TOdometryOptions driftingOdometry()
 {
-	odometry::TOdometryOptions options;
-	options.loop_closure = true;
-	return options;
+	odometry::TOdometryOptions o;
+	o.keyframe_tracked_pose = false;
+	o.motion_prior_sigma = 0;
+	o.motion_gate = 0;
+	o.refine_rounds = 1;
+	o.window_size = 8;
+	o.ba_max_landmarks = 250;
+	o.person_box_margin = 10;
+	return o;
 }
 
 std::vector<odometry::OdometryEstimate> runBonnSpoilt(std::size_t first, std::size_t last,

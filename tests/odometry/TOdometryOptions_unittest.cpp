@@ -26,7 +26,7 @@ TEST(TOdometryOptions, SaveAndLoadUseTheSameKeys)
 	EXPECT_DOUBLE_EQ(b.huber_delta, 1.5);
 	std::vector<std::string> keys;
 	cfg.getAllKeys("odometry", keys);
-	EXPECT_EQ(keys.size(), 46u);
+	EXPECT_EQ(keys.size(), 43u);
 }
 
 TEST(TOdometryOptions, BadValueNamesSectionAndKey)
@@ -54,8 +54,8 @@ TEST(TOdometryOptions, BadValueNamesSectionAndKey)
 	EXPECT_THROW(odometry::VisualOdometry{o}, std::invalid_argument);
 	EXPECT_THROW(
 		odometry::VisualOdometry({}, mrpt::poses::CPose3D(std::nan(""), 0, 0, 0, 0, 0)), std::invalid_argument);
-	// The motion prior needs keyframes that keep their tracked pose.
-	mrpt::config::CConfigFileMemory prior("[odometry]\nmotion_prior_sigma = 0.005\n");
+	// The motion prior (on by default) needs keyframes that keep their tracked pose.
+	mrpt::config::CConfigFileMemory prior("[odometry]\nkeyframe_tracked_pose = false\n");
 	o = {};
 	try
 	{
@@ -75,12 +75,14 @@ TEST(TOdometryOptions, ProjectIniLoadsWithoutUnknownKeys)
 		odometry::loadOdometryOptions(std::string(AVM_SOURCE_DIR) + "/ini/odometry.ini", "odometry", unknown);
 	EXPECT_TRUE(unknown.empty()) << unknown.front();
 	EXPECT_TRUE(o.mask_people);
-	const auto tracked =
-		odometry::loadOdometryOptions(std::string(AVM_SOURCE_DIR) + "/ini/tracked-keyframes.ini", "odometry", unknown);
+	// The built-in odometry is ini/default.ini's.
+	const auto fromDefaultIni =
+		odometry::loadOdometryOptions(std::string(AVM_SOURCE_DIR) + "/ini/default.ini", "odometry", unknown);
 	EXPECT_TRUE(unknown.empty()) << unknown.front();
-	EXPECT_TRUE(tracked.keyframe_tracked_pose);
-	EXPECT_DOUBLE_EQ(tracked.motion_prior_sigma, 0.005);
-	EXPECT_EQ(tracked.refine_rounds, 4);
+	mrpt::config::CConfigFileMemory builtIn, fromFile;
+	odometry::TOdometryOptions().saveToConfigFile(builtIn, "odometry");
+	fromDefaultIni.saveToConfigFile(fromFile, "odometry");
+	EXPECT_EQ(fromFile.getContent(), builtIn.getContent());
 
 	const auto dir = test::scratchDir("odometry-ini");
 	std::ofstream(dir / "typo.ini") << "[odometry]\nnum_featurs = 10\n";

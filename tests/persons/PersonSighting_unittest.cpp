@@ -60,9 +60,11 @@ TEST(PersonSighting, ThePersonNotTheWallBehindIt)
 	EXPECT_NEAR(s.position.y, 0.0, 0.01);
 	EXPECT_NEAR(s.box.min.x, 2.0, 1e-3);
 	EXPECT_NEAR(s.box.max.x, 2.0, 1e-3);
-	// Width: 120 px at 2 m is 0.457 m; the percentiles trim 2 % each side.
-	EXPECT_NEAR(s.box.max.y - s.box.min.y, 0.457 * 0.96, 0.01);
-	EXPECT_NEAR(s.box.max.z - s.box.min.z, 300 * 2.0 / kF * 0.96, 0.01);
+	// Width: 120 px at 2 m is 0.457 m; the percentiles trim person_percentile
+	// (0.08 by default) each side.
+	const double kept = 1 - 2 * SightingOptions().percentile;
+	EXPECT_NEAR(s.box.max.y - s.box.min.y, 0.457 * kept, 0.01);
+	EXPECT_NEAR(s.box.max.z - s.box.min.z, 300 * 2.0 / kF * kept, 0.01);
 }
 
 TEST(PersonSighting, ThePersonsBandPixelsAreThePersonNotTheWall)

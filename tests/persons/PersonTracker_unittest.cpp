@@ -44,6 +44,28 @@ TEST(PersonTracker, APersonWalkingAcrossTheViewKeepsOneId)
 	EXPECT_NEAR(t.position.x, 2.2, 1e-9);
 }
 
+TEST(PersonTracker, ATrackIsAPersonOnceConfirmedBySightings)
+{
+	// A person walking by, and a detector's false box seen twice elsewhere:
+	// both are tracks (each had its region), only the person is confirmed.
+	TrackerOptions options;
+	ASSERT_EQ(options.minSightings, 3u);
+	PersonTracker tracker(options);
+	for (int k = 0; k < 10; k++)
+	{
+		std::vector<PersonSighting> seen{at(1.4 * kStep * k, 3.0)};
+		if (k == 4 || k == 5) seen.push_back(at(-3.0, 6.0));
+		tracker.update(seen, 3 * k, kStep * k);
+		const auto persons = confirmedTracks(tracker.tracks(), options.minSightings);
+		ASSERT_EQ(persons.size(), k >= 2 ? 1u : 0u) << "after " << k + 1 << " sightings";
+		if (!persons.empty()) EXPECT_EQ(persons[0].id, 1u);
+	}
+	ASSERT_EQ(tracker.tracks().size(), 2u);
+	EXPECT_EQ(tracker.tracks()[1].sightings, 2u);
+	// Every track is a person when one sighting confirms it.
+	EXPECT_EQ(confirmedTracks(tracker.tracks(), 1).size(), 2u);
+}
+
 TEST(PersonTracker, TwoPeopleSideBySideStayTwoTracks)
 {
 	PersonTracker tracker;

@@ -1,9 +1,11 @@
 // ini/default.ini documents every key avm-map reads as the options structs
 // declare it (io::IniKeys): each declared key is in the file with the comment
 // "// description [unit] (default X)" that its declaration gives, X the
-// built-in default, and the file holds no key the code does not read.
+// built-in default, at that default, and the file holds no key the code does
+// not read. The other ini files of avm-map hold only what differs from it.
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFile.h>
+#include <mrpt/config/CConfigFileMemory.h>
 
 #include <algorithm>
 #include <fstream>
@@ -78,6 +80,61 @@ void expectDocumented(const IniComments& docs, const mrpt::config::CConfigFileBa
 		if (std::none_of(declared.begin(), declared.end(), [&](const io::IniKeyDoc& d) { return d.key == key; }))
 			ADD_FAILURE() << "ini/default.ini has [" << section << "] " << key << ", which avm-map does not read";
 }
+
+/** The value of each key of [section] as `options`, loaded from `ini`, write
+ *  it back: the struct's own spelling (0.20 and 0.2 alike), by key. */
+template <class Options>
+std::map<std::string, std::string> savedValues(const mrpt::config::CConfigFileBase& ini, const std::string& section)
+{
+	Options options;
+	options.loadFromConfigFile(ini, section);
+	mrpt::config::CConfigFileMemory saved;
+	options.saveToConfigFile(saved, section);
+	std::vector<std::string> keys;
+	saved.getAllKeys(section, keys);
+	std::map<std::string, std::string> values;
+	for (const auto& key : keys) values[key] = saved.read_string(section, key, "");
+	return values;
+}
+
+/** [section] of `file` as `Options`: in ini/default.ini every key at its
+ *  built-in default; in any other file, each key it sets away from it. */
+template <class Options>
+void expectValues(const fs::path& file, const std::string& section)
+{
+	const mrpt::config::CConfigFile ini(file.string());
+	const auto values = savedValues<Options>(ini, section);
+	const auto builtIn = savedValues<Options>(mrpt::config::CConfigFileMemory(), section);
+	const bool isDefaultIni = file.filename() == "default.ini";
+	std::vector<std::string> present;
+	ini.getAllKeys(section, present);
+	for (const auto& key : present)
+	{
+		const auto value = values.find(key), defaultValue = builtIn.find(key);
+		if (value == values.end()) continue;  // another struct's key of a shared section
+		ASSERT_NE(defaultValue, builtIn.end()) << key;
+		if (isDefaultIni)
+			EXPECT_EQ(value->second, defaultValue->second)
+				<< file << " [" << section << "] " << key << " is not at its built-in default";
+		else
+			EXPECT_NE(value->second, defaultValue->second)
+				<< file << " [" << section << "] " << key << " = its built-in default: leave it to the default";
+	}
+}
+
+/** expectValues for every section of avm-map's options in `file`. */
+void expectValuesOfEverySection(const fs::path& file)
+{
+	const std::string prefix = "map_adaptiveOctoMap_00_";
+	expectValues<pipeline::TPipelineOptions>(file, "pipeline");
+	expectValues<odometry::TOdometryOptions>(file, "odometry");
+	expectValues<detection::TDetectorOptions>(file, "detection");
+	expectValues<CAdaptiveOctoMap::TCreationOptions>(file, prefix + "creationOpts");
+	expectValues<CAdaptiveOctoMap::TInsertionOptions>(file, prefix + "insertOpts");
+	expectValues<persons::TPersonLayerOptions>(file, prefix + "insertOpts");
+	expectValues<CAdaptiveOctoMap::TLikelihoodOptions>(file, prefix + "likelihoodOpts");
+	expectValues<CAdaptiveOctoMap::TRenderingOptions>(file, prefix + "renderOpts");
+}
 }  // namespace
 
 TEST(IniDocumentation, DefaultIniDocumentsEveryKeyWithItsDefault)
@@ -99,4 +156,17 @@ TEST(IniDocumentation, DefaultIniDocumentsEveryKeyWithItsDefault)
 	expectDocumented(docs, ini, prefix + "insertOpts", insertKeys);
 	expectDocumented(docs, ini, prefix + "likelihoodOpts", of(map.likelihoodOptions));
 	expectDocumented(docs, ini, prefix + "renderOpts", of(map.renderingOptions));
+}
+
+TEST(IniDocumentation, DefaultIniHoldsTheBuiltInDefaults)
+{
+	// avm-map with ini/default.ini, a program or stock MRPT app with no ini,
+	// and an ini that leaves a key out all get the same value for it.
+	expectValuesOfEverySection(fs::path(AVM_SOURCE_DIR) / "ini/default.ini");
+}
+
+TEST(IniDocumentation, TheOtherIniFilesHoldOnlyWhatDiffersFromTheDefaults)
+{
+	for (const char* name : {"paper.ini", "detect.ini", "odometry.ini"})
+		expectValuesOfEverySection(fs::path(AVM_SOURCE_DIR) / "ini" / name);
 }

@@ -71,11 +71,6 @@ void addBackEndKeys(io::IniKeys<TOdometryOptions>& keys)
 			"a tracked frame whose camera centre is farther from the constant-velocity prediction than this many times "
 			"the median distance of the last frames is bridged by the motion model as a lost frame is; 0 = off",
 			{[](double v) { return v == 0 || v >= 2; }, "must be 0 (off) or at least 2"})
-		.number("quality_gate", &O::quality_gate, "",
-			"a tracked frame whose camera centre is less certain than the motion model's prediction (the inliers' "
-			"covariance against the recent frames' agreement with the model), or disagrees with it beyond this "
-			"quantile of chi-square (3 dof) in the metric of both, is bridged as motion_gate's are; 0 = off",
-			{[](double v) { return v == 0 || (v >= 0.9 && v < 1); }, "must be 0 (off) or in [0.9, 1)"})
 		.number("window_size", &O::window_size, "", "keyframes in the bundle adjustment, 0 = no BA",
 			{[](int v) { return v == 0 || v >= 2; }, "must be 0 (off) or >= 2"})
 		.number("ba_iterations", &O::ba_iterations, "", "Ceres iterations of one bundle adjustment",
@@ -94,9 +89,6 @@ void addBackEndKeys(io::IniKeys<TOdometryOptions>& keys)
 		.number("keyframe_tracked_pose", &O::keyframe_tracked_pose, "",
 			"the frame that makes a keyframe keeps its tracked pose (true), or takes the pose the window bundle "
 			"adjustment gives the keyframe (false)")
-		.number("keyframe_needs_quality", &O::keyframe_needs_quality, "",
-			"a tracked frame whose camera centre is less certain than the motion model's prediction (the inliers' "
-			"covariance against the recent frames' agreement with the model) makes no keyframe")
 		.check(
 			"motion_prior_sigma", [](const O& o) { return o.motion_prior_sigma == 0 || o.keyframe_tracked_pose; },
 			"must be 0 unless keyframe_tracked_pose = true (the prediction would jump at every keyframe)");
@@ -125,7 +117,7 @@ void addPlaceKeys(io::IniKeys<TOdometryOptions>& keys)
 			{[](int v) { return v >= 0; }, "must be >= 0"})
 		.number("loop_closure", &O::loop_closure, "",
 			"close loops: a new keyframe that sees an old keyframe's place again is measured against it, judged by "
-			"the loop check (loop_sigma, loop_covariance_scale, odometry_sigma) and the keyframes move in a pose graph "
+			"the loop check (loop_sigma, odometry_sigma) and the keyframes move in a pose graph "
 			"(Ceres)")
 		.number("loop_min_separation", &O::loop_min_separation, "keyframes",
 			"a loop candidate is at least this many keyframes older than the new keyframe",
@@ -145,11 +137,6 @@ void addPlaceKeys(io::IniKeys<TOdometryOptions>& keys)
 			"standard deviation of a loop's measured camera centre on each axis: the loop check's scale and the loop "
 			"constraint's in the pose graph (the same number in rad for its rotation)",
 			{[](double v) { return v > 0; }, "must be > 0"})
-		.number("loop_covariance_scale", &O::loop_covariance_scale, "",
-			"a loop's camera centre is off by this many times the standard deviation its inliers alone give (the "
-			"place's points taken as exact), on top of loop_sigma, in the loop check and the pose graph; 0: "
-			"loop_sigma alone",
-			{[](double v) { return v >= 0; }, "must be >= 0"})
 		.number("odometry_sigma", &O::odometry_sigma, "m",
 			"standard deviation of the odometry between consecutive keyframes on each axis: how far the track may "
 			"have drifted since a loop's candidate in the loop check, and the odometry constraint in the pose graph "

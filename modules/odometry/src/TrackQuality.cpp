@@ -30,8 +30,6 @@ double chiSquare3Quantile(double p)
 	return (low + high) / 2;
 }
 
-bool poorerThanPrediction(const TrackQuality& q) { return q.predictionSigma > 0 && q.centreSigma > q.predictionSigma; }
-
 double inlierSpread(const FrameFeatures& f, const std::vector<Match>& inliers)
 {
 	if (f.imageSize.area() <= 0) return 0;

@@ -14,11 +14,6 @@ namespace avm::odometry::detail
 /** The value chi-square with 3 degrees of freedom stays below with probability p, in (0, 1). */
 double chiSquare3Quantile(double p);
 
-/** Whether a frame's camera centre is less certain than the motion model's
- *  prediction (centreSigma above a known predictionSigma): its own
- *  measurement is the poorer of the two. */
-bool poorerThanPrediction(const TrackQuality& q);
-
 /** TrackQuality::spread of the inliers' features. */
 double inlierSpread(const FrameFeatures& f, const std::vector<Match>& inliers);
 

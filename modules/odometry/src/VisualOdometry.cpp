@@ -128,9 +128,7 @@ OdometryEstimate VisualOdometry::Impl::track(const FrameFeatures& f)
 	const double carried = double(1 + lostFrames);
 	const TrackQuality quality = qualityOf(f, inliers, refined->centreCovariance, offPrediction,
 		judged ? predictionVariance(recentDeviations) * carried * carried : 0.0);
-	auto why = implausibleMotion(deviation);
-	if (!why) why = poorEstimate(quality, inliers.size());
-	if (why)
+	if (const auto why = implausibleMotion(deviation))
 	{
 		auto bridged = bridge(*why);
 		bridged.quality = quality;
@@ -151,11 +149,7 @@ OdometryEstimate VisualOdometry::Impl::track(const FrameFeatures& f)
 	lostFrames = lostFramesWithFeatures = 0;
 
 	const Eigen::Isometry3d previous = T_cw;
-	// A keyframe's new landmarks are placed from its pose, and the next
-	// frames are tracked against them: a pose the motion model knows better
-	// than the frame's few inliers do would carry its error into them.
-	const bool poorAnchor = options.keyframe_needs_quality && poorerThanPrediction(quality);
-	if (needsKeyframe(T, inliers.size()) && !poorAnchor)
+	if (needsKeyframe(T, inliers.size()))
 	{
 		addKeyframe(f, inliers, T);
 		if (!options.keyframe_tracked_pose) T = keyframeMap.find(window.back().id)->T_cw;

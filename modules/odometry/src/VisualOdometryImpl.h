@@ -178,9 +178,6 @@ struct VisualOdometry::Impl
 	/** Why a tracked pose at `deviation` [m] from the prediction is not to be
 	 *  trusted (motion_gate), or nothing. */
 	std::optional<std::string> implausibleMotion(double deviation) const;
-	/** Why a tracked pose of this quality, from `inliers` inliers, is not to
-	 *  be trusted (quality_gate), or nothing. */
-	std::optional<std::string> poorEstimate(const TrackQuality& quality, std::size_t inliers) const;
 	/** The frame's pose from the motion model, the local map kept: its own
 	 *  pose was not to be had or not trusted. One more lost frame. */
 	OdometryEstimate bridge(const std::string& why);

@@ -6,7 +6,6 @@
 #include <cstdio>
 #include <limits>
 
-#include "TrackQuality.h"
 #include "VisualOdometryImpl.h"
 #include "avm/io/Trajectory.h"
 
@@ -79,28 +78,6 @@ std::optional<std::string> VisualOdometry::Impl::implausibleMotion(double deviat
 	std::snprintf(why, sizeof(why),
 		"untrusted: the tracked pose is %.3f m from the motion model's, %.0f times the recent median; pose bridged",
 		deviation, deviation / median);
-	return std::string(why);
-}
-
-std::optional<std::string> VisualOdometry::Impl::poorEstimate(const TrackQuality& q, std::size_t inliers) const
-{
-	// As the motion gate: only with a prediction to judge by, and for at most
-	// relocalisation_frames frames in a row.
-	if (options.quality_gate <= 0 || q.predictionSigma <= 0 || lostFrames >= options.relocalisation_frames)
-		return std::nullopt;
-	char why[224];
-	if (poorerThanPrediction(q))
-		std::snprintf(why, sizeof(why),
-			"untrusted: %zu inliers over %.0f %% of the image fix the camera centre to %.1f mm, the motion model to "
-			"%.1f mm; pose bridged",
-			inliers, 100 * q.spread, 1000 * q.centreSigma, 1000 * q.predictionSigma);
-	else if (q.motionChi2 > chiSquare3Quantile(options.quality_gate))
-		std::snprintf(why, sizeof(why),
-			"untrusted: the tracked pose disagrees with the motion model's (chi-square %.1f, 3 dof, beyond its %g "
-			"quantile); pose bridged",
-			q.motionChi2, options.quality_gate);
-	else
-		return std::nullopt;
 	return std::string(why);
 }
 

@@ -97,6 +97,10 @@ io::IniKeys<TPersonLayerOptions> TPersonLayerOptions::iniKeys()
 		.number("person_still_after_s", &O::tracking, &T::stillAfter, "s",
 			"how long a person must stay in one place to be still",
 			{[](double v) { return v >= 0; }, "must be >= 0 seconds"})
+		.number<std::int64_t>("track_min_sightings", &O::tracking, &T::minSightings, "sightings",
+			"a track is reported as a person (persons.csv, person_shapes.ply, the scene, the live view) once seen "
+			"this often; any track has its region from its first sighting",
+			{[](std::int64_t v) { return v >= 1; }, "must be >= 1"})
 		.check(
 			"track_max_gate", [](const O& o) { return o.tracking.maxGate >= o.tracking.gate; },
 			"must be >= track_gate");

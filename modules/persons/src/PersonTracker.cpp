@@ -1,6 +1,7 @@
 #include "avm/persons/PersonTracker.h"
 
 #include <algorithm>
+#include <iterator>
 #include <tuple>
 
 namespace avm::persons
@@ -71,6 +72,14 @@ std::vector<std::uint32_t> PersonTracker::update(
 		m_tracks.push_back(track);
 	}
 	return ids;
+}
+
+std::vector<PersonTrack> confirmedTracks(const std::vector<PersonTrack>& tracks, std::size_t minSightings)
+{
+	std::vector<PersonTrack> out;
+	std::copy_if(tracks.begin(), tracks.end(), std::back_inserter(out),
+		[&](const PersonTrack& t) { return t.sightings >= minSightings; });
+	return out;
 }
 
 double meanEdge(const mrpt::math::TBoundingBox& box)

@@ -81,7 +81,7 @@ void drawPictures(const io::RunFolder& run, const io::Trajectory& trajectory, co
 	content.trajectory = trajectory;
 	for (const auto& r : map.highResolutionRegions())
 		content.regions.insert(content.regions.end(), r.boxes.begin(), r.boxes.end());
-	for (const auto& t : map.personTracks()) content.persons.push_back({t.id, t.position, t.shape});
+	for (const auto& t : map.confirmedPersons()) content.persons.push_back({t.id, t.position, t.shape});
 	content.lowResolution = trees.low.resolution;
 	content.highResolution = trees.high.resolution;
 	drawTopView(content, run.topPicture(), size);
@@ -128,7 +128,7 @@ void writeRegionsAndPersons(JsonWriter& json, const CAdaptiveOctoMap& map)
 	}
 	json.endArray();
 	json.beginArray("persons");
-	for (const auto& t : map.personTracks())
+	for (const auto& t : map.confirmedPersons())
 	{
 		json.beginObject()
 			.value("id", static_cast<std::size_t>(t.id))
@@ -286,8 +286,9 @@ void writeRunOutputs(
 		"avm-map camera trajectory (" + toString(record.options->poseSource) + "), optical frame, TUM format");
 	writeText(run.trajectoryStatus(), trajectoryStatusText(record));
 	writeText(run.detections(), detectionsText(record.personDetections));
-	writeText(run.persons(), persons::personsCsvText(map.personTracks()));
-	writeText(run.personShapes(), persons::personShapesPlyText(map.personTracks(), maps::kPersonColour));
+	const auto persons = map.confirmedPersons();
+	writeText(run.persons(), persons::personsCsvText(persons));
+	writeText(run.personShapes(), persons::personShapesPlyText(persons, maps::kPersonColour));
 	if (record.options->pictureSize > 0) drawPictures(run, record.trajectory, map, trees, record.options->pictureSize);
 	writeText(run.stats(), statsJson(summary, record, map, trees));
 	writeText(run.log(), record.log);

@@ -160,7 +160,7 @@ void CAdaptiveOctoMap::getVisualizationInto(mrpt::opengl::CSetOfObjects& outObj)
 	CDualOctoMap::getVisualizationInto(outObj);
 	if (!genericMapParams.enableSaveAs3DObject) return;
 	auto shapes = mrpt::opengl::CPointCloud::Create();
-	for (const auto& t : personTracks())
+	for (const auto& t : confirmedPersons())
 		for (const auto& p : t.shape) shapes->insertPoint(p.x, p.y, p.z);
 	if (shapes->empty()) return;
 	shapes->setName(kPersonShapesName);

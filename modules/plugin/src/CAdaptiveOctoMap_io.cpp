@@ -15,7 +15,9 @@ IMPLEMENTS_SERIALIZABLE(CAdaptiveOctoMap, CMetricMap, avm)
 // Version 1: per-person regions and person tracks. Version 2: the tracks'
 // motion (velocity, where and since when the person stays) and the still keys.
 // Version 3: each track's last shape. Version 4: each track's band extent.
-uint8_t CAdaptiveOctoMap::serializeGetVersion() const { return 4; }
+// Version 5: track_min_sightings (a map of an earlier version reports every
+// track, as it did).
+uint8_t CAdaptiveOctoMap::serializeGetVersion() const { return 5; }
 
 void CAdaptiveOctoMap::serializeTo(mrpt::serialization::CArchive& out) const
 {
@@ -29,7 +31,8 @@ void CAdaptiveOctoMap::serializeTo(mrpt::serialization::CArchive& out) const
 	out << p.regionEndAfterSeconds << p.personLabel << p.sighting.depthBand << p.sighting.percentile
 		<< static_cast<uint64_t>(p.sighting.minPixels) << p.sighting.minDepthFraction << p.tracking.gate
 		<< p.tracking.gateGrowth << p.tracking.maxGate << i.switchAtInsertion << i.switchAtFraction
-		<< i.expectedFrameCount << i.insertionThreads << p.tracking.stillFraction << p.tracking.stillAfter;
+		<< i.expectedFrameCount << i.insertionThreads << p.tracking.stillFraction << p.tracking.stillAfter
+		<< static_cast<uint64_t>(p.tracking.minSightings);
 	out << likelihoodOptions.decimation << renderingOptions.showFreeSpace << renderingOptions.showRegions;
 	writeRegions(out, [this](auto& ar, std::uint32_t id) { m_regionClocks.writeClock(ar, id); });
 	m_persons.serializeTo(out);
@@ -40,7 +43,7 @@ void CAdaptiveOctoMap::serializeTo(mrpt::serialization::CArchive& out) const
 
 void CAdaptiveOctoMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t version)
 {
-	if (version < 1 || version > 4) MRPT_THROW_UNKNOWN_SERIALIZATION_VERSION(version);
+	if (version < 1 || version > 5) MRPT_THROW_UNKNOWN_SERIALIZATION_VERSION(version);
 	in >> genericMapParams;
 	readTreeOptions(in);
 	auto& i = insertionOptions;
@@ -57,6 +60,9 @@ void CAdaptiveOctoMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t 
 		i.switchAtInsertion >> i.switchAtFraction >> i.expectedFrameCount >> i.insertionThreads;
 	p.sighting.minPixels = minPixels;
 	if (version >= 2) in >> p.tracking.stillFraction >> p.tracking.stillAfter;
+	uint64_t minSightings = 1;
+	if (version >= 5) in >> minSightings;
+	p.tracking.minSightings = minSightings;
 	in >> likelihoodOptions.decimation >> renderingOptions.showFreeSpace >> renderingOptions.showRegions;
 	creationOptions().validate("serialized creationOpts");
 	insertionOptions.validate("serialized insertOpts");

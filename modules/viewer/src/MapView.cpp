@@ -19,6 +19,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <set>
 
 #ifdef __GLIBC__
 #include <malloc.h>
@@ -28,6 +29,7 @@
 #include "ScreenGrab.h"
 #include "avm/io/RgbdFrame.h"
 #include "avm/maps/MapColours.h"
+#include "avm/viewer/StatusText.h"
 
 namespace avm::viewer
 {
@@ -57,10 +59,6 @@ enum VoxelSet : unsigned
 	PersonShapes,  //!< each person's last shape, at the high resolution
 	VoxelSetCount
 };
-
-const char* kKeysHelp =
-	"space pause/resume  n step  f free space  l low tree  "
-	"h high tree  m features  r reset view";
 
 mrpt::math::TBoundingBox occupiedBox(const MapSnapshot& s)
 {
@@ -205,30 +203,24 @@ mrpt::opengl::CSetOfObjects::Ptr sceneOf(const MapSnapshot& s, const mrpt::math:
 	return objects;
 }
 
-/** The status lines, the keys and what is shown, over the 3D view. */
-void writeStatusText(mrpt::opengl::COpenGLViewport& vp, const MapSnapshot& s, const ViewToggles& t, bool isPaused)
+/** The status lines, the keys and what is shown, over the 3D view, fitted to
+ *  its width [px]. */
+void writeStatusText(
+	mrpt::opengl::COpenGLViewport& vp, const MapSnapshot& s, const ViewToggles& t, bool isPaused, double widthPx)
 {
-	mrpt::opengl::TFontParams font;
-	font.color = mrpt::img::TColorf(0.1f, 0.1f, 0.1f);
-	font.vfont_scale = 14;
-	font.draw_shadow = true;
-	font.shadow_color = mrpt::img::TColorf(1.0f, 1.0f, 1.0f);
 	// A message is added once and then only its text changes: adding it again
 	// drops its text object on this thread, which leaks its OpenGL buffers
-	// (see GlThreadRelease).
-	const auto put = [&](double x, double y, const std::string& text, std::size_t id)
+	// (see GlThreadRelease). A place a narrower window no longer needs is blanked.
+	std::set<std::size_t> written;
+	for (const auto& m : statusMessages(s, t, isPaused, widthPx))
 	{
-		if (!vp.updateTextMessage(id, text)) vp.addTextMessage(x, y, text, id, font);
-	};
-	const auto lines = statusLines(s);
-	put(8, 30, lines[0] + (isPaused ? "  [paused]" : ""), 0);
-	put(8, 8, lines[1], 1);
-	font.vfont_scale = 12;
-	font.color = mrpt::img::TColorf(0.35f, 0.35f, 0.35f);
-	put(8, -22, kKeysHelp, 3);
-	std::string shown = std::string("low ") + (t.lowTree ? "on" : "off") + "  high " + (t.highTree ? "on" : "off") +
-						"  free " + (t.freeSpace ? (s.hasFreeSpace ? "on" : "from the next snapshot") : "off");
-	put(8, -46, shown, 2);
+		if (!vp.updateTextMessage(m.id, m.text)) vp.addTextMessage(m.x, m.y, m.text, m.id, m.font);
+		written.insert(m.id);
+	}
+	std::vector<std::size_t> unused;
+	for (const auto& [id, message] : vp.getTextMessages().messages)
+		if (!written.count(id) && !message.text.empty()) unused.push_back(id);
+	for (const auto id : unused) vp.updateTextMessage(id, "");
 }
 
 /** Points the view at the middle of `box`, from the side the camera path
@@ -258,16 +250,22 @@ void frameBox(mrpt::gui::CDisplayWindow3D& win, const MapSnapshot& s, const mrpt
 class GlThreadRelease : public mrpt::system::CObserver
 {
    public:
+	explicit GlThreadRelease(unsigned width) : m_width(width) {}
 	void add(mrpt::opengl::CRenderizable::Ptr object)
 	{
 		std::lock_guard lock(m_mutex);
 		m_objects.push_back(std::move(object));
 	}
+	/** [px] The viewport's width at its last render (the window's, resized
+	 *  or not): its render state is the GL thread's, so it is read here. */
+	unsigned width() const { return m_width; }
 
    protected:
 	void OnEvent(const mrpt::system::mrptEvent& e) override
 	{
 		if (!e.isOfType<mrpt::opengl::mrptEventGLPostRender>()) return;
+		const auto& rendered = static_cast<const mrpt::opengl::mrptEventGLPostRender&>(e);
+		if (const auto w = rendered.source_viewport->getRenderMatrices().viewport_width; w > 0) m_width = w;
 		std::vector<mrpt::opengl::CRenderizable::Ptr> released;
 		std::lock_guard lock(m_mutex);
 		released.swap(m_objects);
@@ -276,11 +274,13 @@ class GlThreadRelease : public mrpt::system::CObserver
    private:
 	std::mutex m_mutex;
 	std::vector<mrpt::opengl::CRenderizable::Ptr> m_objects;
+	std::atomic<unsigned> m_width;
 };
 }  // namespace
 
 struct MapView::Windows
 {
+	explicit Windows(unsigned width) : release(width) {}
 	GlThreadRelease release;  //!< declared first: it outlives the window it observes
 	mrpt::gui::CDisplayWindow3D::Ptr view3D;
 	mrpt::gui::CDisplayWindow::Ptr image;       //!< opened with the first image
@@ -288,7 +288,8 @@ struct MapView::Windows
 	mrpt::opengl::CSetOfObjects::Ptr onScreen;  //!< the scene's other objects, replaced by each draw
 };
 
-MapView::MapView(const TViewerOptions& options) : m_options(options), m_windows(std::make_unique<Windows>())
+MapView::MapView(const TViewerOptions& options)
+	: m_options(options), m_windows(std::make_unique<Windows>(options.width))
 {
 	m_options.validate("gui");
 #ifdef __GLIBC__
@@ -540,7 +541,7 @@ void MapView::draw(const MapSnapshot& s, bool resetCamera)
 		vp->insert(objects);
 		m_windows->onScreen = objects;
 		fillVoxels(*m_windows->voxels, s, t, box);
-		writeStatusText(*vp, s, t, isPaused);
+		writeStatusText(*vp, s, t, isPaused, m_windows->release.width());
 	}
 	// The view frames the map as it grows (a live run starts with a few
 	// voxels), until the user resets it; 'r' frames it again.

@@ -91,17 +91,14 @@ struct LoopJudgement
 
 /** [m] The standard deviation of a loop's camera centre along its worst
  *  axis from its inliers alone (the largest eigenvalue of
- *  centreCovariance); infinite when they do not fix the pose. */
+ *  centreCovariance); infinite when they do not fix the pose. Reported in
+ *  the loop's status (scripts/loop-error-fit.awk reads it), not weighed:
+ *  the loop check takes loop_sigma for every loop. */
 double inlierSigma(const LoopMeasurement& loop);
-
-/** [m] A loop's per-axis standard deviation: loop_sigma and
- *  loop_covariance_scale times its inlierSigma, added in variance
- *  (loop_sigma alone when the scale is 0). */
-double loopSigma(const LoopMeasurement& loop, const TOdometryOptions& options);
 
 /** The loop check, on the shift of the newest keyframe's camera centre that
  *  `loop` measures against its pose in `poses`, with per-axis standard
- *  deviations loopSigma for a loop (the keyframe before's loop: its edge's
+ *  deviations loop_sigma for a loop (the keyframe before's loop: its edge's
  *  sigmaTranslation) and odometry_sigma for each keyframe of odometry since
  *  the candidate; every test at 99 % (chi-square, 3 degrees of freedom):
  *  - refused when the shift is beyond what the loop and the odometry since
@@ -118,7 +115,7 @@ LoopJudgement judgeLoop(const LoopMeasurement& loop, int newestId, const std::ve
 LoopMeasurement measuredFrom(LoopMeasurement loop, const Eigen::Isometry3d& T_cw);
 
 /** The loop constraint of a measurement made at keyframe `keyframe`, `loop`
- *  in the frame of `poses`, of standard deviation loopSigma (the same number
+ *  in the frame of `poses`, of standard deviation loop_sigma (the same number
  *  in rad for its rotation). */
 PoseGraphEdge loopEdge(
 	const LoopMeasurement& loop, int keyframe, const KeyframePoses& poses, const TOdometryOptions& options);

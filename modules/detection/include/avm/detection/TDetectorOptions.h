@@ -1,5 +1,5 @@
-// Options of the person detector and of the 3-D regions made from its boxes,
-// section [detection] of an avm .ini (see ini/detect.ini for every key).
+// Options of the person detector, section [detection] of an avm .ini
+// (ini/default.ini documents every key).
 #pragma once
 
 #include <filesystem>
@@ -33,11 +33,17 @@ struct TDetectorOptions : public io::CIniKeyOptions<TDetectorOptions>
 	std::string classes = "person";
 	double score_threshold = 0.3;  //!< keep detections scoring at least this (0..1)
 	double nms_threshold = 0.45;   //!< IoU above which the weaker box of a class is dropped
-	int input_width = 416;         //!< [px] network input; YOLOX-Nano 416, YOLOv5/v8 usually 640
-	int input_height = 416;        //!< [px]
+	/** [px] Network input. 256x192, not YOLOX-Nano's 416x416, for real time
+	 *  on 2 cores: the 640x480 frame is letterboxed to it exactly, and the
+	 *  persons within the depth range (the only ones a region or the odometry
+	 *  uses) are large enough at it. YOLOv5/v8 are usually trained at 640. */
+	int input_width = 256;
+	int input_height = 192;  //!< [px]
 	/** OpenCV worker threads (cv::setNumThreads, process-wide, set by the
-	 *  application, not the detector); 0 = OpenCV's default. */
-	int threads = 0;
+	 *  application, not the detector); 0 = OpenCV's default. 1 gives the
+	 *  detector thread and avm-map's odometry and map loop a core each on
+	 *  2 cores. */
+	int threads = 1;
 	double hog_hit_threshold = 0.0;  //!< HOG only: SVM margin a window needs to count
 
 	/** Every key: name, member, unit, description, check. */

@@ -37,14 +37,15 @@ struct TOdometryOptions : public io::CIniKeyOptions<TOdometryOptions>
 	 *  from PnP RANSAC's inliers, chosen at PnP's pose; each further one from
 	 *  the matches that reproject within ransac_reprojection at the last
 	 *  refined pose, a better one. With one round, a frame's pose swings by
-	 *  millimetres with the inliers RANSAC happened to pick. */
-	int refine_rounds = 1;
+	 *  millimetres with the inliers RANSAC happened to pick; four rounds need
+	 *  ba_max_landmarks 500 to pay off. */
+	int refine_rounds = 4;
 	/** [m] Standard deviation of a tracked frame's camera centre about where
 	 *  the constant-velocity model puts it, in the per-frame refinement (0 =
 	 *  off): PnP alone gets the motion from one frame to the next wrong by
 	 *  about a centimetre (a small turn and a sideways shift look alike),
 	 *  where the true camera moves smoothly. Needs keyframe_tracked_pose. */
-	double motion_prior_sigma = 0.0;
+	double motion_prior_sigma = 0.005;
 	/** A tracked frame whose camera centre lies farther from the
 	 *  constant-velocity prediction than this many times the median of the
 	 *  recent frames' distances is not trusted: its pose is bridged by the
@@ -52,20 +53,10 @@ struct TOdometryOptions : public io::CIniKeyOptions<TOdometryOptions>
 	 *  again (0 = off). A person filling the view leaves a few features that
 	 *  can agree on a wrong pose; a camera does not jump by ten times its
 	 *  usual deviation from one frame to the next. */
-	double motion_gate = 0.0;
-	/** A tracked frame is not trusted, and bridged as motion_gate's are, when
-	 *  its own measurement says it is poor (0 = off; else a probability in
-	 *  [0.9, 1)): its camera centre is less certain than the motion model's
-	 *  prediction (TrackQuality::centreSigma above predictionSigma: few
-	 *  inliers in a corner of a view filled by people, blur, no depth), or
-	 *  the two disagree beyond this quantile of chi-square with 3 degrees of
-	 *  freedom in the metric of both uncertainties (motionChi2). Both
-	 *  uncertainties are the odometry's own: the inliers' covariance and the
-	 *  recent frames' agreement with the motion model. */
-	double quality_gate = 0.0;
-	int window_size = 8;         //!< keyframes in the sliding-window bundle adjustment (0 = no BA)
+	double motion_gate = 8.0;
+	int window_size = 12;        //!< keyframes in the sliding-window bundle adjustment (0 = no BA)
 	int ba_iterations = 8;       //!< Ceres iterations of one bundle adjustment
-	int ba_max_landmarks = 250;  //!< landmarks in one bundle adjustment, the most-viewed first (0 = all)
+	int ba_max_landmarks = 500;  //!< landmarks in one bundle adjustment, the most-viewed first (0 = all)
 	// --- keyframes
 	double keyframe_translation = 0.08;  //!< [m] motion from the last keyframe that makes a keyframe
 	double keyframe_rotation = 8.0;      //!< [deg] rotation from the last keyframe that makes a keyframe
@@ -74,14 +65,7 @@ struct TOdometryOptions : public io::CIniKeyOptions<TOdometryOptions>
 	/** The frame that makes a keyframe keeps its tracked pose; else it takes
 	 *  the one the window bundle adjustment gives the keyframe, which the
 	 *  next frames' landmarks (placed from the tracked pose) disagree with. */
-	bool keyframe_tracked_pose = false;
-	/** A tracked frame whose camera centre is less certain than the motion
-	 *  model's prediction (TrackQuality: a view filled by people, blur) makes
-	 *  no keyframe, whatever keyframe_translation, keyframe_rotation and
-	 *  keyframe_overlap say: the landmarks it would add, placed from its
-	 *  poor pose, would pull the next frames off. The next frame good enough
-	 *  makes it, or the track is lost and relocalised against the keyframe map. */
-	bool keyframe_needs_quality = false;
+	bool keyframe_tracked_pose = true;
 	// --- keyframe map (kept through tracking loss) and relocalisation
 	/** Keyframes kept for the whole run (about 70 kB each); beyond, the most redundant goes. */
 	int map_max_keyframes = 300;
@@ -93,9 +77,10 @@ struct TOdometryOptions : public io::CIniKeyOptions<TOdometryOptions>
 	int relocalisation_frames = 10;
 	// --- loop closing
 	/** Verified revisits of old keyframes correct the drift (loop check, pose
-	 *  graph). Off by default: on the whole Bonn crowd sequence two weak loops
-	 *  that agree on a wrong shift still pass the check (doc/odometry.md). */
-	bool loop_closure = false;
+	 *  graph). The check closes a loop only on drift beyond what two agreeing
+	 *  loops can err together, so where the odometry has not drifted that far
+	 *  the run is the one without loop closing (doc/odometry.md). */
+	bool loop_closure = true;
 	/** A loop candidate is at least this many keyframes older than the new one. */
 	int loop_min_separation = 15;
 	int loop_candidates = 3;    //!< map keyframes a new keyframe is checked against, most similar words first
@@ -108,23 +93,17 @@ struct TOdometryOptions : public io::CIniKeyOptions<TOdometryOptions>
 	 *  against the ground truth is 2.7-3.5 cm on average, a per-axis sigma of
 	 *  1.7-2.2 cm (doc/odometry.md). */
 	double loop_sigma = 0.02;
-	/** How many times the standard deviation its inliers alone give (their
-	 *  refinement's covariance, the place's points taken as exact) a loop's
-	 *  camera centre is off, on top of loop_sigma: a loop on few points or on
-	 *  points to one side weighs less in the check and in the pose graph.
-	 *  0: loop_sigma alone for every loop. A loop's error on Bonn is about 10
-	 *  times its inliers' worst-axis sigma, a fit with loop_sigma's kind of
-	 *  floor gives 4-7; at 5 the whole sequence and the forward-backward test
-	 *  got worse, so 0 (doc/odometry.md, "The loop's own uncertainty"). */
-	double loop_covariance_scale = 0;
 	/** [m] Standard deviation of the odometry between consecutive keyframes
 	 *  on each axis (and [rad]): how far the track may have drifted since a
 	 *  loop's candidate (a loop beyond that and its own error is refused), and
 	 *  the odometry constraint in the pose graph. */
 	double odometry_sigma = 0.01;
 	// --- dynamic people
-	bool mask_people = true;     //!< ignore features inside person boxes
-	int person_box_margin = 10;  //!< [px] added on every side of a person box
+	bool mask_people = true;  //!< ignore features inside person boxes
+	/** [px] Added on every side of a person box: avm-map hands the odometry
+	 *  boxes 3-6 frames old (detection every 3rd frame, applied
+	 *  detection_lag_frames later), and a walking person moves meanwhile. */
+	int person_box_margin = 30;
 	/** [m] Inside a box, pixels nearer than the person's median depth plus this are masked (0 = the
 	 *  whole box). */
 	double person_depth_band = 0.5;

@@ -33,8 +33,12 @@ using PixelSet = std::vector<std::uint32_t>;
  *  min_person_depth_fraction). */
 struct SightingOptions
 {
-	double depthBand = 0.5;         //!< [m] half-width of the person's depth band
-	double percentile = 0.02;       //!< the box spans the [p, 1-p] percentiles, p in [0, 0.5)
+	/** [m] Half-width of the person's depth band: a person is 0.3-0.5 m
+	 *  deep, and a wider band lets the floor and furniture behind them in. */
+	double depthBand = 0.3;
+	/** The box spans the [p, 1-p] percentiles, p in [0, 0.5): its edges then
+	 *  follow the body, not the stray background pixels of a detector's box. */
+	double percentile = 0.08;
 	std::size_t minPixels = 200;    //!< depth pixels in the band needed for a sighting
 	double minDepthFraction = 0.2;  //!< [0..1] share of the pixels that must have depth
 };

@@ -11,6 +11,12 @@
 // keeps the id. Pairs are taken in the order (distance, track id, sighting
 // index), so the same sightings always give the same ids.
 //
+// A track is a person once confirmed: seen `minSightings` times, as trackers
+// confirm theirs (SORT's min_hits). A detector's false box, or a person's
+// fragment split off for a frame or two, makes a track seen once or twice;
+// such a track still places a region (a person's space is mapped in detail
+// from their first sighting) but is not reported as a person.
+//
 // A track is still once its person has stayed within `stillFraction` of their
 // own size (the mean edge of their box) of one place for `stillAfter` seconds:
 // a victim lying still or a worker at a desk, mapped like any surface. Any
@@ -30,7 +36,8 @@
 namespace avm::persons
 {
 /** Loaded by the map from its `_insertOpts` (track_gate, track_gate_growth,
- *  track_max_gate). */
+ *  track_max_gate, person_still_fraction, person_still_after_s,
+ *  track_min_sightings). */
 struct TrackerOptions
 {
 	double gate = 0.6;        //!< [m] gate of a track seen in the same instant
@@ -41,6 +48,10 @@ struct TrackerOptions
 	 *  lying, are judged alike. */
 	double stillFraction = 0.25;
 	double stillAfter = 2.0;  //!< [s] a person settled this long is still
+	/** Sightings that confirm a track as a person. 3, SORT's min_hits: on the
+	 *  Bonn crowd sequence every track seen less often was seen once or
+	 *  twice, every other at least 5 times. */
+	std::size_t minSightings = 3;
 };
 
 struct PersonTrack
@@ -73,6 +84,10 @@ struct TrackStreamParts
 	bool shape = true;       //!< PersonTrack::shape
 	bool bandExtent = true;  //!< PersonTrack::bandExtent
 };
+
+/** The tracks of `tracks` confirmed as persons (seen at least `minSightings`
+ *  times), in their order: what is reported as persons. */
+std::vector<PersonTrack> confirmedTracks(const std::vector<PersonTrack>& tracks, std::size_t minSightings);
 
 /** The mean edge [m] of a box: the size a still person's motion is judged by. */
 double meanEdge(const mrpt::math::TBoundingBox& box);

@@ -1,6 +1,9 @@
-// persons.csv, the list a rescue team reads first: one line per person track
-// (id, first and last frame and time, last world position and box, number of
-// sightings, and whether the person was still or moving at the end). Written by avm-map, read back by avm-view and the tests.
+// persons.csv, the list a rescue team reads first: one line per person, a
+// track confirmed by its sightings (track_min_sightings; the ids of tracks
+// never confirmed are left out), with its first and last frame and time, last
+// world position and box, number of sightings, and whether the person was
+// still or moving at the end. Written by avm-map, read back by avm-view and
+// the tests.
 #pragma once
 
 #include <filesystem>

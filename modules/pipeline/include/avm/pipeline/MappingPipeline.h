@@ -107,7 +107,7 @@ struct RunSummary
 	std::optional<std::size_t> switchFrame;  //!< first frame mapped at high resolution
 	std::size_t detectionRuns = 0, framesWithPerson = 0;
 	std::size_t regions = 0;        //!< person sightings that placed a region
-	std::size_t persons = 0;        //!< person tracks
+	std::size_t persons = 0;        //!< person tracks confirmed as persons (track_min_sightings)
 	std::optional<double> ateRmse;  //!< [m] odometry vs ground truth, when both exist
 	/** Loops the odometry closed: each moved the trajectory's earlier poses. */
 	std::size_t loopsClosed = 0;

@@ -42,8 +42,15 @@ class CAdaptiveOctoMap : public CDualOctoMap
 	 *  Inserting an observation with person pixel labels calls this itself. */
 	std::vector<persons::PersonObservation> observePersons(const mrpt::obs::CObservation3DRangeScan& obs,
 		const mrpt::poses::CPose3D& robotPose, const std::vector<persons::PixelSet>& persons, std::size_t frameIndex);
-	/** Every person seen so far. */
+	/** Every person track so far, confirmed or not: each has had a region. */
 	const std::vector<persons::PersonTrack>& personTracks() const { return m_persons.tracks(); }
+	/** The tracks confirmed as persons (track_min_sightings): what is
+	 *  reported as persons, in the scene (getVisualizationInto) and by
+	 *  avm-map. */
+	std::vector<persons::PersonTrack> confirmedPersons() const
+	{
+		return persons::confirmedTracks(personTracks(), personOptions.tracking.minSightings);
+	}
 	/** The follow lifetime's clock of each person region. */
 	const persons::RegionClocks& regionClocks() const { return m_regionClocks; }
 	/** The free-only boxes of the last depth image inserted (the moving
@@ -51,8 +58,8 @@ class CAdaptiveOctoMap : public CDualOctoMap
 	 *  treats the same pixels the same way. Not serialized. */
 	const std::vector<mrpt::math::TBoundingBox>& lastFreeOnlyBoxes() const { return m_lastFreeOnlyBoxes; }
 
-	/** The dual octree's visualization, and the persons' last shapes as one
-	 *  point cloud in the person colour, named kPersonShapesName. */
+	/** The dual octree's visualization, and the confirmed persons' last
+	 *  shapes as one point cloud in the person colour, named kPersonShapesName. */
 	void getVisualizationInto(mrpt::opengl::CSetOfObjects& outObj) const override;
 	static constexpr const char* kPersonShapesName = "person_shapes";
 

@@ -1,4 +1,4 @@
-// Where a map's trail comes from (issue 32): for each trail voxel (occupied in
+// Where a map's trail comes from: for each trail voxel (occupied in
 // the map, free in one yardstick's reference), which pixels ended in it, frame
 // by frame, and for a person pixel (one the yardstick cuts) whether the map's own
 // person regions held its point then (its detections.txt: the region box of

@@ -1,4 +1,4 @@
-// What the pixels that ended in a map's trail voxels were (issue 32): each
+// What the pixels that ended in a map's trail voxels were: each
 // pixel a yardstick cuts is put in one class by its depth against its
 // person's (the sighting's robust depth and band, as the person layer takes
 // them): the person's own (in the band), a mixed pixel on the silhouette (a

@@ -8,7 +8,7 @@
 // depth band as the person layer takes them (avm/persons/PersonBand.h), so
 // the background a detector's box also shows is in the reference, as it is in
 // the map; the boxes cut every labelled pixel (avm-detect --every 1 labels
-// whole detector boxes), the yardstick issue 32 first measured with, which
+// whole detector boxes), the yardstick the trail was first measured with, which
 // never sees what lies behind a person and so counts a map that rightly maps
 // it as trail. Single OctoMaps of all pixels are built beside them, so a map
 // can be set against what plain OctoMap does (octomap #183, #411).

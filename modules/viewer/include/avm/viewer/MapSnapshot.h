@@ -121,7 +121,7 @@ struct SnapshotOptions
 
 /** The map as it shows itself now: CAdaptiveOctoMap::forEachLeaf() of both
  *  trees (so paper policy's overlap filter applies), highResolutionRegions(),
- *  personTracks(), the trees' memoryUsage(), and switchInsertionIndex() (an
+ *  confirmedPersons(), the trees' memoryUsage(), and switchInsertionIndex() (an
  *  insertion, not a frame: the caller that knows the frame sets switchFrame). The caller must keep the map from being modified meanwhile. */
 MapSnapshot snapshotOf(const CAdaptiveOctoMap& map, const SnapshotOptions& options = {});
 
