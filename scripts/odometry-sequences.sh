@@ -5,8 +5,7 @@
 # and the 300 frames played forward then backward (599 frames, the camera sees
 # its start again: loops close). One sequence says little about a change to
 # the odometry: moving one keyframe moves every later pose, and the ATE of 300
-# frames shifts by tens of percent with it (doc/odometry.md, "More than one
-# sequence"). Prints a markdown table, the ATE RMSE [m] of each ini on each
+# frames shifts by tens of percent with it (doc/odometry.md, "Results"). Prints a markdown table, the ATE RMSE [m] of each ini on each
 # sequence, the forward-backward end pose's error, sub300's frame-to-frame
 # error and the median acceleration of its estimated camera (a hand-held
 # camera's is a fraction of g, the ground truth's is printed beside it: what

@@ -1,5 +1,6 @@
 // The whole application on the real Bonn sequence with ground-truth poses.
 #include <gtest/gtest.h>
+#include <mrpt/maps/CSimpleMap.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/containers/yaml.h>
 #include <mrpt/io/CFileOutputStream.h>
@@ -326,11 +327,16 @@ TEST(PipelineOnBonn, AllOutputsExistLoadAndHoldWhatTheRunSaw)
 	// A finished run's files, as RunFolder::outputs() names them (avm-map's summary lists those).
 	const std::vector<std::string> names = {"map_low.bt", "map_high.bt", "map.3Dscene", "trajectory.txt",
 		"trajectory_status.txt", "detections.txt", "persons.csv", "person_shapes.ply", "stats.json", "map_top.png",
-		"map_perspective.png", "avm-map.log"};
+		"map_perspective.png", "avm-map.log", "keyframes.simplemap", "session.bin"};
 	std::vector<std::string> outputs;
 	for (const auto& file : io::RunFolder(out).outputs()) outputs.push_back(file.filename().string());
 	EXPECT_EQ(outputs, names);
 	for (const auto& name : names) EXPECT_TRUE(fs::exists(out / name)) << name;
+	// What a next run continues: the run's configuration and rawlog, and its keyframes.
+	EXPECT_EQ(pipeline::readSessionRun(out).rawlog, fs::absolute(test::bonnRawlog()));
+	mrpt::maps::CSimpleMap keyframes;
+	ASSERT_TRUE(keyframes.loadFromFile((out / "keyframes.simplemap").string()));
+	EXPECT_GT(keyframes.size(), 5u) << "the camera moves 0.85 m: a keyframe every 8 cm or 8 degrees";
 
 	// A pose per frame mapped, the ground truth's (--poses gt), and a status line each: 1 tracked, 0 bridged.
 	const auto stats = mrpt::containers::yaml::FromFile((out / "stats.json").string());

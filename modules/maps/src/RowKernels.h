@@ -64,7 +64,7 @@ void insideRowKeys(const RowRays& r, const float* depth, const float* inside, co
 /** flags[u] = 1 where the voxel at u may be new to the scan: it differs
  *  from the voxels at u - 1, u - 2 and at u in the row above. Every key
  *  these arrays held before is already in the scan's set (or is -1), so
- *  the others need no lookup (doc/map.md says how few are left). */
+ *  the others need no lookup. */
 void flagNewVoxels(const RowKeys& row, const RowKeys& above, int from, int to, std::uint8_t* flags);
 
 /** The points of pixels [from, to) of a row, in doubles: depth

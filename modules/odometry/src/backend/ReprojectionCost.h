@@ -4,7 +4,7 @@
 // Its Jacobian is written out (ReprojectionCost.cpp): the per-frame
 // refinement evaluates it for every inlier in every iteration, and automatic
 // differentiation through the angle-axis rotation was the largest part of the
-// refinement's time (doc/odometry.md, "Speed on one core").
+// refinement's time (doc/decisions.md, "The refinement stays Ceres").
 #pragma once
 
 #include <ceres/sized_cost_function.h>

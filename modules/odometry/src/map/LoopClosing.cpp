@@ -132,8 +132,8 @@ LoopJudgement judgeLoop(const LoopMeasurement& loop, int newestId, const std::ve
 	}
 	// Loops of consecutive keyframes against one place err alike (on the
 	// whole Bonn sequence two loops 5-7 cm off agreed on a shift the ground
-	// truth does not show: doc/odometry.md, "The loop check on six
-	// sequences"), so their mean is no surer than one of them.
+	// truth does not show: doc/decisions.md, "Two agreeing loops are
+	// taken to err alike"), so their mean is no surer than one of them.
 	const Eigen::Vector3d drift = (shift + shiftBefore) / 2;
 	const double driftSigma = (sigma + before->sigmaTranslation) / 2;
 	std::snprintf(why + std::strlen(why), sizeof(why) - std::strlen(why), ", %.3f m with the keyframe before's loop",

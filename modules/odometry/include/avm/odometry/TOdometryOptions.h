@@ -79,7 +79,8 @@ struct TOdometryOptions : public io::CIniKeyOptions<TOdometryOptions>
 	/** Verified revisits of old keyframes correct the drift (loop check, pose
 	 *  graph). The check closes a loop only on drift beyond what two agreeing
 	 *  loops can err together, so where the odometry has not drifted that far
-	 *  the run is the one without loop closing (doc/odometry.md). */
+	 *  the run is the one without loop closing (doc/decisions.md, "Loop
+	 *  closing is on in ini/default.ini"). */
 	bool loop_closure = true;
 	/** A loop candidate is at least this many keyframes older than the new one. */
 	int loop_min_separation = 15;
@@ -91,7 +92,7 @@ struct TOdometryOptions : public io::CIniKeyOptions<TOdometryOptions>
 	 *  keyframes only when the drift it shows is beyond it) and the loop
 	 *  constraint's in the pose graph. Measured on Bonn: a loop's error
 	 *  against the ground truth is 2.7-3.5 cm on average, a per-axis sigma of
-	 *  1.7-2.2 cm (doc/odometry.md). */
+	 *  1.7-2.2 cm (doc/decisions.md, "One loop sigma for all loops"). */
 	double loop_sigma = 0.02;
 	/** [m] Standard deviation of the odometry between consecutive keyframes
 	 *  on each axis (and [rad]): how far the track may have drifted since a
