@@ -19,9 +19,7 @@ work=$root/$out
 
 source "$root/scripts/prepare.sh"
 avm_prepare "$build" -DCMAKE_BUILD_TYPE=Release avm-map avm-eval >&2
-whole=$(avm_whole_sequence "$build") ||
-  { echo "loop-check: the whole rgbd_bonn_crowd is not in datasets/ (scripts/get-data.sh --whole-sequence)" >&2; exit 1; }
-whole=${whole#"$root/"}
+whole=$(avm_required_whole_sequence "$build" loop-check)
 cd "$root"
 mkdir -p "$work"
 

@@ -43,3 +43,14 @@ avm_whole_sequence() {
   fi
   [ -f "$whole.rawlog" ] && echo "$whole.rawlog"
 }
+
+# avm_required_whole_sequence BUILD_DIR SCRIPT_NAME: avm_whole_sequence's rawlog,
+# relative to the root, for a script that cannot run without it: where the
+# sequence is not in datasets/, says so naming the script and fails.
+avm_required_whole_sequence() {
+  local root whole
+  root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+  whole=$(avm_whole_sequence "$1") ||
+    { echo "$2: the whole rgbd_bonn_crowd is not in datasets/ (scripts/get-data.sh --whole-sequence)" >&2; return 1; }
+  echo "${whole#"$root/"}"
+}
