@@ -250,10 +250,13 @@ bool mapFrames(std::size_t maxFrames, detail::FrameSequence& frames, detail::Fra
 	if (!betweenFrames()) return false;
 	while (!(stop && stop->load()))
 	{
-		if (maxFrames && processor.counts().frames >= maxFrames) break;
 		const auto frame = frames.next();
 		if (!frame) break;
+		// A resumed run goes through the frames its checkpoint had processed
+		// (restarting their pending detections) even when they were the last
+		// max_frames allows.
 		if (processor.resumeThrough(*frame)) continue;
+		if (maxFrames && processor.counts().frames >= maxFrames) break;
 		if (processor.process(*frame) && progress) progress(frames.progress(), processor.counts().frames);
 		if (!betweenFrames()) return false;
 	}
