@@ -78,22 +78,17 @@ class FrameProcessor
 	/** After the last frame: the insertion in flight, the detections still
 	 *  due and their persons. */
 	void finish();
-	/** After finish(): the map cleared and made again from the frames
-	 *  `nextFrame` gives (the rawlog read again from its start), each mapped
+	/** After finish(): the map started over by `startOver` (cleared, or a
+	 *  continued session's restored to the earlier sessions' map) and made
+	 *  again from the frames `nextFrame` gives (the rawlog read again from
+	 *  its start), each of this session's mapped
 	 *  frame inserted at its pose in trajectory() (corrected by the loops
 	 *  closed), persons and regions observed as in the run and in its order:
 	 *  at unchanged poses, the same map byte for byte. Updates the persons of
 	 *  personDetections(), regions and switchFrame. Throws std::runtime_error
 	 *  when the frames end before the trajectory's last. */
-	RunSummary::MapRebuildCost rebuildMap(const std::function<std::optional<io::RgbdFrame>()>& nextFrame)
-	{
-		return rebuildMap(nextFrame, [this] { m_maps.clear(); });
-	}
-	/** rebuildMap of a continued session: the map is made again on top of
-	 *  the earlier sessions' (restored by `restoreEarlierSessions`, which
-	 *  loads them into the maps) from this session's frames alone. */
-	RunSummary::MapRebuildCost rebuildMap(const std::function<std::optional<io::RgbdFrame>()>& nextFrame,
-		const std::function<void()>& restoreEarlierSessions);
+	RunSummary::MapRebuildCost rebuildMap(
+		const std::function<std::optional<io::RgbdFrame>()>& nextFrame, const std::function<void()>& startOver);
 	/** The observers told of each frame before its insertion
 	 *  (FrameObserver::onFrameMapped); they must outlive the processor. */
 	void watchedBy(const std::vector<FrameObserver*>& observers);

@@ -19,7 +19,7 @@
 namespace avm::pipeline::detail
 {
 RunSummary::MapRebuildCost FrameProcessor::rebuildMap(
-	const std::function<std::optional<io::RgbdFrame>()>& nextFrame, const std::function<void()>& restoreEarlierSessions)
+	const std::function<std::optional<io::RgbdFrame>()>& nextFrame, const std::function<void()>& startOver)
 {
 	finishInsertion();
 	mrpt::system::CTicTac timer;
@@ -28,7 +28,7 @@ RunSummary::MapRebuildCost FrameProcessor::rebuildMap(
 	// figures: detections, frames and stage times stay the run's.
 	const RunSummary runCounts = m_counts;
 	const StageSamples runStages = m_stages;
-	restoreEarlierSessions();
+	startOver();
 	if (m_reference) m_reference->clear();
 	// A continued session's frames go again on top of the earlier sessions',
 	// whose poses no loop of this session moved.

@@ -212,7 +212,7 @@ void checkSameCamera(const fs::path& rawlog, const mrpt::img::TCamera& earlier, 
 /** [pipeline] rebuild_map, at the end of a run: what it cost, or nothing when
  *  it was not due (or the run was interrupted). */
 std::optional<RunSummary::MapRebuildCost> rebuildMap(const TPipelineOptions& opt, const fs::path& rawlog,
-	detail::FrameProcessor& processor, bool interrupted, const std::function<void()>& restoreEarlierSessions,
+	detail::FrameProcessor& processor, bool interrupted, const std::function<void()>& startOver,
 	mrpt::system::COutputLogger& log)
 {
 	const std::size_t loops = processor.counts().loopsClosed;
@@ -227,9 +227,7 @@ std::optional<RunSummary::MapRebuildCost> rebuildMap(const TPipelineOptions& opt
 	log.logFmt(mrpt::system::LVL_INFO, "rebuilding the map at the final poses (%zu loops closed): reading %s again\n",
 		loops, rawlog.c_str());
 	detail::FrameSequence frames(rawlog, opt.repeat, opt.readAheadFrames, firstFrameIndex(processor));
-	const auto next = [&frames] { return frames.next(); };
-	const auto cost =
-		restoreEarlierSessions ? processor.rebuildMap(next, restoreEarlierSessions) : processor.rebuildMap(next);
+	const auto cost = processor.rebuildMap([&frames] { return frames.next(); }, startOver);
 	log.logFmt(mrpt::system::LVL_INFO, "map rebuilt: %zu frames in %.2f s (%.2f s CPU)\n", cost.frames, cost.seconds,
 		cost.cpuSeconds);
 	return cost;
@@ -512,11 +510,12 @@ RunSummary MappingPipeline::runFrames(const fs::path& rawlog, const fs::path& ou
 			processor.counts().frames);
 	}
 	if (start.from == Start::From::Session) d.continueSession(start.previous, rawlog, processor, *this);
-	// A continued session's map is made again on top of the earlier sessions'.
+	// How the map rebuild starts over: cleared, or a continued session's
+	// reloaded with the earlier sessions' map.
 	const auto& continuation = processor.counts().continuation;
-	std::function<void()> restoreEarlierSessions;
+	std::function<void()> startOver = [&] { d.maps->clear(); };
 	if (continuation)
-		restoreEarlierSessions = [&, previous = continuation->previous]
+		startOver = [&, previous = continuation->previous]
 		{
 			detail::FrameProcessor earlier(opt, d.odometryOptions, nullptr, *d.maps, nullptr, *this);
 			detail::readSession(previous, *d.maps, earlier);
@@ -542,7 +541,7 @@ RunSummary MappingPipeline::runFrames(const fs::path& rawlog, const fs::path& ou
 			throw std::runtime_error(rawlog.string() + ": no frame could be mapped" +
 									 (frames.skipped().empty() ? "" : " (" + frames.skipped().front() + ")"));
 		const bool interrupted = (stop && stop->load()) || endedByObserver;
-		const auto rebuild = rebuildMap(opt, rawlog, processor, interrupted, restoreEarlierSessions, *this);
+		const auto rebuild = rebuildMap(opt, rawlog, processor, interrupted, startOver, *this);
 		RunSummary summary = d.summarise(processor, frames, clock.read());
 		summary.interrupted = interrupted;
 		summary.mapRebuild = rebuild;
