@@ -38,6 +38,10 @@ run_ctest --test-dir "$build" "$@"
 # long pipeline runs (label long: the code they run is covered under the
 # sanitizers by shorter tests).
 echo "== AddressSanitizer + UndefinedBehaviorSanitizer build and tests ($build-asan)"
-cmake -S "$root" -B "$build-asan" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DAVM_SANITIZE=ON -DAVM_BUILD_TESTS=ON >/dev/null
+# -O1 -g1, as the sanitizers' own docs advise: line tables for the reports'
+# stacks without full debug info, which made this build 2.8x slower to compile
+# (the Ceres back end: 76 s at -O2 -g, 27 s at -O1 -g1).
+cmake -S "$root" -B "$build-asan" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
+  -DAVM_SANITIZE=ON -DAVM_BUILD_TESTS=ON >/dev/null
 cmake --build "$build-asan" -j "$jobs"
 run_ctest --test-dir "$build-asan" -LE 'stock-app|gui|kill|long' "$@"
