@@ -61,9 +61,28 @@ ate() { "$build/bin/avm-eval" "$1" "$gt" | awk '/^ATE/ {print $3}'; }
 commands=()
 run() { commands+=("build/bin/avm-map -q $*"); "$build/bin/avm-map" -q "$@" >/dev/null; }
 
+# cpuPair PREV RAWLOG: the CPU a frame of RAWLOG continuing PREV and of RAWLOG
+# run fresh, "continued / fresh" [ms], each the median of three runs on one
+# core, alternating, so that the machine's load falls on both alike.
+cpuPair() {
+  local i cont=() fresh=()
+  commands+=("taskset -c 0 build/bin/avm-map -q --continue $1 -r $2 -o $out/cpu-continued  # 3 times, alternating with:"
+    "taskset -c 0 build/bin/avm-map -q -c $ini -r $2 -o $out/cpu-fresh  # the medians")
+  for i in 1 2 3; do
+    rm -rf "$work/cpu-continued" "$work/cpu-fresh"
+    taskset -c 0 "$build/bin/avm-map" -q --continue "$1" -r "$2" -o "$out/cpu-continued" >/dev/null
+    taskset -c 0 "$build/bin/avm-map" -q -c "$ini" -r "$2" -o "$out/cpu-fresh" >/dev/null
+    cont+=("$(json "$work/cpu-continued" cpu_ms_per_frame)")
+    fresh+=("$(json "$work/cpu-fresh" cpu_ms_per_frame)")
+  done
+  median() { printf '%s\n' "$@" | sort -g | sed -n 2p; }
+  printf '%.1f / %.1f' "$(median "${cont[@]}")" "$(median "${fresh[@]}")"
+}
+
 # runChain POSES CUT...: each cut continuing the one before; sets $last (the
-# last session's folder), $placed (each continuation's placed frames) and
-# $loops (closed in all the sessions).
+# last session's folder), $lastPrevious and $lastRawlog (what it continued,
+# and its rawlog), $placed (each continuation's placed frames) and $loops
+# (closed in all the sessions).
 runChain() {
   local poses=$1 name="" prev="" dir rawlog first=1
   shift
@@ -76,6 +95,7 @@ runChain() {
     else
       [ "$poses" = gt ] && rawlog=$(cut "$c" gt) || rawlog=$(cut "$c")
       run --continue "$prev" -p "$poses" -r "$rawlog" -o "$out/$poses-$name"
+      lastPrevious=$prev lastRawlog=$rawlog
       local frames unplaced
       frames=$(echo "$c" | awk -F: '{print $2 - $1 + 1}')
       unplaced=$(json "$dir" unplaced_frames)
@@ -91,13 +111,11 @@ runChain() {
 # chainRow CUT...: the chain at the odometry's poses, its table row.
 chainRow() {
   runChain vo "$@"
-  # The last session's frames run fresh: the CPU a frame a continuation is held to.
-  local lastCut=${!#}
-  local fresh=vo-fresh-${lastCut/:/-} load
-  run -c "$ini" -r "$(cut "$lastCut")" -o "$out/$fresh"
+  local load
   load=$(sed -n 's/.*loaded in \([0-9.]*\) s.*/\1/p' "$last/avm-map.log" | tail -1)
-  printf '| %s | %s | %s | %s | %.1f / %.1f | %.1f MB, %s s |\n' "$*" "$(printf '%s; ' "${placed[@]}" | sed 's/; $//')" \
-    "$(ate "$last/trajectory.txt")" "$loops" "$(json "$last" cpu_ms_per_frame)" "$(json "$work/$fresh" cpu_ms_per_frame)" \
+  # The last session's frames run fresh: the CPU a frame a continuation is held to.
+  printf '| %s | %s | %s | %s | %s | %.1f MB, %s s |\n' "$*" "$(printf '%s; ' "${placed[@]}" | sed 's/; $//')" \
+    "$(ate "$last/trajectory.txt")" "$loops" "$(cpuPair "$lastPrevious" "$lastRawlog")" \
     "$(awk -v b="$(stat -c %s "$last/session.bin")" 'BEGIN { printf "%.1f", b / 1e6 }')" "${load:-?}"
 }
 
@@ -113,7 +131,7 @@ spaceRow() {
 }
 
 tableHead() {
-  echo "| sessions (frames of the whole sequence) | placed, each continuation | ATE, all sessions [m] | loops closed | CPU a frame, last session: continued / fresh [ms] | session.bin, load |"
+  echo "| sessions (frames of the whole sequence) | placed, each continuation | ATE, all sessions [m] | loops closed | CPU a frame, last session, one core: continued / fresh [ms] | session.bin, load |"
   echo "|---|---|---|---|---|---|"
 }
 spaceHead() {

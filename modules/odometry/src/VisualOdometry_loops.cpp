@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
+#include <unordered_map>
 
 #include "VisualOdometryImpl.h"
 #include "avm/io/RgbdFrame.h"
@@ -109,6 +110,11 @@ void VisualOdometry::Impl::joinPlace(const LoopMeasurement& loop, int newestPlac
 	// would pull the window away from the poses the graph gave it.
 	const Eigen::Isometry3d toTrajectory =
 		trackedPoses().at(loop.candidate).inverse() * keyframeMap.find(loop.candidate)->T_cw;
+	// The local map's copy of a point the place holds is replaced by the
+	// place's in the whole window, not only in the newest keyframe: kept
+	// beside it, the copy would be one more point to project and match every
+	// frame until its keyframes leave the window.
+	std::unordered_map<int, int> replacedBy;
 	for (const auto& m : loop.inlierMatches)
 	{
 		const auto o = std::find_if(newest.observations.begin(), newest.observations.end(),
@@ -118,8 +124,12 @@ void VisualOdometry::Impl::joinPlace(const LoopMeasurement& loop, int newestPlac
 		landmarks[id] = place.at(m.landmark);
 		landmarks[id].position = toTrajectory * landmarks[id].position;
 		landmarks[id].anchored = true;
+		replacedBy.emplace(o->landmark, id);
 		o->landmark = id;
 	}
+	for (auto& keyframe : window)
+		for (auto& o : keyframe.observations)
+			if (const auto r = replacedBy.find(o.landmark); r != replacedBy.end()) o.landmark = r->second;
 	forgetUnobservedLandmarks();
 }
 
