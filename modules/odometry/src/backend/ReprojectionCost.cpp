@@ -17,6 +17,8 @@ Eigen::Matrix3d skew(const Eigen::Vector3d& v)
 	return m;
 }
 
+}  // namespace
+
 /** What the residual needs of a pose's angle-axis alone: the point-free terms
  *  of ceres::AngleAxisRotatePoint and of the rotation's derivatives. Every
  *  residual of a frame's refinement is evaluated at the same pose, and working
@@ -92,6 +94,8 @@ struct RotationTerms
 	}
 };
 
+namespace
+{
 /** The terms of the last pose this thread evaluated at: a function of the
  *  angle-axis' bits alone, so whether they come from here or anew never
  *  changes a number. */
@@ -108,8 +112,10 @@ class PosePointCost : public ceres::SizedCostFunction<3, 6, 3>
 	explicit PosePointCost(const ReprojectionDepthCost& cost) : m_cost(cost) {}
 	bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override
 	{
-		m_cost.evaluate(parameters[0], parameters[1], residuals, jacobians ? jacobians[0] : nullptr,
-			jacobians ? jacobians[1] : nullptr);
+		// Ceres orders the window's residuals by point for the Schur
+		// complement, each at another pose than the one before: nothing to keep.
+		m_cost.evaluate(RotationTerms(parameters[0]), parameters[0], parameters[1], residuals,
+			jacobians ? jacobians[0] : nullptr, jacobians ? jacobians[1] : nullptr);
 		return true;
 	}
 
@@ -136,7 +142,12 @@ class FixedPointCost : public ceres::SizedCostFunction<3, 6>
 void ReprojectionDepthCost::evaluate(
 	const double* pose, const double* point, double* residual, double* poseJacobian, double* pointJacobian) const
 {
-	const RotationTerms& terms = rotationTermsOf(pose);
+	evaluate(rotationTermsOf(pose), pose, point, residual, poseJacobian, pointJacobian);
+}
+
+void ReprojectionDepthCost::evaluate(const RotationTerms& terms, const double* pose, const double* point,
+	double* residual, double* poseJacobian, double* pointJacobian) const
+{
 	double pc[3];
 	terms.rotate(point, pc);
 	pc[0] += pose[3];
