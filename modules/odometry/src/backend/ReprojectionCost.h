@@ -15,6 +15,8 @@
 
 namespace avm::odometry::detail
 {
+struct RotationTerms;  // what the residual needs of a pose's rotation alone (ReprojectionCost.cpp)
+
 class ReprojectionDepthCost
 {
    public:
@@ -28,6 +30,9 @@ class ReprojectionDepthCost
 	 *  written when not null. */
 	void evaluate(
 		const double* pose, const double* point, double* residual, double* poseJacobian, double* pointJacobian) const;
+	/** The same with the pose's rotation terms worked out already. */
+	void evaluate(const RotationTerms& terms, const double* pose, const double* point, double* residual,
+		double* poseJacobian, double* pointJacobian) const;
 
 	/** The residual of a pose and a point that both move (bundle adjustment). */
 	static ceres::CostFunction* create(const Observation& obs, const io::DepthCamera& K, double depthWeight);
