@@ -20,6 +20,8 @@
 #include <cstdlib>
 #include <iostream>
 #include <set>
+#include <stdexcept>
+#include <string>
 
 #ifdef __GLIBC__
 #include <malloc.h>
@@ -291,7 +293,8 @@ struct MapView::Windows
 MapView::MapView(const TViewerOptions& options)
 	: m_options(options), m_windows(std::make_unique<Windows>(options.width))
 {
-	m_options.validate("gui");
+	if (!(m_options.fps > 0 && m_options.fps <= 60))
+		throw std::invalid_argument("the view's fps " + std::to_string(m_options.fps) + " is out of range (0, 60]");
 #ifdef __GLIBC__
 	// The view's blocks of a few hundred kB to a few MB (each redraw's colour
 	// image as MRPT and wxWidgets copy it, the voxels' triangle buffers) are

@@ -1,4 +1,4 @@
-#include "avm/plugin/ReferenceOctoMaps.h"
+#include "avm/evaluation/ReferenceOctoMaps.h"
 
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <octomap/OcTree.h>
@@ -12,7 +12,7 @@
 #include "avm/maps/OccupiedKeys.h"
 #include "PlainTreeStats.h"
 
-namespace avm
+namespace avm::evaluation
 {
 namespace
 {
@@ -50,7 +50,7 @@ void insertFreeOnly(octomap::OcTree& tree, const octomap::Pointcloud& surface, c
 
 TReferenceComparison::Tree sizesOf(const octomap::OcTree& t, double totalMs, std::size_t frames)
 {
-	const auto plain = maps::plainTreeStats(t);
+	const auto plain = plainTreeStats(t);
 	TReferenceComparison::Tree s;
 	s.resolution = plain.resolution;
 	s.occupiedLeaves = plain.occupiedLeaves;
@@ -140,4 +140,4 @@ TReferenceComparison ReferenceOctoMaps::compare(const CAdaptiveOctoMap& map) con
 	c.outsideIoU = maps::intersectionOverUnion(mineOutside, refOutside);
 	return c;
 }
-}  // namespace avm
+}  // namespace avm::evaluation
