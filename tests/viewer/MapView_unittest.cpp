@@ -22,8 +22,8 @@
 
 #include "TestData.h"
 #include "Xvfb.h"
+#include "avm/persons/PersonColour.h"
 #include "avm/io/RawlogFrameReader.h"
-#include "avm/maps/MapColours.h"
 #include "avm/persons/PersonShapesPly.h"
 #include "avm/plugin/CAdaptiveOctoMap.h"
 #include "ScreenGrab.h"
@@ -319,7 +319,7 @@ TEST(AvmView, ShowsAFinishedRunInTheScreenshot)
 			[&](const avm::viewer::SnapshotPerson& p) { return p.id == shape.id; });
 		ASSERT_NE(person, snapshot.persons.end()) << "person " << shape.id;
 		EXPECT_EQ(person->shape, shape.points) << "person " << shape.id;
-		EXPECT_EQ(person->shapeColour, avm::maps::kPersonColour) << "person " << shape.id;
+		EXPECT_EQ(person->shapeColour, avm::persons::kPersonColour) << "person " << shape.id;
 	}
 
 	// On screen: more of the persons' colour than the same run shows

@@ -306,6 +306,13 @@ std::vector<persons::PersonObservation> FrameProcessor::seePersons(const CObserv
 
 void FrameProcessor::insert(const io::RgbdFrame& frame, const CPose3D& pose)
 {
+	// The frame's region step, once a frame and map work like the persons'
+	// (step 3): the insertion then takes its free-only boxes as they are.
+	mrpt::system::CTicTac timer;
+	const double cpu = io::threadCpuMs();
+	m_adaptive.prepareRegions(*frame.observation, pose);
+	m_personWork.wallMs += timer.Tac() * 1e3;
+	m_personWork.cpuMs += io::threadCpuMs() - cpu;
 	const auto work = [&maps = m_maps, obs = frame.observation, pose, persons = std::exchange(m_personWork, {})]
 	{
 		mrpt::system::CTicTac timer;

@@ -4,7 +4,9 @@
 //     1. startDetection / applyDueDetections   person boxes (detector, lagged)
 //     2. estimatePose                           odometry or ground truth
 //     3. updatePersons                          persons and their regions
-//     4. insert                                 the map (on the mapping thread)
+//     4. insert                                 the frame's region step (regions
+//                                               ended, free-only boxes), then the
+//                                               map (on the mapping thread)
 //
 // Threads: a detection runs on a worker (async_detection) and is applied
 // detection_lag_frames after its frame, whether it finished early or late; a

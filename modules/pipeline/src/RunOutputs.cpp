@@ -7,9 +7,9 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "avm/persons/PersonColour.h"
 #include "avm/io/AtomicFile.h"
 #include "avm/io/RunFolder.h"
-#include "avm/maps/MapColours.h"
 #include "avm/persons/PersonShapesPly.h"
 #include "avm/persons/PersonsCsv.h"
 #include "avm/pipeline/MapPictures.h"
@@ -115,7 +115,7 @@ void writeRegionsAndPersons(io::JsonWriter& json, const CAdaptiveOctoMap& map)
 	json.beginArray("regions");
 	for (const auto& r : map.highResolutionRegions())
 	{
-		json.beginObject().value("person", static_cast<std::size_t>(r.personId)).beginArray("boxes");
+		json.beginObject().value("person", static_cast<std::size_t>(r.regionId)).beginArray("boxes");
 		for (const auto& b : r.boxes)
 		{
 			json.beginObject();
@@ -256,7 +256,7 @@ void writeRunOutputs(const fs::path& outDir, const RunSummary& summary, const Ru
 	writeText(run.detections(), detectionsText(record.personDetections));
 	const auto persons = map.confirmedPersons();
 	writeText(run.persons(), persons::personsCsvText(persons));
-	writeText(run.personShapes(), persons::personShapesPlyText(persons, maps::kPersonColour));
+	writeText(run.personShapes(), persons::personShapesPlyText(persons, persons::kPersonColour));
 	if (record.options->pictureSize > 0) drawPictures(run, record.trajectory, map, trees, record.options->pictureSize);
 	writeText(run.stats(), statsJson(summary, record, map, trees, observersStats));
 	writeText(run.log(), record.log);

@@ -1,3 +1,4 @@
+#include "avm/persons/PersonColour.h"
 #include "avm/viewer/MapView.h"
 
 #include <mrpt/gui/CDisplayWindow.h>
@@ -40,14 +41,8 @@ namespace
 using Clock = std::chrono::steady_clock;
 
 // The trees, regions, trajectory and persons as in map.3Dscene and the
-// pictures (avm/maps/MapColours.h).
-using maps::kHighColour;
-using maps::kHighFreeColour;
-using maps::kLowColour;
-using maps::kLowFreeColour;
-using maps::kPersonColour;
-using maps::kRegionColour;
-using maps::kTrajectoryColour;
+// pictures (avm/maps/MapColours.h, avm/persons/PersonColour.h).
+using persons::kPersonColour;
 const mrpt::img::TColor kCameraColour(20, 20, 20), kGridColour(190, 190, 190);
 const mrpt::img::TColorf kBackground(0.97f, 0.97f, 0.97f);
 const mrpt::img::TColor kFeatureColour(0, 200, 0), kMaskedFeatureColour(255, 0, 0);
