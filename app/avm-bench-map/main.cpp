@@ -5,7 +5,7 @@
 #include <iostream>
 
 #include "avm/io/ProgramMain.h"
-#include "avm/plugin/MapBenchmark.h"
+#include "avm/evaluation/MapBenchmark.h"
 
 int main(int argc, char** argv)
 {
@@ -30,7 +30,7 @@ int main(int argc, char** argv)
 				"", "with-plain", "also time insertPointCloud without discretize at the high resolution (slow)", cmd);
 			cmd.parse(argc, argv);
 
-			avm::maps::MapBenchmarkOptions opt;
+			avm::evaluation::MapBenchmarkOptions opt;
 			opt.rawlog = argRawlog.getValue();
 			opt.maxFrames = argFrames.getValue();
 			opt.maxRange = argRange.getValue();
@@ -48,9 +48,9 @@ int main(int argc, char** argv)
 			}
 			avm::io::useImagesFolderOf(opt.rawlog);
 			avm::io::ProgressBar bar(false);
-			const auto result = avm::maps::runMapBenchmark(opt, [&bar](std::size_t done, std::size_t total)
+			const auto result = avm::evaluation::runMapBenchmark(opt, [&bar](std::size_t done, std::size_t total)
 				{ bar.show(double(done) / double(total), std::to_string(done) + "/" + std::to_string(total)); });
-			std::cout << avm::maps::toMarkdown(result);
+			std::cout << avm::evaluation::toMarkdown(result);
 			return 0;
 		});
 }

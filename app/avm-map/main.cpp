@@ -16,12 +16,12 @@
 #include <sstream>
 #include <vector>
 
+#include "avm/evaluation/ReferenceMapsObserver.h"
 #include "avm/io/ProgramMain.h"
 #include "avm/io/RunFolder.h"
 #include "avm/pipeline/CheckpointWriter.h"
-#include "avm/pipeline/LiveView.h"
 #include "avm/pipeline/MappingPipeline.h"
-#include "avm/viewer/MapView.h"
+#include "avm/viewer/LiveView.h"
 
 namespace
 {
@@ -147,21 +147,30 @@ std::unique_ptr<avm::pipeline::MappingPipeline> loadPipeline(
 	return nullptr;  // not reached: rethrowNamingIniSource throws
 }
 
-/** What watches the run: its checkpoints, and with --gui the live view. */
+/** What watches the run: its checkpoints, with reference_maps the reference
+ *  maps, and with --gui the live view. */
 struct RunObservers
 {
-	explicit RunObservers(double checkpointIntervalSeconds) : checkpoints(checkpointIntervalSeconds) {}
+	RunObservers(const std::filesystem::path& outDir, double checkpointIntervalSeconds)
+		: checkpoints(outDir, checkpointIntervalSeconds)
+	{
+	}
 	void connect(avm::pipeline::MappingPipeline& pipeline, Arguments& args, const std::filesystem::path& rawlog)
 	{
 		pipeline.addObserver(checkpoints);
-		if (!pipeline.options().viewer.enabled) return;
-		view.emplace(pipeline.options().viewer, "avm-map " + rawlog.filename().string(), &stopRequested);
+		if (pipeline.options().referenceMaps) pipeline.addObserver(reference);
+		if (!pipeline.options().gui) return;
+		avm::viewer::TViewerOptions options;
+		options.fps = pipeline.options().guiFps;
+		options.title = "avm-map " + rawlog.filename().string();
+		view.emplace(options, &stopRequested);
 		if (args.guiShot.isSet()) view->setScreenshot(args.guiShot.getValue());
 		view->setWaitsAtEnd(!args.guiShot.isSet() && !args.guiNoWait.getValue());
 		pipeline.addObserver(*view);
 	}
 	avm::pipeline::CheckpointWriter checkpoints;
-	std::optional<avm::pipeline::LiveView> view;
+	avm::evaluation::ReferenceMapsObserver reference;
+	std::optional<avm::viewer::LiveView> view;
 };
 
 using Progress = std::function<void(double, std::size_t)>;
@@ -234,8 +243,9 @@ int main(int argc, char** argv)
 			std::string iniSource = args.config.getValue();
 			if (resume)
 			{
-				earlier = avm::pipeline::readCheckpointedRun(args.resume.getValue());
-				iniSource = avm::pipeline::checkpointFile(args.resume.getValue()).string();
+				const avm::pipeline::CheckpointWriter checkpoint(args.resume.getValue());
+				earlier = checkpoint.checkpointedRun();
+				iniSource = checkpoint.file().string();
 			}
 			else if (continues)
 			{
@@ -263,7 +273,7 @@ int main(int argc, char** argv)
 			else if (continues && !args.config.isSet())
 				pipeline.setPoseSource(earlier->poseSource);  // PREV's, as its configuration
 
-			RunObservers observers(pipeline.options().checkpointIntervalSeconds);
+			RunObservers observers(outDir, pipeline.options().checkpointIntervalSeconds);
 			observers.connect(pipeline, args, rawlog);
 			viewOpened = observers.view.has_value();
 
@@ -272,7 +282,7 @@ int main(int argc, char** argv)
 			const auto summary = withProgressBar(args.quiet.getValue(),
 				[&](const Progress& progress)
 				{
-					if (resume) return pipeline.resume(outDir, &stopRequested, progress);
+					if (resume) return pipeline.resume(observers.checkpoints.file(), outDir, &stopRequested, progress);
 					if (continues)
 						return pipeline.continueRun(
 							args.continueFrom.getValue(), rawlog, outDir, &stopRequested, progress);

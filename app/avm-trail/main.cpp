@@ -1,7 +1,7 @@
 // avm-trail: the trail moving people leave in a map: occupied volume where a
 // reference built without the people's pixels says the space is free, for
 // avm-map outputs and for single OctoMaps of the same frames, against both
-// yardsticks (the persons' own pixels, whole boxes: avm/plugin/TrailShare.h).
+// yardsticks (the persons' own pixels, whole boxes: avm/evaluation/TrailShare.h).
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 
 #include <fstream>
@@ -9,20 +9,20 @@
 
 #include "avm/io/IniOptions.h"
 #include "avm/io/ProgramMain.h"
-#include "avm/plugin/TrailCauses.h"
+#include "avm/evaluation/TrailCauses.h"
 #include "avm/persons/PersonLayer.h"
-#include "avm/plugin/TrailPixels.h"
-#include "avm/plugin/TrailShare.h"
+#include "avm/evaluation/TrailPixels.h"
+#include "avm/evaluation/TrailShare.h"
 
 namespace
 {
 /** The tables on stdout; the last --pixels map's voxels to `pixelsCsv` if given. */
-void print(const avm::maps::TrailResult& result, const std::vector<avm::maps::TrailCauses>& causes,
-	const std::vector<avm::maps::TrailPixels>& pixels, const std::string& pixelsCsv)
+void print(const avm::evaluation::TrailResult& result, const std::vector<avm::evaluation::TrailCauses>& causes,
+	const std::vector<avm::evaluation::TrailPixels>& pixels, const std::string& pixelsCsv)
 {
-	std::cout << avm::maps::toMarkdown(result);
-	for (const auto& c : causes) std::cout << "\n" << avm::maps::toMarkdown(c);
-	for (const auto& p : pixels) std::cout << "\n" << avm::maps::toMarkdown(p);
+	std::cout << avm::evaluation::toMarkdown(result);
+	for (const auto& c : causes) std::cout << "\n" << avm::evaluation::toMarkdown(c);
+	for (const auto& p : pixels) std::cout << "\n" << avm::evaluation::toMarkdown(p);
 	if (pixelsCsv.empty() || pixels.empty()) return;
 	std::ofstream csv(pixelsCsv);
 	csv << pixels.back().voxelsCsv;
@@ -77,7 +77,7 @@ int main(int argc, char** argv)
 				false, "", "FILE", cmd);
 			cmd.parse(argc, argv);
 
-			avm::maps::TrailOptions opt;
+			avm::evaluation::TrailOptions opt;
 			opt.rawlog = argRawlog.getValue();
 			for (const auto& m : argMap.getValue()) opt.avmMaps.emplace_back(m);
 			opt.maxFrames = argFrames.getValue();
@@ -89,8 +89,8 @@ int main(int argc, char** argv)
 				throw std::runtime_error("--high must be > 0 and --low above it");
 			if (argAgainst.getValue() != "person" && argAgainst.getValue() != "box")
 				throw std::runtime_error("--causes-against must be person or box");
-			const auto against =
-				argAgainst.getValue() == "box" ? avm::maps::Yardstick::Boxes : avm::maps::Yardstick::PersonMask;
+			const auto against = argAgainst.getValue() == "box" ? avm::evaluation::Yardstick::Boxes
+																: avm::evaluation::Yardstick::PersonMask;
 			if (argIni.isSet())
 			{
 				// The section also holds the map's own keys: no warning for them.
@@ -102,22 +102,22 @@ int main(int argc, char** argv)
 			}
 			avm::io::useImagesFolderOf(opt.rawlog);
 			avm::io::ProgressBar bar(false);
-			std::vector<avm::maps::TrailCauses> causes;
-			std::vector<avm::maps::TrailPixels> pixels;
-			const auto result = avm::maps::measureTrails(
+			std::vector<avm::evaluation::TrailCauses> causes;
+			std::vector<avm::evaluation::TrailPixels> pixels;
+			const auto result = avm::evaluation::measureTrails(
 				opt,
 				[&bar](std::size_t done, std::size_t total)
 				{ bar.show(double(done) / double(total), std::to_string(done) + "/" + std::to_string(total)); },
-				[&](const avm::maps::TrailReference& high, const avm::maps::TrailReference& low)
+				[&](const avm::evaluation::TrailReference& high, const avm::evaluation::TrailReference& low)
 				{
 					for (const auto& dir : opt.avmMaps)
 					{
 						if (argCauses.getValue())
-							causes.push_back(avm::maps::explainTrails(
+							causes.push_back(avm::evaluation::explainTrails(
 								opt, dir, high, low, argLag.getValue(), argHorizon.getValue(), against));
 						if (argPixels.getValue())
 							pixels.push_back(
-								avm::maps::classifyTrailPixels(opt, dir, high, low, against, argEdge.getValue()));
+								avm::evaluation::classifyTrailPixels(opt, dir, high, low, against, argEdge.getValue()));
 					}
 				});
 			print(result, causes, pixels, argPixelsCsv.getValue());

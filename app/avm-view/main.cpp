@@ -28,7 +28,6 @@ int main(int argc, char** argv)
 			// Free space is in the snapshot from the start: the 'f' key shows it.
 			auto snapshot = avm::viewer::snapshotOfRun(argDir.getValue(), {/*freeSpace*/ true});
 			avm::viewer::TViewerOptions opt;
-			opt.enabled = true;
 			opt.width = argWidth.getValue();
 			opt.height = argHeight.getValue();
 			opt.title = "avm-view " + argDir.getValue();

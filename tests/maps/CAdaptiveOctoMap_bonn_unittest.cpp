@@ -176,12 +176,12 @@ TEST(CAdaptiveOctoMapBonn, RegionPolicyMatchesSingleResolutionOctoMapsInsideAndO
 
 	auto inRegion = [&](double x, double y, double z) { return region.containsPoint({x, y, z}); };
 	auto outside = [&](double x, double y, double z) { return !region.containsPoint({x, y, z}); };
-	const auto highMine = avm::maps::occupiedFinestKeys(*map.tree(Resolution::High), inRegion);
-	const auto highRef = avm::maps::occupiedFinestKeys(refHigh, inRegion);
-	const auto lowMine = avm::maps::occupiedFinestKeys(*low, outside);
-	const auto lowRef = avm::maps::occupiedFinestKeys(refLow, outside);
-	const double iouInside = avm::maps::intersectionOverUnion(highMine, highRef);
-	const double iouOutside = avm::maps::intersectionOverUnion(lowMine, lowRef);
+	const auto highMine = avm::occupiedFinestKeys(*map.tree(Resolution::High), inRegion);
+	const auto highRef = avm::occupiedFinestKeys(refHigh, inRegion);
+	const auto lowMine = avm::occupiedFinestKeys(*low, outside);
+	const auto lowRef = avm::occupiedFinestKeys(refLow, outside);
+	const double iouInside = avm::intersectionOverUnion(highMine, highRef);
+	const double iouOutside = avm::intersectionOverUnion(lowMine, lowRef);
 	std::cout << "inside the region: " << highMine.size() << " occupied 0.05 m voxels vs " << highRef.size()
 			  << " in the reference, IoU " << iouInside << "\noutside: " << lowMine.size()
 			  << " occupied 0.20 m voxels vs " << lowRef.size() << ", IoU " << iouOutside << "\n";
@@ -253,7 +253,7 @@ TEST(CAdaptiveOctoMapBonn, PersonPixelLabelsCreateARegionAroundThosePoints)
 	ASSERT_EQ(map.highResolutionRegions().size(), 1u);
 	EXPECT_EQ(map.switchInsertionIndex(), std::optional<std::size_t>(0));
 	ASSERT_EQ(map.personTracks().size(), 1u);
-	EXPECT_EQ(map.highResolutionRegions()[0].personId, map.personTracks()[0].id);
+	EXPECT_EQ(map.highResolutionRegions()[0].regionId, map.personTracks()[0].id);
 	const auto region = map.highResolutionRegions()[0].boxes.at(0);
 	const double d = labelled->rangeImage(rows / 2, cols / 2) * labelled->rangeUnits;
 	const auto centre = (f.pose + labelled->sensorPose).composePoint(mrpt::math::TPoint3D(d, 0, 0));
@@ -313,8 +313,8 @@ TEST(CAdaptiveOctoMapBonn, AnEndingRegionIsCoarsenedNeverDropped)
 	ASSERT_GT(occupiedHigh, 50u);
 
 	const auto regions = map.highResolutionRegions();
-	for (const auto& r : regions) EXPECT_TRUE(map.endRegion(r.personId));
-	EXPECT_FALSE(map.endRegion(regions.front().personId)) << "ended already";
+	for (const auto& r : regions) EXPECT_TRUE(map.endRegion(r.regionId));
+	EXPECT_FALSE(map.endRegion(regions.front().regionId)) << "ended already";
 	EXPECT_FALSE(map.hasSwitched());
 	EXPECT_EQ(map.highResolutionStats().occupiedLeaves + map.highResolutionStats().freeLeaves, 0u);
 	std::size_t lost = 0, notHigher = 0;
@@ -390,7 +390,7 @@ TEST(CAdaptiveOctoMapBonn, SpaceEnteringARegionKeepsWhatTheLowTreeKnew)
 		for (double y = box.min.y - 0.2; y < box.max.y + 0.2; y += 0.2)
 			for (double z = box.min.z - 0.2; z < box.max.z + 0.2; z += 0.2)
 			{
-				const auto centre = [](double v) { return avm::maps::keyCentre(avm::maps::keyOf(v, 1 / 0.2), 0.2); };
+				const auto centre = [](double v) { return avm::keyCentre(avm::keyOf(v, 1 / 0.2), 0.2); };
 				const mrpt::math::TPoint3D c(centre(x), centre(y), centre(z));
 				before.push_back({c, map.query(c).state});
 			}
@@ -555,11 +555,9 @@ TEST(CAdaptiveOctoMapBonn, PointCloudInputsMapLikeDepthImages)
 	auto all = [](double, double, double) { return true; };
 	for (const auto which : {Resolution::Low, Resolution::High})
 	{
-		const auto ref = avm::maps::occupiedFinestKeys(*fromDepth.tree(which), all);
-		const double iouCloud =
-			avm::maps::intersectionOverUnion(avm::maps::occupiedFinestKeys(*fromCloud.tree(which), all), ref);
-		const double iouWorld =
-			avm::maps::intersectionOverUnion(avm::maps::occupiedFinestKeys(*fromWorld.tree(which), all), ref);
+		const auto ref = avm::occupiedFinestKeys(*fromDepth.tree(which), all);
+		const double iouCloud = avm::intersectionOverUnion(avm::occupiedFinestKeys(*fromCloud.tree(which), all), ref);
+		const double iouWorld = avm::intersectionOverUnion(avm::occupiedFinestKeys(*fromWorld.tree(which), all), ref);
 		std::cout << (which == Resolution::Low ? "low" : "high") << " tree: IoU cloud " << iouCloud << ", world points "
 				  << iouWorld << " (" << ref.size() << " occupied voxels from depth)\n";
 		EXPECT_GT(ref.size(), 100u);

@@ -107,9 +107,9 @@ void expectSameMap(const CAdaptiveOctoMap& a, const CAdaptiveOctoMap& b, const s
 	for (std::size_t r = 0; r < a.highResolutionRegions().size(); r++)
 	{
 		const auto &ra = a.highResolutionRegions()[r], &rb = b.highResolutionRegions()[r];
-		EXPECT_EQ(ra.personId, rb.personId);
-		EXPECT_EQ(a.regionClocks().unseenInViewSeconds(ra.personId), b.regionClocks().unseenInViewSeconds(rb.personId))
-			<< "person " << ra.personId;
+		EXPECT_EQ(ra.regionId, rb.regionId);
+		EXPECT_EQ(a.regionClocks().unseenInViewSeconds(ra.regionId), b.regionClocks().unseenInViewSeconds(rb.regionId))
+			<< "person " << ra.regionId;
 		ASSERT_EQ(ra.boxes.size(), rb.boxes.size());
 		for (std::size_t k = 0; k < ra.boxes.size(); k++) EXPECT_EQ(ra.boxes[k].asString(), rb.boxes[k].asString());
 	}
@@ -159,7 +159,7 @@ struct RunFacts
 std::set<std::uint32_t> regionIds(const CAdaptiveOctoMap& map)
 {
 	std::set<std::uint32_t> ids;
-	for (const auto& r : map.highResolutionRegions()) ids.insert(r.personId);
+	for (const auto& r : map.highResolutionRegions()) ids.insert(r.regionId);
 	return ids;
 }
 

@@ -12,6 +12,8 @@
 #include "OcTreeKeys.h"
 
 using namespace avm::detail;
+using avm::keySpanAtDepth;
+using avm::kKeyOffset;
 
 TEST(OcTreeKeys, PackedKeysAreOctomapsKeys)
 {

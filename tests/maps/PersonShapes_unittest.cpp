@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 #include <mrpt/io/CMemoryStream.h>
 #include <mrpt/math/CMatrixDynamic.h>
-#include <mrpt/obs/TPixelLabelInfo.h>
 #include <mrpt/opengl/CPointCloud.h>
 #include <mrpt/opengl/CSetOfObjects.h>
 #include <mrpt/serialization/CArchive.h>
@@ -17,27 +16,12 @@
 
 #include "BonnFrames.h"
 #include "SerializationCopy.h"
-#include "avm/maps/MapColours.h"
+#include "avm/persons/PersonColour.h"
 #include "avm/plugin/CAdaptiveOctoMap.h"
 
 using avm::CAdaptiveOctoMap;
 
-namespace
-{
-/** The frame with a 60 x 120 pixel patch at the image centre labelled "person". */
-mrpt::obs::CObservation3DRangeScan::Ptr withPersonAtCentre(const avm::test::MapFrame& f)
-{
-	auto labelled = mrpt::obs::CObservation3DRangeScan::Create(*f.obs);
-	auto labels = std::make_shared<mrpt::obs::TPixelLabelInfo<1>>();
-	const int rows = labelled->rangeImage.rows(), cols = labelled->rangeImage.cols();
-	labels->setSize(rows, cols);
-	labels->setLabelName(0, "person");
-	for (int r = rows / 2 - 60; r < rows / 2 + 60; r++)
-		for (int c = cols / 2 - 30; c < cols / 2 + 30; c++) labels->setLabel(r, c, 0);
-	labelled->pixelLabels = labels;
-	return labelled;
-}
-}  // namespace
+using avm::test::withPersonAtCentre;
 
 TEST(PersonShapes, ATrackKeepsItsLastShapeAtTheRegionsResolutionInsideTheRegion)
 {
@@ -76,7 +60,7 @@ TEST(PersonShapes, ATrackKeepsItsLastShapeAtTheRegionsResolutionInsideTheRegion)
 	ASSERT_TRUE(cloud) << "no person shape drawn";
 	EXPECT_EQ(cloud->getName(), CAdaptiveOctoMap::kPersonShapesName);
 	EXPECT_EQ(cloud->size(), before.size());
-	EXPECT_EQ(cloud->getColor_u8(), avm::maps::kPersonColour);
+	EXPECT_EQ(cloud->getColor_u8(), avm::persons::kPersonColour);
 
 	// A checkpoint keeps it: the copy holds the same shape and streams alike.
 	CAdaptiveOctoMap copy;

@@ -33,8 +33,8 @@ TEST(ResolutionPolicy, RegionSpaceIsTheExactUnionOfEachPersonsVoxels)
 {
 	ResolutionPolicy policy(SwitchPolicy::Region, 0.2);
 	// Two people 4 m apart, boxes off the grid: grown to whole low voxels.
-	policy.personSeen(1, TBoundingBox({0.05, 0.05, 0.0}, {0.55, 0.55, 1.7}), RegionLifetime::Follow, 0);
-	policy.personSeen(2, TBoundingBox({4.05, 0.05, 0.0}, {4.55, 0.55, 1.7}), RegionLifetime::Follow, 0);
+	policy.placeRegion(1, TBoundingBox({0.05, 0.05, 0.0}, {0.55, 0.55, 1.7}), RegionLifetime::Follow, 0);
+	policy.placeRegion(2, TBoundingBox({4.05, 0.05, 0.0}, {4.55, 0.55, 1.7}), RegionLifetime::Follow, 0);
 	const TBoundingBox aligned1({0.0, 0.0, 0.0}, {0.6, 0.6, 1.8});
 	auto change = policy.takeSpaceChange();
 	EXPECT_EQ(change.entered.size(), 2 * voxels(aligned1, 0.2));
@@ -45,7 +45,7 @@ TEST(ResolutionPolicy, RegionSpaceIsTheExactUnionOfEachPersonsVoxels)
 
 	// Follow: person 1 steps 0.4 m along x: the space it left leaves, the
 	// space it reaches enters, the overlap stays.
-	policy.personSeen(1, TBoundingBox({0.45, 0.05, 0.0}, {0.95, 0.55, 1.7}), RegionLifetime::Follow, 1);
+	policy.placeRegion(1, TBoundingBox({0.45, 0.05, 0.0}, {0.95, 0.55, 1.7}), RegionLifetime::Follow, 1);
 	change = policy.takeSpaceChange();
 	EXPECT_EQ(change.entered.size(), voxels(TBoundingBox({0.6, 0.0, 0.0}, {1.0, 0.6, 1.8}), 0.2));
 	EXPECT_EQ(change.left.size(), voxels(TBoundingBox({0.0, 0.0, 0.0}, {0.4, 0.6, 1.8}), 0.2));
@@ -101,24 +101,24 @@ TEST(ResolutionPolicy, SpaceChangesNameTheVoxelsThatEnterAndLeave)
 	const auto ka = lowKeysOf(a, 0.2), kb = lowKeysOf(b, 0.2), kc = lowKeysOf(c, 0.2);
 	ASSERT_LT(joined(ka, kb).size(), ka.size() + kb.size()) << "a and b must overlap";
 
-	policy.personSeen(1, a, RegionLifetime::Follow, 0);
-	policy.personSeen(2, b, RegionLifetime::Follow, 0);
+	policy.placeRegion(1, a, RegionLifetime::Follow, 0);
+	policy.placeRegion(2, b, RegionLifetime::Follow, 0);
 	auto change = policy.takeSpaceChange();
 	EXPECT_EQ(change.entered, minus(joined(ka, kb), {}));
 	EXPECT_TRUE(change.left.empty());
 
 	change = policy.takeSpaceChange();
 	EXPECT_TRUE(change.entered.empty() && change.left.empty()) << "nothing changed";
-	policy.personSeen(1, a, RegionLifetime::Follow, 1);
+	policy.placeRegion(1, a, RegionLifetime::Follow, 1);
 	change = policy.takeSpaceChange();
 	EXPECT_TRUE(change.entered.empty() && change.left.empty()) << "seen where it was";
-	policy.personSeen(1, c, RegionLifetime::Follow, 2);
-	policy.personSeen(1, a, RegionLifetime::Follow, 2);
+	policy.placeRegion(1, c, RegionLifetime::Follow, 2);
+	policy.placeRegion(1, a, RegionLifetime::Follow, 2);
 	change = policy.takeSpaceChange();
 	EXPECT_TRUE(change.entered.empty() && change.left.empty()) << "moved away and back before the trees caught up";
 
 	// Person 1 moves from a to c: what b still holds of a stays.
-	policy.personSeen(1, c, RegionLifetime::Follow, 3);
+	policy.placeRegion(1, c, RegionLifetime::Follow, 3);
 	change = policy.takeSpaceChange();
 	EXPECT_EQ(change.entered, minus(kc, {}));
 	EXPECT_EQ(change.left, minus(ka, kb));
@@ -143,7 +143,7 @@ TEST(ResolutionPolicy, AVoxelIsCoveredExactlyWhenItsCentreIsInABox)
 	ResolutionPolicy policy(SwitchPolicy::Region, 0.2);
 	const std::vector<TBoundingBox> boxes{TBoundingBox({-0.6, -0.4, 0.0}, {0.2, 0.4, 1.0}),
 		TBoundingBox({0.0, 0.2, 0.4}, {0.8, 1.0, 1.2}), TBoundingBox({3.0, -1.0, -0.2}, {3.4, -0.6, 0.2})};
-	for (std::uint32_t i = 0; i < boxes.size(); i++) policy.personSeen(i + 1, boxes[i], RegionLifetime::Follow, 0);
+	for (std::uint32_t i = 0; i < boxes.size(); i++) policy.placeRegion(i + 1, boxes[i], RegionLifetime::Follow, 0);
 	const auto& space = policy.boxes();
 	for (const unsigned ratio : {1u, 3u, 4u})
 	{
@@ -169,13 +169,13 @@ TEST(ResolutionPolicy, AVoxelIsCoveredExactlyWhenItsCentreIsInABox)
 TEST(ResolutionPolicy, PersistKeepsEveryPlaceAndMergesExactly)
 {
 	ResolutionPolicy policy(SwitchPolicy::Region, 0.2);
-	policy.personSeen(1, TBoundingBox({0.0, 0.0, 0.0}, {0.6, 0.6, 1.8}), RegionLifetime::Persist, 0);
-	policy.personSeen(1, TBoundingBox({0.1, 0.1, 0.1}, {0.5, 0.5, 1.7}), RegionLifetime::Persist, 1);
+	policy.placeRegion(1, TBoundingBox({0.0, 0.0, 0.0}, {0.6, 0.6, 1.8}), RegionLifetime::Persist, 0);
+	policy.placeRegion(1, TBoundingBox({0.1, 0.1, 0.1}, {0.5, 0.5, 1.7}), RegionLifetime::Persist, 1);
 	EXPECT_EQ(policy.regions().at(0).boxes.size(), 1u) << "a box already covered adds nothing";
-	policy.personSeen(1, TBoundingBox({0.6, 0.0, 0.0}, {1.2, 0.6, 1.8}), RegionLifetime::Persist, 2);
+	policy.placeRegion(1, TBoundingBox({0.6, 0.0, 0.0}, {1.2, 0.6, 1.8}), RegionLifetime::Persist, 2);
 	ASSERT_EQ(policy.regions().at(0).boxes.size(), 1u) << "boxes that extend each other exactly merge";
 	EXPECT_NEAR(policy.regions().at(0).boxes[0].max.x, 1.2, 1e-9);
-	policy.personSeen(1, TBoundingBox({3.0, 3.0, 0.0}, {3.6, 3.6, 1.8}), RegionLifetime::Persist, 3);
+	policy.placeRegion(1, TBoundingBox({3.0, 3.0, 0.0}, {3.6, 3.6, 1.8}), RegionLifetime::Persist, 3);
 	EXPECT_EQ(policy.regions().at(0).boxes.size(), 2u) << "a far box is a box of its own, not a bounding box";
 	EXPECT_FALSE(policy.inHighResolutionSpace({2.0, 2.0, 1.0}));
 }
@@ -184,7 +184,7 @@ TEST(ResolutionPolicy, PaperPolicySwitchesAtTheFirstPersonAndSerializes)
 {
 	ResolutionPolicy paper(SwitchPolicy::Paper, 1.5);
 	EXPECT_FALSE(paper.hasSwitched());
-	paper.personSeen(3, TBoundingBox({0, 0, 0}, {1, 1, 1}), RegionLifetime::Follow, 7);
+	paper.placeRegion(3, TBoundingBox({0, 0, 0}, {1, 1, 1}), RegionLifetime::Follow, 7);
 	EXPECT_TRUE(paper.hasSwitched());
 	EXPECT_EQ(paper.switchIndex(), std::optional<std::size_t>(7));
 	EXPECT_TRUE(paper.regions().empty());
@@ -192,8 +192,8 @@ TEST(ResolutionPolicy, PaperPolicySwitchesAtTheFirstPersonAndSerializes)
 	EXPECT_THROW(paper.addFixedRegion(TBoundingBox({0, 0, 0}, {0, 1, 1}), 0), std::invalid_argument);
 
 	ResolutionPolicy region(SwitchPolicy::Region, 0.2);
-	region.personSeen(1, TBoundingBox({0, 0, 0}, {0.6, 0.6, 1.8}), RegionLifetime::Persist, 0);
-	region.personSeen(1, TBoundingBox({3, 3, 0}, {3.6, 3.6, 1.8}), RegionLifetime::Persist, 1);
+	region.placeRegion(1, TBoundingBox({0, 0, 0}, {0.6, 0.6, 1.8}), RegionLifetime::Persist, 0);
+	region.placeRegion(1, TBoundingBox({3, 3, 0}, {3.6, 3.6, 1.8}), RegionLifetime::Persist, 1);
 	ResolutionPolicy restored(SwitchPolicy::Region, 0.2);
 	test::copyBySerialization(region, restored);
 	ASSERT_EQ(restored.regions().size(), 1u);
@@ -209,8 +209,8 @@ TEST(ResolutionPolicy, PaperPolicySwitchesAtTheFirstPersonAndSerializes)
 TEST(ResolutionPolicy, ARestoredPolicyReportsTheSameSpaceChangesAsTheOriginal)
 {
 	ResolutionPolicy original(SwitchPolicy::Region, 0.2);
-	original.personSeen(1, TBoundingBox({0.05, 0.05, 0.0}, {0.55, 0.55, 1.7}), RegionLifetime::Follow, 0);
-	original.personSeen(2, TBoundingBox({2.05, 0.05, 0.0}, {2.55, 0.55, 1.7}), RegionLifetime::Follow, 0);
+	original.placeRegion(1, TBoundingBox({0.05, 0.05, 0.0}, {0.55, 0.55, 1.7}), RegionLifetime::Follow, 0);
+	original.placeRegion(2, TBoundingBox({2.05, 0.05, 0.0}, {2.55, 0.55, 1.7}), RegionLifetime::Follow, 0);
 	original.takeSpaceChange();  // the trees caught up, as after every insertion
 	ResolutionPolicy restored(SwitchPolicy::Region, 0.2);
 	test::copyBySerialization(original, restored);
@@ -218,7 +218,7 @@ TEST(ResolutionPolicy, ARestoredPolicyReportsTheSameSpaceChangesAsTheOriginal)
 	// Person 1 steps 0.4 m along x, person 2 leaves.
 	for (auto* p : {&original, &restored})
 	{
-		p->personSeen(1, TBoundingBox({0.45, 0.05, 0.0}, {0.95, 0.55, 1.7}), RegionLifetime::Follow, 1);
+		p->placeRegion(1, TBoundingBox({0.45, 0.05, 0.0}, {0.95, 0.55, 1.7}), RegionLifetime::Follow, 1);
 		EXPECT_TRUE(p->endRegion(2));
 	}
 	const auto expected = original.takeSpaceChange(), got = restored.takeSpaceChange();

@@ -241,8 +241,8 @@ TEST(StockApps, Observations2MapBuildsMapsFromARunsKeyframes)
 	EXPECT_GT(occupied, 1000u) << "occupied leaves of MRPT's OctoMap";
 	// The keyframes alone describe most of the space all the frames mapped.
 	const auto all = [](double, double, double) { return true; };
-	const auto keyframes = avm::maps::occupiedFinestKeys(*avm::readBinaryTree(find("CAdaptiveOctoMap_00_low.bt")), all);
-	const auto mapped = avm::maps::occupiedFinestKeys(*avm::readBinaryTree(session / "map_low.bt"), all);
+	const auto keyframes = avm::occupiedFinestKeys(*avm::readBinaryTree(find("CAdaptiveOctoMap_00_low.bt")), all);
+	const auto mapped = avm::occupiedFinestKeys(*avm::readBinaryTree(session / "map_low.bt"), all);
 	EXPECT_GT(keyframes.size(), 500u);
-	EXPECT_GT(avm::maps::intersectionOverUnion(keyframes, mapped), 0.6);
+	EXPECT_GT(avm::intersectionOverUnion(keyframes, mapped), 0.6);
 }

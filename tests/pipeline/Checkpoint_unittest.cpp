@@ -18,6 +18,7 @@
 #include "DefaultIni.h"
 #include "SerializationCopy.h"
 #include "TestData.h"
+#include "avm/io/RunFolder.h"
 #include "avm/plugin/CAdaptiveOctoMap.h"
 #include "avm/pipeline/CheckpointWriter.h"
 #include "avm/pipeline/MappingPipeline.h"
@@ -43,9 +44,18 @@ pipeline::RunSummary runWithCheckpoints(const mrpt::config::CConfigFileBase& ini
 	const std::atomic<bool>* stop = nullptr, const Progress& progress = {})
 {
 	pipeline::MappingPipeline p(ini, AVM_SOURCE_DIR);
-	pipeline::CheckpointWriter checkpoints(p.options().checkpointIntervalSeconds);
+	pipeline::CheckpointWriter checkpoints(out, p.options().checkpointIntervalSeconds);
 	p.addObserver(checkpoints);
 	return p.run(test::bonnRawlog(), out, stop, progress);
+}
+
+/** A resume as avm-map makes it: from the checkpoint of out's writer, connected. */
+pipeline::RunSummary resumeWithCheckpoints(
+	pipeline::MappingPipeline& p, const fs::path& out, const Progress& progress = {})
+{
+	pipeline::CheckpointWriter checkpoints(out, p.options().checkpointIntervalSeconds);
+	p.addObserver(checkpoints);
+	return p.resume(checkpoints.file(), out, nullptr, progress);
 }
 
 const char* const kRunFiles[] = {"trajectory.txt", "trajectory_status.txt", "detections.txt", "persons.csv",
@@ -65,7 +75,7 @@ TEST(PipelineCheckpoint, AResumedRunEndsLikeARunThatWasNeverStopped)
 	ini.write("pipeline", "rebuild_map", "always");
 	const auto uninterrupted = dir / "uninterrupted";
 	pipeline::MappingPipeline(ini, AVM_SOURCE_DIR).run(test::bonnRawlog(), uninterrupted);
-	EXPECT_FALSE(fs::exists(pipeline::checkpointFile(uninterrupted))) << "checkpoint_interval_s = 0 writes none";
+	EXPECT_FALSE(fs::exists(io::RunFolder(uninterrupted).checkpoint())) << "checkpoint_interval_s = 0 writes none";
 
 	// Stopped at frame 100, when persons and their regions are in the map
 	// and detections are in flight; checkpoints every 0.2 s before that.
@@ -78,21 +88,22 @@ TEST(PipelineCheckpoint, AResumedRunEndsLikeARunThatWasNeverStopped)
 			if (frames == 100) stop = true;
 		});
 	ASSERT_TRUE(first.interrupted);
-	EXPECT_TRUE(fs::exists(pipeline::checkpointFile(stopped))) << "an interrupted run removed its checkpoint";
+	EXPECT_TRUE(fs::exists(io::RunFolder(stopped).checkpoint())) << "an interrupted run removed its checkpoint";
 	EXPECT_EQ(first.frames, 100u);
 	EXPECT_GE(first.checkpoint.count, 3u) << "before the first frame, at least one on the way, after the last";
 	EXPECT_GT(first.persons, 0u);
 
-	const auto checkpointed = pipeline::readCheckpointedRun(stopped);
+	const auto checkpointed = pipeline::CheckpointWriter(stopped).checkpointedRun();
 	EXPECT_EQ(checkpointed.rawlog, fs::absolute(test::bonnRawlog()));
 	mrpt::config::CConfigFileMemory resumedIni(checkpointed.ini);
 	EXPECT_EQ(resumedIni.read_int("pipeline", "max_frames", 0), 150);
-	const auto resumed = pipeline::MappingPipeline(resumedIni, AVM_SOURCE_DIR).resume(stopped);
+	pipeline::MappingPipeline resumedPipeline(resumedIni, AVM_SOURCE_DIR);
+	const auto resumed = resumeWithCheckpoints(resumedPipeline, stopped);
 	ASSERT_TRUE(resumed.resumedAfterFrame);
 	EXPECT_EQ(*resumed.resumedAfterFrame, 99u);
 	EXPECT_EQ(resumed.frames, 150u);
 	EXPECT_FALSE(resumed.interrupted);
-	EXPECT_FALSE(fs::exists(pipeline::checkpointFile(stopped))) << "a finished run keeps its checkpoint";
+	EXPECT_FALSE(fs::exists(io::RunFolder(stopped).checkpoint())) << "a finished run keeps its checkpoint";
 	EXPECT_FALSE(first.mapRebuild) << "an interrupted run is not rebuilt";
 	ASSERT_TRUE(resumed.mapRebuild);
 	EXPECT_EQ(resumed.mapRebuild->frames, 150u);
@@ -110,7 +121,7 @@ TEST(PipelineCheckpoint, AMissingOrDamagedCheckpointIsNamedAndNothingIsWritten)
 	fs::create_directories(empty);
 	try
 	{
-		pipeline::readCheckpointedRun(empty);
+		pipeline::CheckpointWriter(empty).checkpointedRun();
 		FAIL() << "no checkpoint, no error";
 	}
 	catch (const std::runtime_error& e)
@@ -126,7 +137,7 @@ TEST(PipelineCheckpoint, AMissingOrDamagedCheckpointIsNamedAndNothingIsWritten)
 	const auto run = dir / "run";
 	std::atomic<bool> stop{false};
 	runWithCheckpoints(ini, run, &stop, [&](double, std::size_t frames) { stop = frames >= 10; });
-	const auto file = pipeline::checkpointFile(run);
+	const auto file = io::RunFolder(run).checkpoint();
 	const std::string whole = test::fileBytes(file);
 	ASSERT_GT(whole.size(), 1000u);
 	fs::remove(run / "trajectory.txt");
@@ -134,7 +145,7 @@ TEST(PipelineCheckpoint, AMissingOrDamagedCheckpointIsNamedAndNothingIsWritten)
 	pipeline::MappingPipeline p(ini, AVM_SOURCE_DIR);
 	try
 	{
-		p.resume(run);
+		p.resume(file, run);
 		FAIL() << "a checkpoint cut in half resumed";
 	}
 	catch (const std::runtime_error& e)
@@ -185,7 +196,7 @@ TEST(PipelineCheckpoint, AResumedMapIsTheUninterruptedMapAfterEveryFrame)
 	pipeline::MappingPipeline resumedPipeline(ini, AVM_SOURCE_DIR);
 	std::size_t compared = 0;
 	std::optional<std::size_t> firstDifference;
-	const auto resumed = resumedPipeline.resume(stopped, nullptr,
+	const auto resumed = resumeWithCheckpoints(resumedPipeline, stopped,
 		[&](double, std::size_t frames)
 		{
 			const auto it = uninterrupted.find(frames);

@@ -25,13 +25,13 @@
 #include "CoveredLens.h"
 #include "DefaultIni.h"
 #include "TestData.h"
+#include "avm/persons/PersonColour.h"
 #include "avm/io/DepthCamera.h"
 #include "avm/io/ProgramMain.h"
 #include "avm/io/RawlogFrameReader.h"
 #include "avm/io/RgbdFrame.h"
 #include "avm/io/RunFolder.h"
 #include "avm/io/Trajectory.h"
-#include "avm/maps/MapColours.h"
 #include "avm/plugin/CAdaptiveOctoMap.h"
 #include "avm/persons/PersonsCsv.h"
 #include "avm/pipeline/MappingPipeline.h"
@@ -426,7 +426,7 @@ TEST(PipelineOnBonn, EachPersonsLastShapeIsWrittenAtTheRegionsResolutionInTheirR
 		unsigned r, g, b, id;
 		ASSERT_EQ(std::sscanf(line.c_str(), "%lf %lf %lf %u %u %u %u", &p[0], &p[1], &p[2], &r, &g, &b, &id), 7)
 			<< line;
-		EXPECT_EQ(mrpt::img::TColor(r, g, b), maps::kPersonColour) << line;
+		EXPECT_EQ(mrpt::img::TColor(r, g, b), persons::kPersonColour) << line;
 		const auto track = std::find_if(tracks.begin(), tracks.end(), [&](const auto& t) { return t.id == id; });
 		ASSERT_NE(track, tracks.end()) << "no person " << id << " in persons.csv";
 		// persons.csv's boxes are to the mm, the file's points to 0.1 mm.
@@ -455,7 +455,7 @@ TEST(PipelineOnBonn, EachPersonsLastShapeIsWrittenAtTheRegionsResolutionInTheirR
 	ASSERT_TRUE(shapes) << "map.3Dscene has no person shapes";
 	EXPECT_EQ(shapes->getName(), CAdaptiveOctoMap::kPersonShapesName);
 	EXPECT_EQ(shapes->size(), points);
-	EXPECT_EQ(shapes->getColor_u8(), maps::kPersonColour);
+	EXPECT_EQ(shapes->getColor_u8(), persons::kPersonColour);
 }
 
 TEST(PipelineReadAhead, SameFramesInTheSameOrderAsReadingInTheLoop)

@@ -48,7 +48,7 @@ pipeline::RunSummary continueRun(const fs::path& previous, const fs::path& rawlo
 	mrpt::config::CConfigFileMemory ini(pipeline::readSessionRun(previous).ini);
 	ini.write("pipeline", "max_frames", std::to_string(maxFrames));
 	pipeline::MappingPipeline p(ini, AVM_SOURCE_DIR);
-	pipeline::CheckpointWriter checkpoints(p.options().checkpointIntervalSeconds);
+	pipeline::CheckpointWriter checkpoints(out, p.options().checkpointIntervalSeconds);
 	p.addObserver(checkpoints);
 	return p.continueRun(previous, rawlog, out, stop, progress);
 }
@@ -151,11 +151,14 @@ TEST(Sessions, AContinuationGivesTheSameBytesTwiceAndAfterAStop)
 			kFirst, part(2), stoppedDir, &stop, [&](double, std::size_t frames) { stop = frames >= stopAfter; },
 			stopAfter == 100 ? stopAfter : 0);
 		ASSERT_TRUE(stopped.interrupted);
-		ASSERT_TRUE(fs::exists(pipeline::checkpointFile(stoppedDir)));
+		ASSERT_TRUE(fs::exists(io::RunFolder(stoppedDir).checkpoint()));
 		EXPECT_FALSE(fs::exists(io::RunFolder(stoppedDir).session())) << "an interrupted run is no session";
-		mrpt::config::CConfigFileMemory ini(pipeline::readCheckpointedRun(stoppedDir).ini);
+		pipeline::CheckpointWriter checkpoints(stoppedDir);
+		mrpt::config::CConfigFileMemory ini(checkpoints.checkpointedRun().ini);
 		io::useImagesFolderOf(part(2));
-		const auto resumed = pipeline::MappingPipeline(ini, AVM_SOURCE_DIR).resume(stoppedDir);
+		pipeline::MappingPipeline p(ini, AVM_SOURCE_DIR);
+		p.addObserver(checkpoints);
+		const auto resumed = p.resume(checkpoints.file(), stoppedDir);
 		ASSERT_TRUE(resumed.resumedAfterFrame);
 		ASSERT_TRUE(resumed.continuation);
 		EXPECT_EQ(resumed.continuation->previous, kFirst);
@@ -212,13 +215,13 @@ TEST(Sessions, ABadEarlierRunIsNamedInOneLineAndNothingIsWritten)
 			EXPECT_EQ(what.find('\n'), std::string::npos) << what;
 		}
 		if (out != previous) EXPECT_FALSE(fs::exists(io::RunFolder(out).trajectory())) << "outputs were written";
-		EXPECT_FALSE(fs::exists(pipeline::checkpointFile(out))) << "a checkpoint was left";
+		EXPECT_FALSE(fs::exists(io::RunFolder(out).checkpoint())) << "a checkpoint was left";
 	};
 	expectRefused(dir / "missing", part(2), (dir / "missing").string() + ": no such folder", dir / "out1");
 
 	// An interrupted run: its folder has a checkpoint and no session.
 	fs::create_directories(dir / "interrupted");
-	fs::copy_file(io::RunFolder(kFirst).session(), pipeline::checkpointFile(dir / "interrupted"));
+	fs::copy_file(io::RunFolder(kFirst).session(), io::RunFolder(dir / "interrupted").checkpoint());
 	expectRefused(dir / "interrupted", part(2), "avm-map --resume " + (dir / "interrupted").string(), dir / "out2");
 
 	// A session cut short while it was copied.
@@ -278,5 +281,5 @@ TEST(Sessions, ARunNeverPlacedEndsWithAnErrorAndNoOutputs)
 	}
 	EXPECT_FALSE(fs::exists(io::RunFolder(dir / "out").trajectory()));
 	EXPECT_FALSE(fs::exists(io::RunFolder(dir / "out").session()));
-	EXPECT_FALSE(fs::exists(pipeline::checkpointFile(dir / "out")));
+	EXPECT_FALSE(fs::exists(io::RunFolder(dir / "out").checkpoint()));
 }

@@ -62,3 +62,19 @@ TEST(TPipelineOptions, ValuesOutOfRangeNameSectionKeyAndRange)
 	EXPECT_EQ(loadError("pose_source = slam"), "[pipeline] pose_source = slam: must be vo or gt");
 	EXPECT_EQ(loadError("read_ahead_frames = 3"), "");
 }
+
+// gui and gui_fps: what avm-map makes its live view from (avm/viewer/LiveView.h).
+TEST(TPipelineOptions, ReadsGuiAndGuiFpsAndNamesABadValue)
+{
+	mrpt::config::CConfigFileMemory ini("[pipeline]\ngui = true\ngui_fps = 10\n");
+	pipeline::TPipelineOptions o;
+	EXPECT_FALSE(o.gui);
+	EXPECT_DOUBLE_EQ(o.guiFps, 5.0);
+	o.loadFromConfigFile(ini, "pipeline");
+	EXPECT_TRUE(o.gui);
+	EXPECT_DOUBLE_EQ(o.guiFps, 10.0);
+	EXPECT_EQ(loadError("gui_fps = 0"), "[pipeline] gui_fps = 0: out of range (0, 60]");
+	EXPECT_EQ(loadError("gui_fps = 61"), "[pipeline] gui_fps = 61: out of range (0, 60]");
+	EXPECT_EQ(loadError("gui_fps = abc"), "[pipeline] gui_fps = abc: not a number");
+	EXPECT_EQ(loadError("gui = maybe"), "[pipeline] gui = maybe: not true or false");
+}

@@ -4,7 +4,6 @@
 // checked in the X server's own screenshot: not one colour, and both the low
 // tree's blue and the high tree's orange once the high tree is in use.
 #include <gtest/gtest.h>
-#include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/img/CImage.h>
 #include <mrpt/maps/CSimplePointsMap.h>
 
@@ -23,8 +22,8 @@
 
 #include "TestData.h"
 #include "Xvfb.h"
+#include "avm/persons/PersonColour.h"
 #include "avm/io/RawlogFrameReader.h"
-#include "avm/maps/MapColours.h"
 #include "avm/persons/PersonShapesPly.h"
 #include "avm/plugin/CAdaptiveOctoMap.h"
 #include "ScreenGrab.h"
@@ -135,37 +134,6 @@ mrpt::maps::CSimplePointsMap wall()
 	return pts;
 }
 }  // namespace
-
-TEST(TViewerOptions, ReadsGuiAndGuiFpsAndNamesABadValue)
-{
-	mrpt::config::CConfigFileMemory ini("[pipeline]\ngui = true\ngui_fps = 10\n");
-	avm::viewer::TViewerOptions o;
-	EXPECT_FALSE(o.enabled);
-	EXPECT_DOUBLE_EQ(o.fps, 5.0);
-	o.loadFromConfigFile(ini, "pipeline");
-	EXPECT_TRUE(o.enabled);
-	EXPECT_DOUBLE_EQ(o.fps, 10.0);
-
-	mrpt::config::CConfigFileMemory saved;
-	o.saveToConfigFile(saved, "pipeline");
-	EXPECT_TRUE(saved.keyExists("pipeline", "gui"));
-	EXPECT_TRUE(saved.keyExists("pipeline", "gui_fps"));
-
-	for (const char* bad : {"gui_fps = 0", "gui_fps = 61", "gui_fps = abc", "gui = maybe"})
-	{
-		mrpt::config::CConfigFileMemory b(std::string("[pipeline]\n") + bad + "\n");
-		avm::viewer::TViewerOptions x;
-		try
-		{
-			x.loadFromConfigFile(b, "pipeline");
-			ADD_FAILURE() << bad << " accepted";
-		}
-		catch (const std::invalid_argument& e)
-		{
-			EXPECT_NE(std::string(e.what()).find("[pipeline]"), std::string::npos) << e.what();
-		}
-	}
-}
 
 TEST(MapSnapshot, CopiesBothTreesTheRegionsAndFreeSpaceOnlyWhenAsked)
 {
@@ -351,7 +319,7 @@ TEST(AvmView, ShowsAFinishedRunInTheScreenshot)
 			[&](const avm::viewer::SnapshotPerson& p) { return p.id == shape.id; });
 		ASSERT_NE(person, snapshot.persons.end()) << "person " << shape.id;
 		EXPECT_EQ(person->shape, shape.points) << "person " << shape.id;
-		EXPECT_EQ(person->shapeColour, avm::maps::kPersonColour) << "person " << shape.id;
+		EXPECT_EQ(person->shapeColour, avm::persons::kPersonColour) << "person " << shape.id;
 	}
 
 	// On screen: more of the persons' colour than the same run shows

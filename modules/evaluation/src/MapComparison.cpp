@@ -20,7 +20,7 @@ namespace
 struct RunSpace
 {
 	double lowResolution = 0, highResolution = 0;
-	std::set<maps::FinestKey> low, high, space;
+	std::set<FinestKey> low, high, space;
 };
 
 RunSpace occupiedSpaceOf(const std::filesystem::path& run)
@@ -32,16 +32,16 @@ RunSpace occupiedSpaceOf(const std::filesystem::path& run)
 	r.lowResolution = lowTree->getResolution();
 	r.highResolution = highTree->getResolution();
 	const auto all = [](double, double, double) { return true; };
-	r.low = maps::occupiedFinestKeys(*lowTree, all);
-	r.high = maps::occupiedFinestKeys(*highTree, all);
+	r.low = occupiedFinestKeys(*lowTree, all);
+	r.high = occupiedFinestKeys(*highTree, all);
 	r.space = r.high;
 	// A low voxel holds ratio^3 high ones, which share its corner.
 	const int ratio = int(std::lround(r.lowResolution / r.highResolution));
 	const double inverseHigh = 1.0 / r.highResolution;
 	const auto firstHighKey = [&](int lowKey)
 	{
-		const double corner = maps::keyCentre(lowKey, r.lowResolution) - r.lowResolution / 2;
-		return maps::keyOf(corner + r.highResolution / 2, inverseHigh);
+		const double corner = keyCentre(lowKey, r.lowResolution) - r.lowResolution / 2;
+		return keyOf(corner + r.highResolution / 2, inverseHigh);
 	};
 	for (const auto& [x, y, z] : r.low)
 	{
@@ -70,9 +70,9 @@ MapComparison compareOccupiedSpace(const std::filesystem::path& runA, const std:
 	c.highB = b.high.size();
 	c.spaceA = a.space.size();
 	c.spaceB = b.space.size();
-	c.lowIoU = maps::intersectionOverUnion(a.low, b.low);
-	c.highIoU = maps::intersectionOverUnion(a.high, b.high);
-	c.spaceIoU = maps::intersectionOverUnion(a.space, b.space);
+	c.lowIoU = intersectionOverUnion(a.low, b.low);
+	c.highIoU = intersectionOverUnion(a.high, b.high);
+	c.spaceIoU = intersectionOverUnion(a.space, b.space);
 	return c;
 }
 }  // namespace avm::evaluation

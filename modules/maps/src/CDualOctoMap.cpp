@@ -99,7 +99,7 @@ void CDualOctoMap::placeRegions(const std::vector<TRegionPlacement>& placements)
 	for (const auto& p : placements)
 	{
 		if (p.id == 0) throw std::invalid_argument("CDualOctoMap::placeRegions: region id 0 is reserved");
-		m_policy->personSeen(p.id, p.box, insertionOptions.regionLifetime, m_insertions);
+		m_policy->placeRegion(p.id, p.box, insertionOptions.regionLifetime, m_insertions);
 	}
 	applyRegionChanges();
 }
@@ -178,6 +178,12 @@ void CDualOctoMap::finishInsertion()
 	m_pointsCacheValid = false;
 }
 
+bool CDualOctoMap::insertsAsDepthImage(const mrpt::obs::CObservation3DRangeScan& scan)
+{
+	if (scan.hasRangeImage && scan.rangeImage_isExternallyStored()) scan.load();
+	return scan.hasRangeImage && scan.rangeImage.rows() != 0 && scan.cameraParams.fx() > 0;
+}
+
 bool CDualOctoMap::internal_insertObservation(
 	const mrpt::obs::CObservation& obs, const std::optional<const mrpt::poses::CPose3D>& robotPose)
 {
@@ -189,8 +195,7 @@ bool CDualOctoMap::internal_insertObservation(
 
 	if (const auto* scan = dynamic_cast<const mrpt::obs::CObservation3DRangeScan*>(&obs))
 	{
-		if (scan->hasRangeImage && scan->rangeImage_isExternallyStored()) scan->load();
-		if (!scan->hasRangeImage || scan->rangeImage.rows() == 0 || scan->cameraParams.fx() <= 0) return false;
+		if (!insertsAsDepthImage(*scan)) return false;
 		const mrpt::poses::CPose3D sensorPose = robot + scan->sensorPose;
 		const auto freeOnly = beforeDepthImage(*scan, robot);
 		m_integrator->setThreads(insertionOptions.insertionThreads);

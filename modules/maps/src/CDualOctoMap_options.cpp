@@ -22,7 +22,7 @@ io::IniRule<double> inOpenRange(double lo, double hi)
 	return {[lo, hi](double v) { return v > lo && v < hi; }, "must be in (" + iniText(lo) + ", " + iniText(hi) + ")"};
 }
 
-// Below this half extent of the tree (detail::treeHalfExtent) an indoor run
+// Below this half extent of the tree (treeHalfExtent) an indoor run
 // would leave it.
 constexpr double kMinTreeHalfExtent = 100.0;  // [m]
 }  // namespace
@@ -63,13 +63,12 @@ io::IniKeys<TTreeOptions> TTreeOptions::iniKeys() const
 	keys.number(p + "resolution", &O::resolution, "m", "voxel edge",
 			{[](double v) { return v > 0; }, "must be a positive length in metres"})
 		.check(
-			p + "resolution", [](const O& o) { return detail::treeHalfExtent(o.resolution) >= kMinTreeHalfExtent; },
+			p + "resolution", [](const O& o) { return treeHalfExtent(o.resolution) >= kMinTreeHalfExtent; },
 			[](const O& o)
 			{
 				return "too fine for an octree of depth 16: it would span only +-" +
-					   iniText(detail::treeHalfExtent(o.resolution)) + " m (at least +-" + iniText(kMinTreeHalfExtent) +
-					   " m needed, i.e. resolution >= " + iniText(kMinTreeHalfExtent / detail::treeHalfExtent(1.0)) +
-					   " m)";
+					   iniText(treeHalfExtent(o.resolution)) + " m (at least +-" + iniText(kMinTreeHalfExtent) +
+					   " m needed, i.e. resolution >= " + iniText(kMinTreeHalfExtent / treeHalfExtent(1.0)) + " m)";
 			})
 		.check(
 			p + "resolution", [](const O& o) { return o.resolution <= 100; }, "larger than 100 m is not a voxel map")

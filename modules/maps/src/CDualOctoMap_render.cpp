@@ -11,7 +11,6 @@
 #include "avm/maps/MapColours.h"
 
 using namespace avm;
-using namespace avm::maps;
 
 namespace
 {
@@ -62,9 +61,9 @@ void CDualOctoMap::getVisualizationInto(mrpt::opengl::CSetOfObjects& outObj) con
 			box->setColor_u8(kRegionColour);
 			outObj.insert(box);
 		}
-		if (r.personId == 0 || r.boxes.empty()) continue;
+		if (r.regionId == 0 || r.boxes.empty()) continue;
 		const auto& latest = r.boxes.back();
-		auto label = mrpt::opengl::CText3D::Create("person " + std::to_string(r.personId), "sans", 0.15);
+		auto label = mrpt::opengl::CText3D::Create(regionLabel(r.regionId), "sans", 0.15);
 		label->setLocation((latest.min.x + latest.max.x) / 2, (latest.min.y + latest.max.y) / 2, latest.max.z);
 		label->setColor_u8(kRegionColour);
 		outObj.insert(label);

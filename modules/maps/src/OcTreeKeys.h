@@ -13,12 +13,6 @@
 
 namespace avm::detail
 {
-using maps::keySpanAtDepth;
-using maps::kKeyBits;
-using maps::kKeyEnd;
-using maps::kKeyOffset;
-using maps::treeHalfExtent;
-
 /** One axis of a packed key. */
 constexpr std::uint64_t kKeyMask = (std::uint64_t(1) << kKeyBits) - 1;
 /** What a packed key changes by for one voxel along x, y and z. */
@@ -96,7 +90,7 @@ inline std::uint64_t packedOrNone(int x, int y, int z)
 inline mrpt::math::TPoint3D centreOf(std::uint64_t packed, double resolution)
 {
 	const auto k = unpackKey(packed);
-	return {maps::keyCentre(k[0], resolution), maps::keyCentre(k[1], resolution), maps::keyCentre(k[2], resolution)};
+	return {keyCentre(k[0], resolution), keyCentre(k[1], resolution), keyCentre(k[2], resolution)};
 }
 
 /** The key of a coordinate that lies on a voxel border (a grid-aligned box's

@@ -4,7 +4,7 @@
 
 #include "avm/maps/OcTreeKeyLayout.h"
 
-namespace avm::maps
+namespace avm
 {
 std::set<FinestKey> occupiedFinestKeys(
 	const octomap::OcTree& tree, const std::function<bool(double, double, double)>& keep)
@@ -35,4 +35,4 @@ double intersectionOverUnion(const std::set<FinestKey>& a, const std::set<Finest
 	for (const auto& k : a) common += b.count(k);
 	return static_cast<double>(common) / static_cast<double>(a.size() + b.size() - common);
 }
-}  // namespace avm::maps
+}  // namespace avm

@@ -102,18 +102,18 @@ void ResolutionPolicy::addFixedRegion(const mrpt::math::TBoundingBox& box, std::
 	regionsChanged();
 }
 
-void ResolutionPolicy::personSeen(
-	std::uint32_t personId, const mrpt::math::TBoundingBox& box, RegionLifetime lifetime, std::size_t insertionIndex)
+void ResolutionPolicy::placeRegion(
+	std::uint32_t regionId, const mrpt::math::TBoundingBox& box, RegionLifetime lifetime, std::size_t insertionIndex)
 {
 	requireValid(box);
 	markSwitched(insertionIndex);
 	if (m_policy == SwitchPolicy::Paper) return;
 	const auto aligned = alignedToGrid(box);
 	auto it = std::find_if(
-		m_regions.begin(), m_regions.end(), [&](const THighResolutionRegion& r) { return r.personId == personId; });
+		m_regions.begin(), m_regions.end(), [&](const THighResolutionRegion& r) { return r.regionId == regionId; });
 	if (it == m_regions.end())
 	{
-		m_regions.push_back(THighResolutionRegion{personId, {}});
+		m_regions.push_back(THighResolutionRegion{regionId, {}});
 		it = std::prev(m_regions.end());
 	}
 	auto& region = *it;
@@ -149,11 +149,11 @@ void ResolutionPolicy::personSeen(
 	regionsChanged();
 }
 
-bool ResolutionPolicy::endRegion(std::uint32_t personId)
+bool ResolutionPolicy::endRegion(std::uint32_t regionId)
 {
 	const auto it = std::find_if(
-		m_regions.begin(), m_regions.end(), [&](const THighResolutionRegion& r) { return r.personId == personId; });
-	if (personId == 0 || it == m_regions.end()) return false;
+		m_regions.begin(), m_regions.end(), [&](const THighResolutionRegion& r) { return r.regionId == regionId; });
+	if (regionId == 0 || it == m_regions.end()) return false;
 	m_regions.erase(it);
 	regionsChanged();
 	return true;
@@ -263,8 +263,8 @@ void ResolutionPolicy::serializeTo(mrpt::serialization::CArchive& out, const Reg
 	out.WriteAs<uint32_t>(m_regions.size());
 	for (const auto& r : m_regions)
 	{
-		out << r.personId;
-		if (record) record(out, r.personId);
+		out << r.regionId;
+		if (record) record(out, r.regionId);
 		out.WriteAs<uint32_t>(r.boxes.size());
 		for (const auto& b : r.boxes) out << b.min.x << b.min.y << b.min.z << b.max.x << b.max.y << b.max.z;
 	}
@@ -278,8 +278,8 @@ void ResolutionPolicy::serializeFrom(mrpt::serialization::CArchive& in, const Re
 	m_regions.resize(in.ReadAs<uint32_t>());
 	for (auto& r : m_regions)
 	{
-		in >> r.personId;
-		if (record) record(in, r.personId);
+		in >> r.regionId;
+		if (record) record(in, r.regionId);
 		r.boxes.resize(in.ReadAs<uint32_t>());
 		for (auto& b : r.boxes)
 		{

@@ -1,10 +1,11 @@
-// Algorithm 1 (resolution switching) and its per-person variant: which space
+// Algorithm 1 (resolution switching) and its per-region variant: which space
 // the high-resolution tree maps, and how that changed. Knows nothing of
 // octrees; CDualOctoMap applies the changes it reports to the trees.
 //
 // Region policy: the high-resolution space is the exact union of the low
 // voxels covered by the regions' boxes (each box grown to whole low voxels),
-// one region per person, never a box around several. Boxes may overlap; what
+// one region per id (the layer above gives each person one), never a box
+// around several. Boxes may overlap; what
 // they cover is tracked as a set of low voxel keys, so the trees learn
 // exactly which low voxels entered the high-resolution space (to be refined)
 // and which left it (to be coarsened).
@@ -74,16 +75,16 @@ class ResolutionPolicy
 	/** Paper policy: switch to the high tree (later switches change nothing).
 	 *  Region policy: std::logic_error. */
 	void switchToHighResolution(std::size_t insertionIndex);
-	/** Region policy: a region that no person owns and that never ends (the
-	 *  API's addHighResolutionRegion). Paper policy: a switch. */
+	/** Region policy: a region without an id, which never ends (the API's
+	 *  addHighResolutionRegion). Paper policy: a switch. */
 	void addFixedRegion(const mrpt::math::TBoundingBox& box, std::size_t insertionIndex);
-	/** Region policy: the person was seen with this box (world frame, margin
-	 *  included). Follow: the person's region moves to the box. Persist: the
-	 *  box joins the person's region. Paper policy: a switch. */
-	void personSeen(std::uint32_t personId, const mrpt::math::TBoundingBox& box, RegionLifetime lifetime,
+	/** Region policy: region `regionId` (not 0) is placed at this box (world
+	 *  frame). Follow: the region moves to the box. Persist: the box joins the
+	 *  region. Paper policy: a switch. */
+	void placeRegion(std::uint32_t regionId, const mrpt::math::TBoundingBox& box, RegionLifetime lifetime,
 		std::size_t insertionIndex);
-	/** Removes the person's region; false if it has none. */
-	bool endRegion(std::uint32_t personId);
+	/** Removes the region; false if there is none with that id. */
+	bool endRegion(std::uint32_t regionId);
 	/** Called before integrating insertion `index`: the forced switch of the
 	 *  paper's ratio experiment, at insertion `switchAtInsertion` or at
 	 *  `switchAtFraction` of `expectedFrames` (-1: not forced). */
@@ -104,7 +105,7 @@ class ResolutionPolicy
 
 	/** What the map's owner keeps with each region in the stream, after its
 	 *  id (CDualOctoMap::RegionRecord); nothing when empty. */
-	using RegionRecord = std::function<void(mrpt::serialization::CArchive&, std::uint32_t personId)>;
+	using RegionRecord = std::function<void(mrpt::serialization::CArchive&, std::uint32_t regionId)>;
 	void serializeTo(mrpt::serialization::CArchive& out, const RegionRecord& record = {}) const;
 	void serializeFrom(mrpt::serialization::CArchive& in, const RegionRecord& record = {});
 

@@ -159,10 +159,9 @@ std::vector<mrpt::math::TPoint3Df> personShape(
 	const double perMetre = 1.0 / resolution;
 	using Key = std::array<int, 3>;
 	std::vector<Key> keys;
-	const auto centre = [resolution](const Key& k)
-	{
+	const auto centre = [resolution](const Key& k) {
 		return mrpt::math::TPoint3D(
-			maps::keyCentre(k[0], resolution), maps::keyCentre(k[1], resolution), maps::keyCentre(k[2], resolution));
+			keyCentre(k[0], resolution), keyCentre(k[1], resolution), keyCentre(k[2], resolution));
 	};
 	// Neighbouring pixels of a row mostly fall in one voxel (a 0.05 m voxel is
 	// about ten pixels wide at 2.5 m): skipping a repeat of the last key keeps
@@ -170,7 +169,7 @@ std::vector<mrpt::math::TPoint3Df> personShape(
 	std::optional<Key> last;
 	for (const auto& p : bandPoints)
 	{
-		const Key k{maps::keyOf(p.x, perMetre), maps::keyOf(p.y, perMetre), maps::keyOf(p.z, perMetre)};
+		const Key k{keyOf(p.x, perMetre), keyOf(p.y, perMetre), keyOf(p.z, perMetre)};
 		if (k == last) continue;
 		last = k;
 		if (within.containsPoint(centre(k))) keys.push_back(k);

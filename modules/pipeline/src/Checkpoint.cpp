@@ -54,15 +54,14 @@ CheckpointedRun readFile(const fs::path& file, const std::string& what, Rest res
 	}
 }
 
-/** outDir's checkpoint, which must exist. */
-fs::path existingCheckpoint(const fs::path& outDir)
+/** `file`, which must exist. */
+const fs::path& existingCheckpoint(const fs::path& file)
 {
-	const fs::path file = checkpointFile(outDir);
 	if (!fs::exists(file))
 		throw std::runtime_error(file.string() +
 								 ": no checkpoint (the run finished, which removes it, or was stopped before its "
 								 "first frame, or " +
-								 outDir.string() + " is not an avm-map output folder)");
+								 file.parent_path().string() + " is not an avm-map output folder)");
 	return file;
 }
 
@@ -70,11 +69,9 @@ constexpr const char* kCannotResume = "cannot resume from this checkpoint";
 constexpr const char* kCannotContinue = "cannot continue from this session";
 }  // namespace
 
-fs::path checkpointFile(const fs::path& outDir) { return io::RunFolder(outDir).checkpoint(); }
-
-CheckpointedRun readCheckpointedRun(const fs::path& outDir)
+CheckpointedRun detail::readCheckpointedRun(const fs::path& file)
 {
-	return readFile(existingCheckpoint(outDir), kCannotResume, [](CArchive&) {});
+	return readFile(existingCheckpoint(file), kCannotResume, [](CArchive&) {});
 }
 
 fs::path detail::sessionFile(const fs::path& previous)
@@ -121,9 +118,9 @@ void writeCheckpoint(const fs::path& file, const CheckpointedRun& run, const Che
 		});
 }
 
-CheckpointProgress readCheckpoint(const fs::path& outDir, mrpt::maps::CMultiMetricMap& maps, FrameProcessor& processor)
+CheckpointProgress readCheckpoint(const fs::path& file, mrpt::maps::CMultiMetricMap& maps, FrameProcessor& processor)
 {
-	return readState(existingCheckpoint(outDir), kCannotResume, maps, processor);
+	return readState(existingCheckpoint(file), kCannotResume, maps, processor);
 }
 
 CheckpointProgress readSession(const fs::path& previous, mrpt::maps::CMultiMetricMap& maps, FrameProcessor& processor)

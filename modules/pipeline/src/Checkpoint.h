@@ -28,17 +28,20 @@ struct CheckpointProgress
 	std::string log;                     //!< the run's log so far
 };
 
-/** Writes a checkpoint into `file` (outDir's checkpointFile, or a finished
+/** Writes a checkpoint into `file` (a CheckpointWriter's, or a finished
  *  run's session: io::RunFolder::session), finishing the processor's
  *  insertion in flight; the processor must be readyForCheckpoint(). */
 void writeCheckpoint(const std::filesystem::path& file, const CheckpointedRun& run, const CheckpointProgress& progress,
 	const mrpt::maps::CMultiMetricMap& maps, FrameProcessor& processor);
 
+/** The run of the checkpoint `file`. Throws std::runtime_error naming the
+ *  file when there is none or it is not a complete checkpoint. */
+CheckpointedRun readCheckpointedRun(const std::filesystem::path& file);
 /** Restores the maps (made from the same definition) and a fresh processor
- *  from outDir's checkpoint. Throws std::runtime_error naming the file when it
- *  is missing, truncated or holds another run's maps. */
+ *  from the checkpoint `file`. Throws std::runtime_error naming the file when
+ *  it is missing, truncated or holds another run's maps. */
 CheckpointProgress readCheckpoint(
-	const std::filesystem::path& outDir, mrpt::maps::CMultiMetricMap& maps, FrameProcessor& processor);
+	const std::filesystem::path& file, mrpt::maps::CMultiMetricMap& maps, FrameProcessor& processor);
 /** The same from the session of the finished run in `previous`. */
 CheckpointProgress readSession(
 	const std::filesystem::path& previous, mrpt::maps::CMultiMetricMap& maps, FrameProcessor& processor);

@@ -24,14 +24,12 @@ constexpr std::size_t kRecentPoses = 64;
 }  // namespace
 
 FrameProcessor::FrameProcessor(const TPipelineOptions& options, const odometry::TOdometryOptions& odometryOptions,
-	detection::DetectorBase* detector, mrpt::maps::CMultiMetricMap& maps, ReferenceOctoMaps* reference,
-	mrpt::system::COutputLogger& log)
+	detection::DetectorBase* detector, mrpt::maps::CMultiMetricMap& maps, mrpt::system::COutputLogger& log)
 	: m_options(options),
 	  m_odometryOptions(odometryOptions),
 	  m_detector(detector),
 	  m_maps(maps),
 	  m_adaptive(*maps.mapByClass<CAdaptiveOctoMap>()),
-	  m_reference(reference),
 	  m_log(log)
 {
 }
@@ -74,33 +72,29 @@ void FrameProcessor::mapFrame(const io::RgbdFrame& frame, const CPose3D& pose, b
 	while (m_recentPoses.size() > kRecentPoses) m_recentPoses.erase(m_recentPoses.begin());
 	finishInsertion();
 	updatePersons();
-	if (shown && !m_observers.empty())
-	{
-		const MappedFrame mapped{frame, pose, m_counts.frames,
-			[&](const viewer::SnapshotOptions& options) { return snapshot(frame, pose, options); }};
-		for (auto* o : m_observers) o->onFrameMapped(mapped);
-	}
+	if (shown && !m_observers.empty()) tellObservers(frame, pose);
 	insert(frame, pose);
 }
 
-viewer::MapSnapshot FrameProcessor::mapSnapshot(const viewer::SnapshotOptions& options) const
+void FrameProcessor::tellObservers(const io::RgbdFrame& frame, const CPose3D& pose) const
 {
-	auto s = viewer::snapshotOf(m_adaptive, options);
-	for (const auto& p : m_trajectory) s.trajectory.push_back(p.pose);
-	s.status.stageMs = {{"odometry", m_stages.odometry.meanMs()}, {"detection", m_stages.detection.meanMs()},
-		{"map", m_stages.map.meanMs()}};
-	s.status.switchFrame = m_counts.switchFrame;
-	return s;
-}
-
-viewer::MapSnapshot FrameProcessor::finalSnapshot() const
-{
-	viewer::SnapshotOptions all;
-	all.freeSpace = true;  // taken once: 'f' can show it on the finished map
-	auto s = mapSnapshot(all);
-	if (!s.trajectory.empty()) s.camera = s.trajectory.back();
-	s.status.frame = m_lastFrame;
-	return s;
+	// The boxes of the latest detection, with the person each was taken for.
+	std::vector<DetectedPerson> latest;
+	for (auto it = m_personDetections.rbegin();
+		 it != m_personDetections.rend() && it->frameIndex == m_personDetections.back().frameIndex; ++it)
+	{
+		const auto& b = it->person.box;
+		latest.push_back(
+			{b.x, b.y, b.x + b.width, b.y + b.height, it->seen ? it->seen->personId : 0u, it->person.score});
+	}
+	std::vector<mrpt::img::TPixelCoordf> features, masked;
+	for (const auto& p : m_lastEstimate.features) features.emplace_back(p.x, p.y);
+	for (const auto& p : m_lastEstimate.maskedFeatures) masked.emplace_back(p.x, p.y);
+	const MappedFrame mapped{frame, pose, m_counts.frames, m_adaptive, m_trajectory, m_counts.switchFrame,
+		{{"odometry", m_stages.odometry.meanMs()}, {"detection", m_stages.detection.meanMs()},
+			{"map", m_stages.map.meanMs()}},
+		latest, features, masked};
+	for (auto* o : m_observers) o->onFrameMapped(mapped);
 }
 
 void FrameProcessor::watchedBy(const std::vector<FrameObserver*>& observers)
@@ -108,28 +102,6 @@ void FrameProcessor::watchedBy(const std::vector<FrameObserver*>& observers)
 	m_observers = observers;
 	m_showsFeatures = false;
 	for (const auto* o : observers) m_showsFeatures = m_showsFeatures || o->showsFeatures();
-}
-
-viewer::MapSnapshot FrameProcessor::snapshot(
-	const io::RgbdFrame& frame, const mrpt::poses::CPose3D& pose, const viewer::SnapshotOptions& options) const
-{
-	auto s = mapSnapshot(options);
-	s.camera = pose;
-	s.intrinsics = frame.observation->cameraParamsIntensity;
-	if (frame.observation->hasIntensityImage) s.image = frame.observation->intensityImage;
-	// The boxes of the latest detection, with the person each was taken for
-	// (drawn on the current image: they are detection_lag_frames old).
-	for (auto it = m_personDetections.rbegin();
-		 it != m_personDetections.rend() && it->frameIndex == m_personDetections.back().frameIndex; ++it)
-	{
-		const auto& b = it->person.box;
-		s.imageBoxes.push_back(
-			{b.x, b.y, b.x + b.width, b.y + b.height, it->seen ? it->seen->personId : 0u, it->person.score});
-	}
-	s.status.frame = frame.index;
-	for (const auto& p : m_lastEstimate.features) s.features.emplace_back(p.x, p.y);
-	for (const auto& p : m_lastEstimate.maskedFeatures) s.maskedFeatures.emplace_back(p.x, p.y);
-	return s;
 }
 
 void FrameProcessor::finish()
@@ -334,19 +306,23 @@ std::vector<persons::PersonObservation> FrameProcessor::seePersons(const CObserv
 
 void FrameProcessor::insert(const io::RgbdFrame& frame, const CPose3D& pose)
 {
-	const auto work = [&maps = m_maps, &adaptive = m_adaptive, reference = m_reference, obs = frame.observation, pose,
-						  persons = std::exchange(m_personWork, {})]
+	// The frame's region step, once a frame and map work like the persons'
+	// (step 3): the insertion then takes its free-only boxes as they are.
+	mrpt::system::CTicTac timer;
+	const double cpu = io::threadCpuMs();
+	m_adaptive.prepareRegions(*frame.observation, pose);
+	m_personWork.wallMs += timer.Tac() * 1e3;
+	m_personWork.cpuMs += io::threadCpuMs() - cpu;
+	const auto work = [&maps = m_maps, obs = frame.observation, pose, persons = std::exchange(m_personWork, {})]
 	{
 		mrpt::system::CTicTac timer;
 		const double cpu = io::threadCpuMs();
 		maps.insertObservation(*obs, pose);
-		const MapWork w{timer.Tac() * 1e3 + persons.wallMs, io::threadCpuMs() - cpu + persons.cpuMs};
-		// Outside the map stage's time; with the free-only boxes this very
-		// insertion used (the same thread, right after it).
-		if (reference) reference->insert(*obs, pose, adaptive.lastFreeOnlyBoxes());
-		return w;
+		return MapWork{timer.Tac() * 1e3 + persons.wallMs, io::threadCpuMs() - cpu + persons.cpuMs};
 	};
 	m_insertingFrame = frame.index;
+	m_insertingObservation = frame.observation;
+	m_insertingPose = pose;
 	m_pendingInsertion = std::async(m_options.asyncMapping ? std::launch::async : std::launch::deferred, work);
 	if (!m_options.asyncMapping) finishInsertion();
 }
@@ -358,5 +334,9 @@ void FrameProcessor::finishInsertion()
 	m_stages.map.add(work.wallMs);
 	m_stages.mapCpu.add(work.cpuMs);
 	if (!m_counts.switchFrame && m_adaptive.hasSwitched()) m_counts.switchFrame = m_insertingFrame;
+	// Before anything else changes the map: the free-only boxes are this insertion's.
+	const InsertedFrame inserted{*m_insertingObservation, m_insertingPose, m_adaptive.lastFreeOnlyBoxes(), m_adaptive};
+	for (auto* o : m_observers) o->onFrameInserted(inserted);
+	m_insertingObservation.reset();
 }
 }  // namespace avm::pipeline::detail

@@ -4,7 +4,9 @@
 //     1. startDetection / applyDueDetections   person boxes (detector, lagged)
 //     2. estimatePose                           odometry or ground truth
 //     3. updatePersons                          persons and their regions
-//     4. insert                                 the map (on the mapping thread)
+//     4. insert                                 the frame's region step (regions
+//                                               ended, free-only boxes), then the
+//                                               map (on the mapping thread)
 //
 // Threads: a detection runs on a worker (async_detection) and is applied
 // detection_lag_frames after its frame, whether it finished early or late; a
@@ -36,7 +38,6 @@
 #include "avm/io/TimingSummary.h"
 #include "avm/io/Trajectory.h"
 #include "avm/plugin/CAdaptiveOctoMap.h"
-#include "avm/plugin/ReferenceOctoMaps.h"
 #include "avm/odometry/VisualOdometry.h"
 #include "avm/pipeline/FrameObserver.h"
 #include "avm/pipeline/MappingPipeline.h"
@@ -62,11 +63,10 @@ struct StageSamples
 class FrameProcessor
 {
    public:
-	/** `detector` may be null (no detection); `reference` may be null (no
-	 *  reference maps). Everything given must outlive the processor. */
+	/** `detector` may be null (no detection). Everything given must outlive
+	 *  the processor. */
 	FrameProcessor(const TPipelineOptions& options, const odometry::TOdometryOptions& odometryOptions,
-		detection::DetectorBase* detector, mrpt::maps::CMultiMetricMap& maps, ReferenceOctoMaps* reference,
-		mrpt::system::COutputLogger& log);
+		detection::DetectorBase* detector, mrpt::maps::CMultiMetricMap& maps, mrpt::system::COutputLogger& log);
 	~FrameProcessor();  //!< waits for the work in flight
 	FrameProcessor(const FrameProcessor&) = delete;
 	FrameProcessor& operator=(const FrameProcessor&) = delete;
@@ -89,12 +89,10 @@ class FrameProcessor
 	 *  when the frames end before the trajectory's last. */
 	RunSummary::MapRebuildCost rebuildMap(
 		const std::function<std::optional<io::RgbdFrame>()>& nextFrame, const std::function<void()>& startOver);
-	/** The observers told of each frame before its insertion
-	 *  (FrameObserver::onFrameMapped); they must outlive the processor. */
+	/** The observers told of each frame before and after its insertion
+	 *  (FrameObserver::onFrameMapped, onFrameInserted) and of the map
+	 *  rebuild's start (onMapStartedOver); they must outlive the processor. */
 	void watchedBy(const std::vector<FrameObserver*>& observers);
-	/** The finished map (after finish()): both trees with their free space,
-	 *  the trajectory, the camera at its last pose. */
-	viewer::MapSnapshot finalSnapshot() const;
 
 	// Checkpoints (src/Checkpoint.h) are taken between two frames.
 	/** Once the persons of every applied detection are in the map: after a
@@ -195,11 +193,8 @@ class FrameProcessor
 	void mapFrame(const io::RgbdFrame& frame, const mrpt::poses::CPose3D& pose, bool shown);
 	// 4. The map.
 	void insert(const io::RgbdFrame& frame, const mrpt::poses::CPose3D& pose);
-	/** What the live view shows of this moment. */
-	viewer::MapSnapshot snapshot(
-		const io::RgbdFrame& frame, const mrpt::poses::CPose3D& pose, const viewer::SnapshotOptions& options) const;
-	/** The map, trajectory and figures of a snapshot. */
-	viewer::MapSnapshot mapSnapshot(const viewer::SnapshotOptions& options) const;
+	/** FrameObserver::onFrameMapped: the frame, before its insertion. */
+	void tellObservers(const io::RgbdFrame& frame, const mrpt::poses::CPose3D& pose) const;
 	void finishInsertion();
 
 	const TPipelineOptions& m_options;
@@ -207,7 +202,6 @@ class FrameProcessor
 	detection::DetectorBase* m_detector;
 	mrpt::maps::CMultiMetricMap& m_maps;
 	CAdaptiveOctoMap& m_adaptive;
-	ReferenceOctoMaps* m_reference;
 	mrpt::system::COutputLogger& m_log;
 
 	std::optional<odometry::VisualOdometry> m_odometry;  // started at the first frame
@@ -232,5 +226,7 @@ class FrameProcessor
 	std::deque<PendingDetection> m_pendingDetections;
 	std::future<MapWork> m_pendingInsertion;
 	std::size_t m_insertingFrame = 0;
+	mrpt::obs::CObservation3DRangeScan::Ptr m_insertingObservation;  // for the observers, once inserted
+	mrpt::poses::CPose3D m_insertingPose;
 };
 }  // namespace avm::pipeline::detail

@@ -29,7 +29,7 @@ RunSummary::MapRebuildCost FrameProcessor::rebuildMap(
 	const RunSummary runCounts = m_counts;
 	const StageSamples runStages = m_stages;
 	startOver();
-	if (m_reference) m_reference->clear();
+	for (auto* o : m_observers) o->onMapStartedOver();
 	// A continued session's frames go again on top of the earlier sessions',
 	// whose poses no loop of this session moved.
 	const std::size_t firstPose = runCounts.continuation ? runCounts.continuation->posesBefore : 0;

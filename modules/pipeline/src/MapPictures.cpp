@@ -1,3 +1,4 @@
+#include "avm/persons/PersonColour.h"
 #include "avm/pipeline/MapPictures.h"
 
 #include <mrpt/math/geometry.h>
@@ -21,8 +22,8 @@ cv::Scalar bgr(const mrpt::img::TColor& c) { return cv::Scalar(c.B, c.G, c.R); }
 
 // The map's own colours (avm/maps/MapColours.h), as in map.3Dscene and the live view.
 const cv::Scalar kBackground(255, 255, 255), kText(30, 30, 30);
-const cv::Scalar kLow = bgr(maps::kLowColour), kHigh = bgr(maps::kHighColour), kRegion = bgr(maps::kRegionColour);
-const cv::Scalar kTrajectory = bgr(maps::kTrajectoryColour), kPerson = bgr(maps::kPersonColour);
+const cv::Scalar kLow = bgr(kLowColour), kHigh = bgr(kHighColour), kRegion = bgr(kRegionColour);
+const cv::Scalar kTrajectory = bgr(kTrajectoryColour), kPerson = bgr(persons::kPersonColour);
 
 /** A person's marker: a dot and the id beside it. */
 void drawPerson(cv::Mat& img, const cv::Point2d& at, std::uint32_t id)

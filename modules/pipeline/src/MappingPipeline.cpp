@@ -25,7 +25,6 @@
 #include "avm/io/RunFolder.h"
 #include "avm/io/TimingSummary.h"
 #include "avm/plugin/CAdaptiveOctoMap.h"
-#include "avm/plugin/ReferenceOctoMaps.h"
 #include "avm/odometry/VisualOdometry.h"
 
 namespace avm::pipeline
@@ -148,10 +147,10 @@ class RunBetweenFrames : public RunState
 	bool resumed() const override { return m_resumed; }
 	std::optional<std::size_t> lastFrame() const override { return m_processor.lastFrame(); }
 	bool canCheckpoint() const override { return m_processor.readyForCheckpoint(); }
-	void writeCheckpoint() override
+	void writeCheckpoint(const fs::path& file) override
 	{
 		mrpt::system::CTicTac timer;
-		write(checkpointFile(m_outDir));
+		write(file);
 		m_times.add(timer.Tac() * 1e3);
 	}
 	/** The finished run's session: its last checkpoint, kept as what a next run continues. */
@@ -395,10 +394,10 @@ struct MappingPipeline::Start
 	enum class From
 	{
 		Nothing,     //!< a new run
-		Checkpoint,  //!< outDir's checkpoint: the run resumed
-		Session      //!< the finished run in `previous`: its next session
+		Checkpoint,  //!< the checkpoint `file`: the run resumed
+		Session      //!< the finished run in the output folder `file`: its next session
 	} from = From::Nothing;
-	fs::path previous;
+	fs::path file;
 };
 
 RunSummary MappingPipeline::run(const fs::path& rawlog, const fs::path& outDir, const std::atomic<bool>* stop,
@@ -407,12 +406,12 @@ RunSummary MappingPipeline::run(const fs::path& rawlog, const fs::path& outDir, 
 	return runFrames(rawlog, outDir, {}, stop, progress);
 }
 
-RunSummary MappingPipeline::resume(
-	const fs::path& outDir, const std::atomic<bool>* stop, const std::function<void(double, std::size_t)>& progress)
+RunSummary MappingPipeline::resume(const fs::path& checkpoint, const fs::path& outDir, const std::atomic<bool>* stop,
+	const std::function<void(double, std::size_t)>& progress)
 {
-	const auto checkpointed = readCheckpointedRun(outDir);
+	const auto checkpointed = detail::readCheckpointedRun(checkpoint);
 	setPoseSource(checkpointed.poseSource);
-	return runFrames(checkpointed.rawlog, outDir, {Start::From::Checkpoint, {}}, stop, progress);
+	return runFrames(checkpointed.rawlog, outDir, {Start::From::Checkpoint, checkpoint}, stop, progress);
 }
 
 RunSummary MappingPipeline::continueRun(const fs::path& previous, const fs::path& rawlog, const fs::path& outDir,
@@ -488,28 +487,17 @@ RunSummary MappingPipeline::runFrames(const fs::path& rawlog, const fs::path& ou
 	detail::prepareOutputFolder(outDir);
 	logStr(mrpt::system::LVL_INFO, "rawlog: " + rawlog.string() + ", poses: " + toString(opt.poseSource) + "\n");
 	auto& map = d.startMaps(rawlog);
-	std::optional<ReferenceOctoMaps> reference;
-	if (opt.referenceMaps)
-	{
-		if (start.from != Start::From::Nothing)
-			throw std::invalid_argument(
-				"a run with [pipeline] reference_maps = true cannot be resumed or continue another");
-		const auto& c = map.creationOptions();
-		reference.emplace(c.high.resolution, c.low.resolution, c.high.maxRange, c.low.maxRange);
-	}
-
-	detail::FrameProcessor processor(
-		opt, d.odometryOptions, d.detector.get(), *d.maps, reference ? &*reference : nullptr, *this);
+	detail::FrameProcessor processor(opt, d.odometryOptions, d.detector.get(), *d.maps, *this);
 	detail::CheckpointProgress before;
 	std::optional<std::size_t> resumedAfter;
 	if (resume)
 	{
-		before = detail::readCheckpoint(outDir, *d.maps, processor);
+		before = detail::readCheckpoint(start.file, *d.maps, processor);
 		resumedAfter = processor.lastFrame();
-		logFmt(mrpt::system::LVL_INFO, "resumed from %s: %zu frames mapped before\n", checkpointFile(outDir).c_str(),
+		logFmt(mrpt::system::LVL_INFO, "resumed from %s: %zu frames mapped before\n", start.file.c_str(),
 			processor.counts().frames);
 	}
-	if (start.from == Start::From::Session) d.continueSession(start.previous, rawlog, processor, *this);
+	if (start.from == Start::From::Session) d.continueSession(start.file, rawlog, processor, *this);
 	// How the map rebuild starts over: cleared, or a continued session's
 	// reloaded with the earlier sessions' map.
 	const auto& continuation = processor.counts().continuation;
@@ -517,7 +505,7 @@ RunSummary MappingPipeline::runFrames(const fs::path& rawlog, const fs::path& ou
 	if (continuation)
 		startOver = [&, previous = continuation->previous]
 		{
-			detail::FrameProcessor earlier(opt, d.odometryOptions, nullptr, *d.maps, nullptr, *this);
+			detail::FrameProcessor earlier(opt, d.odometryOptions, nullptr, *d.maps, *this);
 			detail::readSession(previous, *d.maps, earlier);
 		};
 	processor.watchedBy(d.observers);
@@ -547,7 +535,6 @@ RunSummary MappingPipeline::runFrames(const fs::path& rawlog, const fs::path& ou
 		summary.mapRebuild = rebuild;
 		summary.checkpoint = state.checkpointTimes().summary();
 		summary.resumedAfterFrame = resumedAfter;
-		if (reference) summary.reference = reference->compare(map);
 		logFmt(mrpt::system::LVL_INFO, "%zu frames in %.2f s (%.1f fps, real-time factor %.2f)%s\n", summary.frames,
 			summary.seconds, summary.fps, summary.realTimeFactor, summary.interrupted ? ", interrupted" : "");
 		// What a next run continues, of a finished run only.
@@ -555,23 +542,18 @@ RunSummary MappingPipeline::runFrames(const fs::path& rawlog, const fs::path& ou
 		detail::RunRecord record{rawlog, &opt, d.detector ? d.detector->description() : std::string("none"),
 			processor.trajectory(), processor.trackedPoses(), processor.personDetections(),
 			frames.peakMemoryPerReplay(), before.log + getLogAsString() + frames.log()};
-		detail::writeRunOutputs(outDir, summary, record, map);
-		// A finished run has nothing left to resume: its folder keeps what a
-		// user opens. An interrupted one keeps its checkpoint for --resume.
-		if (!interrupted) fs::remove(checkpointFile(outDir));
-		const FinishedRun finished{summary, [&processor] { return processor.finalSnapshot(); }};
+		const FinishedRun finished{summary, map, processor.trajectory(), processor.lastFrame()};
+		detail::writeRunOutputs(outDir, summary, record, map,
+			[&](io::JsonWriter& stats)
+			{
+				for (auto* o : d.observers) o->writeStats(finished, stats);
+			});
 		for (auto* o : d.observers) o->onRunFinished(finished);
 		return summary;
 	}
 	catch (...)
 	{
-		// A run that fails on its input leaves no outputs, checkpoints
-		// included: resuming would meet the same input.
-		if (!resume)
-		{
-			std::error_code ignored;
-			fs::remove(checkpointFile(outDir), ignored);
-		}
+		for (auto* o : d.observers) o->onRunFailed(state);
 		throw;
 	}
 }

@@ -7,10 +7,9 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "JsonWriter.h"
+#include "avm/persons/PersonColour.h"
 #include "avm/io/AtomicFile.h"
 #include "avm/io/RunFolder.h"
-#include "avm/maps/MapColours.h"
 #include "avm/persons/PersonShapesPly.h"
 #include "avm/persons/PersonsCsv.h"
 #include "avm/pipeline/MapPictures.h"
@@ -88,7 +87,7 @@ void drawPictures(const io::RunFolder& run, const io::Trajectory& trajectory, co
 	drawPerspectiveView(content, run.perspectivePicture(), size);
 }
 
-void writeStages(JsonWriter& json, const RunSummary& summary)
+void writeStages(io::JsonWriter& json, const RunSummary& summary)
 {
 	json.beginObject("stages");
 	for (const auto& [name, s] : {std::pair{"odometry", summary.odometry}, {"detection", summary.detection},
@@ -103,20 +102,20 @@ void writeStages(JsonWriter& json, const RunSummary& summary)
 	json.endObject();
 }
 
-void writePoint(JsonWriter& json, const char* name, const mrpt::math::TPoint3D& p)
+void writePoint(io::JsonWriter& json, const char* name, const mrpt::math::TPoint3D& p)
 {
 	json.beginArray(name);
 	for (double v : {p.x, p.y, p.z}) json.element(v);
 	json.endArray();
 }
 
-void writeRegionsAndPersons(JsonWriter& json, const CAdaptiveOctoMap& map)
+void writeRegionsAndPersons(io::JsonWriter& json, const CAdaptiveOctoMap& map)
 {
 	json.value("region_lifetime", toString(map.insertionOptions.regionLifetime));
 	json.beginArray("regions");
 	for (const auto& r : map.highResolutionRegions())
 	{
-		json.beginObject().value("person", static_cast<std::size_t>(r.personId)).beginArray("boxes");
+		json.beginObject().value("person", static_cast<std::size_t>(r.regionId)).beginArray("boxes");
 		for (const auto& b : r.boxes)
 		{
 			json.beginObject();
@@ -145,43 +144,12 @@ void writeRegionsAndPersons(JsonWriter& json, const CAdaptiveOctoMap& map)
 	json.endArray();
 }
 
-void writeReference(JsonWriter& json, const TReferenceComparison& c, const io::TimingSummary& mapCpu)
-{
-	const auto tree = [&](const char* name, const TReferenceComparison::Tree& t)
-	{
-		json.beginObject(name)
-			.value("resolution_m", t.resolution)
-			.value("occupied_voxels", t.occupiedLeaves)
-			.value("memory_bytes", t.memoryBytes)
-			.value("bt_bytes", t.binaryBytes)
-			.value("insert_mean_ms", t.meanInsertMs)
-			.endObject();
-	};
-	json.beginObject("reference");
-	tree("single_high", c.high);
-	tree("single_low", c.low);
-	json.value("adaptive_memory_bytes", c.adaptiveMemoryBytes)
-		.value("adaptive_bt_bytes", c.adaptiveBinaryBytes)
-		.value("memory_share_of_single_high_all_pixels", c.memoryShare(c.adaptiveMemoryBytes))
-		.value("bt_share_of_single_high_all_pixels", c.binaryShare(c.adaptiveBinaryBytes))
-		.value("inside_regions_occupied_adaptive", c.insideAdaptive)
-		.value("inside_regions_occupied_single_high_all_pixels", c.insideReference)
-		.value("inside_regions_iou_vs_single_high_all_pixels", c.insideIoU)
-		.value("inside_regions_occupied_single_high_moving_free_only", c.insideFreeOnlyReference)
-		.value("inside_regions_iou_vs_single_high_moving_free_only", c.insideFreeOnlyIoU)
-		.value("outside_regions_occupied_adaptive", c.outsideAdaptive)
-		.value("outside_regions_occupied_single_low", c.outsideReference)
-		.value("outside_regions_iou", c.outsideIoU)
-		.value("map_cpu_speedup_vs_single_high", c.speedup(mapCpu.meanMs))
-		.endObject();
-}
-
-/** stats.json: the summary, the map's trees, regions and persons. */
-std::string statsJson(
-	const RunSummary& summary, const RunRecord& record, const CAdaptiveOctoMap& map, const TreeStats& trees)
+/** stats.json: the summary, the map's trees, regions and persons, what the observers measured. */
+std::string statsJson(const RunSummary& summary, const RunRecord& record, const CAdaptiveOctoMap& map,
+	const TreeStats& trees, const std::function<void(io::JsonWriter&)>& observersStats)
 {
 	const auto& opt = *record.options;
-	JsonWriter json;
+	io::JsonWriter json;
 	json.beginObject()
 		.value("rawlog", record.rawlog.string())
 		.value("pose_source", toString(opt.poseSource))
@@ -230,7 +198,7 @@ std::string statsJson(
 			.endObject();
 	json.endObject();
 	writeRegionsAndPersons(json, map);
-	if (summary.reference) writeReference(json, *summary.reference, summary.mapCpu);
+	observersStats(json);
 	json.value("odometry_ate_rmse_m", summary.ateRmse);
 	json.value("odometry_loops_closed", summary.loopsClosed);
 	json.beginObject("map_rebuild")
@@ -276,8 +244,8 @@ void removeStaleTemporaries(const fs::path& dir)
 }
 }  // namespace
 
-void writeRunOutputs(
-	const fs::path& outDir, const RunSummary& summary, const RunRecord& record, const CAdaptiveOctoMap& map)
+void writeRunOutputs(const fs::path& outDir, const RunSummary& summary, const RunRecord& record,
+	const CAdaptiveOctoMap& map, const std::function<void(io::JsonWriter&)>& observersStats)
 {
 	const io::RunFolder run(outDir);
 	const TreeStats trees{map.lowResolutionStats(), map.highResolutionStats()};
@@ -288,9 +256,9 @@ void writeRunOutputs(
 	writeText(run.detections(), detectionsText(record.personDetections));
 	const auto persons = map.confirmedPersons();
 	writeText(run.persons(), persons::personsCsvText(persons));
-	writeText(run.personShapes(), persons::personShapesPlyText(persons, maps::kPersonColour));
+	writeText(run.personShapes(), persons::personShapesPlyText(persons, persons::kPersonColour));
 	if (record.options->pictureSize > 0) drawPictures(run, record.trajectory, map, trees, record.options->pictureSize);
-	writeText(run.stats(), statsJson(summary, record, map, trees));
+	writeText(run.stats(), statsJson(summary, record, map, trees, observersStats));
 	writeText(run.log(), record.log);
 }
 

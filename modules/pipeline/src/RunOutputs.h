@@ -6,10 +6,12 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "FrameProcessor.h"
+#include "avm/io/JsonWriter.h"
 #include "avm/io/Trajectory.h"
 #include "avm/plugin/CAdaptiveOctoMap.h"
 #include "avm/pipeline/MappingPipeline.h"
@@ -29,9 +31,10 @@ struct RunRecord
 	std::string log;                          //!< avm-map.log
 };
 
-/** Writes every output into outDir (which exists and is writable). */
+/** Writes every output into outDir (which exists and is writable);
+ *  `observersStats` writes the observers' sections of stats.json. */
 void writeRunOutputs(const std::filesystem::path& outDir, const RunSummary& summary, const RunRecord& record,
-	const CAdaptiveOctoMap& map);
+	const CAdaptiveOctoMap& map, const std::function<void(io::JsonWriter&)>& observersStats);
 
 /** Checks that outDir can be created and written, and removes temporaries
  *  that killed runs left in it. Throws std::runtime_error naming the folder. */

@@ -61,7 +61,10 @@ io::IniKeys<TPipelineOptions> TPipelineOptions::iniKeys()
 			{[](int v) { return v >= 1; }, "must be >= 1"})
 		.number("picture_size", &O::pictureSize, "px", "width of map_top.png / map_perspective.png; 0 = none",
 			{[](int v) { return v == 0 || (v >= 200 && v <= 8000); }, "must be 0 (none) or 200..8000 px"})
-		.include(&O::viewer, viewer::TViewerOptions::iniKeys())
+		.number("gui", &O::gui, "",
+			"open the live 3D view (MRPT windows; avm-map --gui sets it); closing it ends the run as Ctrl-C does")
+		.number("gui_fps", &O::guiFps, "Hz", "most redraws, and map snapshots, a second with gui = true, (0, 60]",
+			{[](double v) { return v > 0 && v <= 60; }, "out of range (0, 60]"})
 		.text("map_section", &O::mapSection, "section with the MRPT map definition",
 			{[](const std::string& v) { return !v.empty(); }, "must name the map definition section"})
 		.number("checkpoint_interval_s", &O::checkpointIntervalSeconds, "s",

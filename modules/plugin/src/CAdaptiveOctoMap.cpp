@@ -1,5 +1,6 @@
 // The plugin map: registration in MRPT, construction from an .ini map
 // definition, and the person layer driving the dual octree's regions.
+#include "avm/persons/PersonColour.h"
 #include "avm/plugin/CAdaptiveOctoMap.h"
 
 #include <mrpt/core/initializer.h>
@@ -9,9 +10,9 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <utility>
 
 #include "avm/io/RgbdFrame.h"
-#include "avm/maps/MapColours.h"
 
 using namespace avm;
 
@@ -99,6 +100,7 @@ void CAdaptiveOctoMap::internal_clear()
 	m_persons = persons::PersonLayer(personOptions.tracking);
 	m_regionClocks = {};
 	m_lastFreeOnlyBoxes.clear();
+	m_regionsPreparedFor = nullptr;
 }
 
 std::vector<persons::PersonObservation> CAdaptiveOctoMap::observePersons(const mrpt::obs::CObservation3DRangeScan& obs,
@@ -118,7 +120,7 @@ std::vector<persons::PersonObservation> CAdaptiveOctoMap::observePersons(const m
 		if (!o.regionBox) continue;
 		placements.push_back({o.personId, *o.regionBox});
 		const bool newRegion = std::none_of(
-			regions.begin(), regions.end(), [&](const THighResolutionRegion& r) { return r.personId == o.personId; });
+			regions.begin(), regions.end(), [&](const THighResolutionRegion& r) { return r.regionId == o.personId; });
 		m_regionClocks.seen(o.personId, time, newRegion);
 	}
 	placeRegions(placements);
@@ -130,7 +132,7 @@ void CAdaptiveOctoMap::endRegionsUnseenInView(
 {
 	std::vector<persons::RegionInView> regions;
 	for (const auto& r : highResolutionRegions())
-		if (r.personId != 0 && !r.boxes.empty()) regions.push_back({r.personId, r.boxes.back()});
+		if (r.regionId != 0 && !r.boxes.empty()) regions.push_back({r.regionId, r.boxes.back()});
 	const auto sensorPose = robotPose + scan.sensorPose;
 	const auto ended = m_regionClocks.age(mrpt::Clock::toDouble(scan.timestamp),
 		insertionOptions.regionLifetime == RegionLifetime::Follow, regions, personOptions.regionEndAfterSeconds,
@@ -138,12 +140,17 @@ void CAdaptiveOctoMap::endRegionsUnseenInView(
 	for (const auto id : ended) endRegion(id);
 }
 
-CDualOctoMap::FreeOnlyBoxes CAdaptiveOctoMap::beforeDepthImage(
+void CAdaptiveOctoMap::prepareRegions(
 	const mrpt::obs::CObservation3DRangeScan& scan, const mrpt::poses::CPose3D& robotPose)
 {
-	observePersons(scan, robotPose,
-		persons::personPixelsFromLabels(scan, personOptions.personLabel, personOptions.sighting.minPixels),
-		insertionCount());
+	// Only for an image the insertion maps as depth: it calls the hook for no other.
+	if (!insertsAsDepthImage(scan)) return;
+	regionStep(scan, robotPose);
+	m_regionsPreparedFor = &scan;
+}
+
+void CAdaptiveOctoMap::regionStep(const mrpt::obs::CObservation3DRangeScan& scan, const mrpt::poses::CPose3D& robotPose)
+{
 	endRegionsUnseenInView(scan, robotPose);
 	// Algorithm 1 maps every point; the region policy knows who moves. A
 	// person unseen for as long as a region lasts unseen is no longer
@@ -152,6 +159,18 @@ CDualOctoMap::FreeOnlyBoxes CAdaptiveOctoMap::beforeDepthImage(
 	if (insertionOptions.switchPolicy == SwitchPolicy::Region)
 		m_lastFreeOnlyBoxes =
 			m_persons.movingPersonBoxes(scan, personOptions.regionEndAfterSeconds, personOptions.regionMargin);
+}
+
+CDualOctoMap::FreeOnlyBoxes CAdaptiveOctoMap::beforeDepthImage(
+	const mrpt::obs::CObservation3DRangeScan& scan, const mrpt::poses::CPose3D& robotPose)
+{
+	if (std::exchange(m_regionsPreparedFor, nullptr) != &scan)
+	{
+		observePersons(scan, robotPose,
+			persons::personPixelsFromLabels(scan, personOptions.personLabel, personOptions.sighting.minPixels),
+			insertionCount());
+		regionStep(scan, robotPose);
+	}
 	return m_lastFreeOnlyBoxes;
 }
 
@@ -164,7 +183,7 @@ void CAdaptiveOctoMap::getVisualizationInto(mrpt::opengl::CSetOfObjects& outObj)
 		for (const auto& p : t.shape) shapes->insertPoint(p.x, p.y, p.z);
 	if (shapes->empty()) return;
 	shapes->setName(kPersonShapesName);
-	shapes->setColor_u8(maps::kPersonColour);
+	shapes->setColor_u8(persons::kPersonColour);
 	shapes->setPointSize(4.0f);
 	outObj.insert(shapes);
 }

@@ -72,7 +72,7 @@ MapSnapshot snapshotOf(const CAdaptiveOctoMap& map, const SnapshotOptions& optio
 	s.hasFreeSpace = options.freeSpace;
 	map.forEachLeaf(Resolution::Low, collector(s.lowOccupied, s.lowFree, options.freeSpace));
 	map.forEachLeaf(Resolution::High, collector(s.highOccupied, s.highFree, options.freeSpace));
-	for (const auto& r : map.highResolutionRegions()) s.regions.push_back({r.personId, r.boxes});
+	for (const auto& r : map.highResolutionRegions()) s.regions.push_back({r.regionId, r.boxes});
 	for (const auto& t : map.confirmedPersons()) s.persons.push_back({t.id, t.position, t.lastFrame, t.shape});
 	for (const auto which : {Resolution::Low, Resolution::High})
 		if (const auto* t = map.tree(which)) s.mapMemoryBytes += t->memoryUsage();

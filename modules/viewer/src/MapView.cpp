@@ -1,3 +1,4 @@
+#include "avm/persons/PersonColour.h"
 #include "avm/viewer/MapView.h"
 
 #include <mrpt/gui/CDisplayWindow.h>
@@ -20,6 +21,8 @@
 #include <cstdlib>
 #include <iostream>
 #include <set>
+#include <stdexcept>
+#include <string>
 
 #ifdef __GLIBC__
 #include <malloc.h>
@@ -38,14 +41,8 @@ namespace
 using Clock = std::chrono::steady_clock;
 
 // The trees, regions, trajectory and persons as in map.3Dscene and the
-// pictures (avm/maps/MapColours.h).
-using maps::kHighColour;
-using maps::kHighFreeColour;
-using maps::kLowColour;
-using maps::kLowFreeColour;
-using maps::kPersonColour;
-using maps::kRegionColour;
-using maps::kTrajectoryColour;
+// pictures (avm/maps/MapColours.h, avm/persons/PersonColour.h).
+using persons::kPersonColour;
 const mrpt::img::TColor kCameraColour(20, 20, 20), kGridColour(190, 190, 190);
 const mrpt::img::TColorf kBackground(0.97f, 0.97f, 0.97f);
 const mrpt::img::TColor kFeatureColour(0, 200, 0), kMaskedFeatureColour(255, 0, 0);
@@ -291,7 +288,8 @@ struct MapView::Windows
 MapView::MapView(const TViewerOptions& options)
 	: m_options(options), m_windows(std::make_unique<Windows>(options.width))
 {
-	m_options.validate("gui");
+	if (!(m_options.fps > 0 && m_options.fps <= 60))
+		throw std::invalid_argument("the view's fps " + std::to_string(m_options.fps) + " is out of range (0, 60]");
 #ifdef __GLIBC__
 	// The view's blocks of a few hundred kB to a few MB (each redraw's colour
 	// image as MRPT and wxWidgets copy it, the voxels' triangle buffers) are

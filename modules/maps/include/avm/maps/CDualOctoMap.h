@@ -240,9 +240,13 @@ class CDualOctoMap : public mrpt::maps::CMetricMap
 	/** Boxes in the world frame: a depth pixel whose point lies in one of
 	 *  them (bounds included) is free-only. */
 	using FreeOnlyBoxes = std::vector<mrpt::math::TBoundingBox>;
+	/** Whether insertObservation maps `scan` as a depth image (it has one,
+	 *  with a camera), loading an externally stored one: the images
+	 *  beforeDepthImage is called with. */
+	static bool insertsAsDepthImage(const mrpt::obs::CObservation3DRangeScan& scan);
 	/** Called with each depth image about to be inserted (after its checks,
 	 *  before rays are cast): where the layer above reads it, e.g. places the
-	 *  regions of the persons it shows and ends those it is done with. Returns the image's
+	 *  regions the image shows and ends those it is done with. Returns the image's
 	 *  free-only boxes: the rays of the pixels whose points lie in them carve
 	 *  free space as any other, but their endpoints are not marked occupied
 	 *  (something there is passing through); the map does not ask what they
@@ -252,6 +256,8 @@ class CDualOctoMap : public mrpt::maps::CMetricMap
 	{
 		return {};
 	}
+	/** The label getVisualizationInto() draws above region `regionId` (not 0). */
+	virtual std::string regionLabel(std::uint32_t regionId) const { return "region " + std::to_string(regionId); }
 
 	/** @name The map's parts of a serialized stream
 	 *  CAdaptiveOctoMap's stream (version 1) holds the person layer's options

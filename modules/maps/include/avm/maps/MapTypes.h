@@ -36,14 +36,16 @@ std::string toString(SwitchPolicy p);
 /** Parses "paper" / "region"; throws std::invalid_argument otherwise. */
 SwitchPolicy switchPolicyFromString(const std::string& s);
 
-/** How long a person's high-resolution region lives (region policy). */
+/** How long a high-resolution region lives (region policy). */
 enum class RegionLifetime
 {
-	/** The region moves with the person; the layer above ends it (the
-	 *  plugin: once its space has been in view for `region_end_after_s` with
-	 *  no sighting of that person; a person out of view keeps it). */
+	/** A placement moves the region; the layer above ends it (the plugin,
+	 *  whose regions follow persons: once its space has been in view for
+	 *  `region_end_after_s` with no sighting of that person; out of view it
+	 *  stays). */
 	Follow,
-	/** Every place a person has been stays high resolution. */
+	/** Every placement joins the region: every place it has been stays high
+	 *  resolution. */
 	Persist
 };
 std::string toString(RegionLifetime l);
@@ -57,11 +59,12 @@ enum class OccupancyState : std::uint8_t
 	Occupied
 };
 
-/** The high-resolution space of one person (or one box given through the
- *  API): boxes in the world frame, aligned to the low voxel grid. */
+/** The high-resolution space of one region (the layer above gives each
+ *  person one; or one box given through the API): boxes in the world frame,
+ *  aligned to the low voxel grid. */
 struct THighResolutionRegion
 {
-	std::uint32_t personId = 0;                   //!< 0: given with addHighResolutionRegion(), never ends
+	std::uint32_t regionId = 0;                   //!< 0: given with addHighResolutionRegion(), never ends
 	std::vector<mrpt::math::TBoundingBox> boxes;  //!< follow: one; persist: all it has covered
 };
 

@@ -8,7 +8,7 @@
 
 #include <cmath>
 
-namespace avm::maps
+namespace avm
 {
 /** Bits of one axis of a key: octomap's tree depth, 16. */
 constexpr unsigned kKeyBits = 16;
@@ -37,4 +37,4 @@ inline unsigned keySpanAtDepth(unsigned depth) { return 1u << (kKeyBits - depth)
 /** Half the edge of a tree of this resolution [m]: it spans +-that around
  *  the origin on each axis. */
 constexpr double treeHalfExtent(double resolution) { return resolution * kKeyOffset; }
-}  // namespace avm::maps
+}  // namespace avm

@@ -14,7 +14,7 @@ namespace octomap
 class OcTree;
 }
 
-namespace avm::maps
+namespace avm
 {
 /** A finest-depth key (x, y, z) of one tree. */
 using FinestKey = std::tuple<int, int, int>;
@@ -26,4 +26,4 @@ std::set<FinestKey> occupiedFinestKeys(
 
 /** |a and b| / |a or b|; 1 for two empty sets. */
 double intersectionOverUnion(const std::set<FinestKey>& a, const std::set<FinestKey>& b);
-}  // namespace avm::maps
+}  // namespace avm

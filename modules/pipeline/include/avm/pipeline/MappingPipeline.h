@@ -25,8 +25,6 @@
 #include "avm/io/IniKeyOptions.h"
 #include "avm/io/TimingSummary.h"
 #include "avm/pipeline/FrameObserver.h"
-#include "avm/plugin/ReferenceOctoMaps.h"
-#include "avm/viewer/TViewerOptions.h"
 
 namespace avm::pipeline
 {
@@ -76,7 +74,8 @@ struct TPipelineOptions : public io::CIniKeyOptions<TPipelineOptions>
 	unsigned readAheadFrames = 4;
 	/** Also build plain single-resolution OctoMaps (octomap's own
 	 *  insertion, at both trees' resolutions) from the same frames and poses,
-	 *  and compare (stats.json "reference"): a measurement mode, slow. */
+	 *  and compare (stats.json "reference"): a measurement mode, slow. The
+	 *  program connects what builds them (avm/evaluation/ReferenceMapsObserver.h). */
 	bool referenceMaps = false;
 	/** [s] of run time between two checkpoints (OUTDIR/checkpoint.bin, what
 	 *  avm-map --resume continues from); 0 = none. One is also written before
@@ -88,9 +87,10 @@ struct TPipelineOptions : public io::CIniKeyOptions<TPipelineOptions>
 	 *  every mapped frame inserted again from the rawlog at its corrected
 	 *  pose, persons and regions with it, in the run's order. */
 	MapRebuild rebuildMap = MapRebuild::AfterLoops;
-	/** `gui`, `gui_fps`: the live view of the run (avm/pipeline/LiveView.h,
-	 *  which the program connects). */
-	viewer::TViewerOptions viewer;
+	/** The live view of the run (avm/viewer/LiveView.h), which the program
+	 *  connects. */
+	bool gui = false;
+	double guiFps = 5.0;             //!< [Hz] most redraws a second
 	std::string mapSection = "map";  //!< section with MRPT's map definition
 
 	/** Every key: name, member, unit, description, check. */
@@ -133,8 +133,6 @@ struct RunSummary
 	 *  odometry's wall-clock time also counts the detector's and the map's
 	 *  threads taking the core meanwhile (all of avm-map on one core). */
 	io::TimingSummary odometryCpu;
-	/** With reference_maps: the adaptive map against single-resolution maps. */
-	std::optional<TReferenceComparison> reference;
 	/** Writing the checkpoints (count, mean ...): their cost. */
 	io::TimingSummary checkpoint;
 	/** A resumed run: the last frame its checkpoint had processed. */
@@ -164,11 +162,6 @@ struct CheckpointedRun
 	std::filesystem::path rawlog;  //!< absolute
 	PoseSource poseSource = PoseSource::VisualOdometry;
 };
-/** OUTDIR/checkpoint.bin, written by a connected CheckpointWriter every checkpoint_interval_s. */
-std::filesystem::path checkpointFile(const std::filesystem::path& outDir);
-/** The run of outDir's checkpoint. Throws std::runtime_error naming the file
- *  when there is none or it is not a complete checkpoint. */
-CheckpointedRun readCheckpointedRun(const std::filesystem::path& outDir);
 /** The finished run whose output folder is `previous`, from its session
  *  (session.bin: the checkpoint of the finished run, what continueRun
  *  starts from). Throws std::runtime_error in one line naming the file when
@@ -213,14 +206,15 @@ class MappingPipeline : public mrpt::system::COutputLogger
 	RunSummary run(const std::filesystem::path& rawlog, const std::filesystem::path& outDir,
 		const std::atomic<bool>* stop = nullptr, const std::function<void(double, std::size_t)>& progress = {});
 
-	/** Continues the run whose checkpoint is in outDir (this pipeline made
-	 *  from its configuration: readCheckpointedRun) to the end of its rawlog,
-	 *  and writes every output into outDir: the same map and trajectory as a
-	 *  run that was never stopped. The rawlog is read again from its start;
-	 *  the frames already mapped only restart the detections that were
-	 *  pending. Throws on a missing or damaged checkpoint. */
-	RunSummary resume(const std::filesystem::path& outDir, const std::atomic<bool>* stop = nullptr,
-		const std::function<void(double, std::size_t)>& progress = {});
+	/** Continues the run whose checkpoint is `checkpoint` (written by a
+	 *  CheckpointWriter; this pipeline made from its configuration:
+	 *  CheckpointWriter::checkpointedRun) to the end of its rawlog, and writes
+	 *  every output into outDir: the same map and trajectory as a run that was
+	 *  never stopped. The rawlog is read again from its start; the frames
+	 *  already mapped only restart the detections that were pending. Throws on
+	 *  a missing or damaged checkpoint. */
+	RunSummary resume(const std::filesystem::path& checkpoint, const std::filesystem::path& outDir,
+		const std::atomic<bool>* stop = nullptr, const std::function<void(double, std::size_t)>& progress = {});
 
 	/** Maps `rawlog` as the next session of the finished run whose output
 	 *  folder is `previous` (read, never written): the run starts with its

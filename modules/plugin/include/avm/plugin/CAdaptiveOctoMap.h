@@ -10,6 +10,8 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
+#include <string>
 #include <vector>
 
 #include "avm/maps/CDualOctoMap.h"
@@ -38,10 +40,18 @@ class CAdaptiveOctoMap : public CDualOctoMap
 
 	/** The person layer on `persons`, the pixels of each person in `obs` (taken
 	 *  at `robotPose`, composed with obs.sensorPose as for insertion), seen at
-	 *  frame `frameIndex`; then the regions of the persons seen are placed.
-	 *  Inserting an observation with person pixel labels calls this itself. */
+	 *  frame `frameIndex`; then the regions of the persons seen are placed,
+	 *  each region's id its person's. Inserting an observation with person
+	 *  pixel labels calls this itself, unless prepareRegions() was called. */
 	std::vector<persons::PersonObservation> observePersons(const mrpt::obs::CObservation3DRangeScan& obs,
 		const mrpt::poses::CPose3D& robotPose, const std::vector<persons::PixelSet>& persons, std::size_t frameIndex);
+	/** The region step of depth image `scan`, to be inserted next at
+	 *  `robotPose`, for a program whose persons come through observePersons
+	 *  (avm-map): the follow regions age and those over end, and the moving
+	 *  persons' boxes become the image's free-only boxes. Inserting that image
+	 *  then reads no person labels and takes the step no second time; without
+	 *  this call the insertion does both itself (stock MRPT apps). */
+	void prepareRegions(const mrpt::obs::CObservation3DRangeScan& scan, const mrpt::poses::CPose3D& robotPose);
 	/** Every person track so far, confirmed or not: each has had a region. */
 	const std::vector<persons::PersonTrack>& personTracks() const { return m_persons.tracks(); }
 	/** The tracks confirmed as persons (track_min_sightings): what is
@@ -76,23 +86,30 @@ class CAdaptiveOctoMap : public CDualOctoMap
 
    protected:
 	void internal_clear() override;
-	/** The persons labelled in the image are observed before it is inserted, so
-	 *  the image is mapped with their regions in place; then the regions whose
-	 *  follow lifetime is over end. Region policy: the
-	 *  pixels of the persons on the move are free only (a person walking
-	 *  through leaves no trail); a still person is mapped like any surface. */
+	/** Unless prepareRegions() took the step for this image: the persons
+	 *  labelled in it are observed before it is inserted, so the image is
+	 *  mapped with their regions in place, then the region step. Region
+	 *  policy: the pixels of the persons on the move are free only (a person
+	 *  walking through leaves no trail); a still person is mapped like any
+	 *  surface. */
 	FreeOnlyBoxes beforeDepthImage(
 		const mrpt::obs::CObservation3DRangeScan& scan, const mrpt::poses::CPose3D& robotPose) override;
+	/** "person N": a region's id is its person's. */
+	std::string regionLabel(std::uint32_t regionId) const override { return "person " + std::to_string(regionId); }
 
    private:
 	/** Follow lifetime: the time until `scan` (taken at `robotPose`) counts
 	 *  for the person regions its camera looks at; those unseen for
 	 *  region_end_after_s in view end. */
 	void endRegionsUnseenInView(const mrpt::obs::CObservation3DRangeScan& scan, const mrpt::poses::CPose3D& robotPose);
+	/** The regions' end and the free-only boxes of `scan`. */
+	void regionStep(const mrpt::obs::CObservation3DRangeScan& scan, const mrpt::poses::CPose3D& robotPose);
 
 	/** Sightings and person tracks; it tells where the persons' regions go. */
 	persons::PersonLayer m_persons;
 	persons::RegionClocks m_regionClocks;
 	FreeOnlyBoxes m_lastFreeOnlyBoxes;
+	/** The image prepareRegions() took the step for, until it is inserted. */
+	const mrpt::obs::CObservation3DRangeScan* m_regionsPreparedFor = nullptr;
 };
 }  // namespace avm

@@ -24,7 +24,7 @@
 #include <utility>
 #include <vector>
 
-#include "avm/maps/MapColours.h"
+#include "avm/persons/PersonColour.h"
 
 namespace octomap
 {
@@ -60,7 +60,7 @@ struct SnapshotPerson
 	std::vector<mrpt::math::TPoint3Df> shape;
 	/** The shape's colour: the map's person colour, or a finished run's
 	 *  person_shapes.ply's. */
-	mrpt::img::TColor shapeColour = maps::kPersonColour;
+	mrpt::img::TColor shapeColour = persons::kPersonColour;
 };
 
 /** A person box in the colour image. */

@@ -1,7 +1,7 @@
 // The live view of a run (avm-map --gui) as an observer of it
-// (avm/pipeline/FrameObserver.h): viewer::MapView shown the map before each
-// frame's insertion, at most gui_fps times a second. Space pauses the run
-// between two frames; closing the window ends it as Ctrl-C does.
+// (avm/pipeline/FrameObserver.h): MapView shown the map before each frame's
+// insertion, at most gui_fps times a second. Space pauses the run between two
+// frames; closing the window ends it as Ctrl-C does.
 #pragma once
 
 #include <mrpt/img/TCamera.h>
@@ -15,14 +15,14 @@
 #include "avm/pipeline/FrameObserver.h"
 #include "avm/viewer/MapView.h"
 
-namespace avm::pipeline
+namespace avm::viewer
 {
-class LiveView : public FrameObserver
+class LiveView : public pipeline::FrameObserver
 {
    public:
-	/** Opens the view's window, titled `title`; throws when it cannot (no
-	 *  display). `stop` (may be null) also ends the wait at the end. */
-	LiveView(const viewer::TViewerOptions& options, const std::string& title, const std::atomic<bool>* stop);
+	/** Opens the view's window; throws when it cannot (no display). `stop`
+	 *  (may be null) also ends the wait at the end. */
+	LiveView(const TViewerOptions& options, const std::atomic<bool>* stop);
 
 	/** After the outputs, save the X server's picture of the view to this
 	 *  PNG (a run with a scripted end, for tests and documentation). */
@@ -33,13 +33,13 @@ class LiveView : public FrameObserver
 	 *  user unless it asks to. */
 	void setWaitsAtEnd(bool wait) { m_waitsAtEnd = wait; }
 
-	bool betweenFrames(RunState& /*run*/) override { return m_view.waitWhilePaused(); }
-	void onFrameMapped(const MappedFrame& frame) override;
-	void onRunFinished(const FinishedRun& run) override;
+	bool betweenFrames(pipeline::RunState& /*run*/) override { return m_view.waitWhilePaused(); }
+	void onFrameMapped(const pipeline::MappedFrame& frame) override;
+	void onRunFinished(const pipeline::FinishedRun& run) override;
 	bool showsFeatures() const override { return true; }
 
    private:
-	viewer::MapView m_view;
+	MapView m_view;
 	const std::atomic<bool>* m_stop;
 	std::filesystem::path m_screenshot;  // "" = none
 	bool m_waitsAtEnd = false;
@@ -47,4 +47,4 @@ class LiveView : public FrameObserver
 	mrpt::system::CTicTac m_shownFor;
 	std::optional<mrpt::img::TCamera> m_intrinsics;  // of the last frame shown: the final view's frustum
 };
-}  // namespace avm::pipeline
+}  // namespace avm::viewer

@@ -7,7 +7,7 @@
 #include "avm/maps/CDualOctoMap.h"
 #include "avm/maps/OcTreeFile.h"
 
-namespace avm::maps
+namespace avm::evaluation
 {
 inline CDualOctoMap::TTreeStats plainTreeStats(const octomap::OcTree& t)
 {
@@ -19,4 +19,4 @@ inline CDualOctoMap::TTreeStats plainTreeStats(const octomap::OcTree& t)
 	s.binaryBytes = binaryTreeBytes(t).size();
 	return s;
 }
-}  // namespace avm::maps
+}  // namespace avm::evaluation

@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "avm/plugin/TrailShare.h"
+#include "avm/evaluation/TrailShare.h"
 
-namespace avm::maps
+namespace avm::evaluation
 {
 enum class TrailCause
 {
@@ -57,4 +57,4 @@ TrailCauses explainTrails(const TrailOptions& options, const std::filesystem::pa
 	const TrailReference& low, std::size_t lagFrames, double horizon, Yardstick yardstick);
 
 std::string toMarkdown(const TrailCauses& causes);
-}  // namespace avm::maps
+}  // namespace avm::evaluation

@@ -17,9 +17,9 @@
 #include "avm/io/RawlogFrameReader.h"
 #include "avm/io/RunFolder.h"
 #include "avm/maps/OcTreeFile.h"
-#include "avm/plugin/TrailShare.h"
+#include "avm/evaluation/TrailShare.h"
 
-namespace avm::maps
+namespace avm::evaluation
 {
 struct TrailVoxel
 {
@@ -112,4 +112,4 @@ void forEachTrailPixel(const TrailOptions& options, std::array<TrailVoxels, 2>& 
 			}
 	}
 }
-}  // namespace avm::maps
+}  // namespace avm::evaluation

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-namespace avm::maps
+namespace avm::evaluation
 {
 struct MapBenchmarkOptions
 {
@@ -61,4 +61,4 @@ MapBenchmarkResult runMapBenchmark(
 
 /** A markdown table of the result. */
 std::string toMarkdown(const MapBenchmarkResult& r);
-}  // namespace avm::maps
+}  // namespace avm::evaluation

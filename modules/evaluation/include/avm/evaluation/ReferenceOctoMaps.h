@@ -26,7 +26,10 @@ class OcTree;
 namespace avm
 {
 class CAdaptiveOctoMap;
+}
 
+namespace avm::evaluation
+{
 struct TReferenceComparison
 {
 	struct Tree
@@ -89,4 +92,4 @@ class ReferenceOctoMaps
 	double m_highMs = 0, m_lowMs = 0;
 	std::size_t m_frames = 0;
 };
-}  // namespace avm
+}  // namespace avm::evaluation

@@ -1,4 +1,4 @@
-#include "avm/plugin/TrailPixels.h"
+#include "avm/evaluation/TrailPixels.h"
 
 #include <mrpt/poses/CPose3D.h>
 
@@ -11,7 +11,7 @@
 #include "avm/persons/PersonBand.h"
 #include "avm/persons/PersonLabels.h"
 
-namespace avm::maps
+namespace avm::evaluation
 {
 namespace
 {
@@ -228,4 +228,4 @@ std::string toMarkdown(const TrailPixels& t)
 		<< b[2] << ", > 1 m " << b[3] << "\n";
 	return out.str();
 }
-}  // namespace avm::maps
+}  // namespace avm::evaluation

@@ -33,7 +33,7 @@ namespace octomap
 class OcTree;
 }
 
-namespace avm::maps
+namespace avm::evaluation
 {
 struct TrailOptions
 {
@@ -147,4 +147,4 @@ TrailResult measureTrails(const TrailOptions& options,
 	const std::function<void(const TrailReference& high, const TrailReference& low)>& inspect = {});
 
 std::string toMarkdown(const TrailResult& result);
-}  // namespace avm::maps
+}  // namespace avm::evaluation

@@ -1,4 +1,4 @@
-#include "avm/plugin/ReferenceOctoMaps.h"
+#include "avm/evaluation/ReferenceOctoMaps.h"
 
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <octomap/OcTree.h>
@@ -12,7 +12,7 @@
 #include "avm/maps/OccupiedKeys.h"
 #include "PlainTreeStats.h"
 
-namespace avm
+namespace avm::evaluation
 {
 namespace
 {
@@ -26,10 +26,9 @@ bool inRegions(const CAdaptiveOctoMap& map, double x, double y, double z)
 
 /** Finest-level keys of the occupied voxels of `tree` whose centre is inside
  *  the regions (or outside, when `inside` is false). */
-std::set<maps::FinestKey> occupiedKeys(const octomap::OcTree& tree, const CAdaptiveOctoMap& map, bool inside)
+std::set<FinestKey> occupiedKeys(const octomap::OcTree& tree, const CAdaptiveOctoMap& map, bool inside)
 {
-	return maps::occupiedFinestKeys(
-		tree, [&](double x, double y, double z) { return inRegions(map, x, y, z) == inside; });
+	return occupiedFinestKeys(tree, [&](double x, double y, double z) { return inRegions(map, x, y, z) == inside; });
 }
 
 /** insertPointCloud(discretize = true) of `surface` and `freeOnly`, where the
@@ -50,7 +49,7 @@ void insertFreeOnly(octomap::OcTree& tree, const octomap::Pointcloud& surface, c
 
 TReferenceComparison::Tree sizesOf(const octomap::OcTree& t, double totalMs, std::size_t frames)
 {
-	const auto plain = maps::plainTreeStats(t);
+	const auto plain = plainTreeStats(t);
 	TReferenceComparison::Tree s;
 	s.resolution = plain.resolution;
 	s.occupiedLeaves = plain.occupiedLeaves;
@@ -124,7 +123,7 @@ TReferenceComparison ReferenceOctoMaps::compare(const CAdaptiveOctoMap& map) con
 		c.adaptiveMemoryBytes += s.memoryBytes;
 		c.adaptiveBinaryBytes += s.binaryBytes;
 	}
-	std::set<maps::FinestKey> mineInside;
+	std::set<FinestKey> mineInside;
 	if (const auto* high = map.tree(Resolution::High)) mineInside = occupiedKeys(*high, map, true);
 	const auto refInside = occupiedKeys(*m_high, map, true);
 	const auto freeOnlyInside = occupiedKeys(*m_highFreeOnly, map, true);
@@ -132,12 +131,12 @@ TReferenceComparison ReferenceOctoMaps::compare(const CAdaptiveOctoMap& map) con
 	const auto refOutside = occupiedKeys(*m_low, map, false);
 	c.insideAdaptive = mineInside.size();
 	c.insideReference = refInside.size();
-	c.insideIoU = maps::intersectionOverUnion(mineInside, refInside);
+	c.insideIoU = intersectionOverUnion(mineInside, refInside);
 	c.insideFreeOnlyReference = freeOnlyInside.size();
-	c.insideFreeOnlyIoU = maps::intersectionOverUnion(mineInside, freeOnlyInside);
+	c.insideFreeOnlyIoU = intersectionOverUnion(mineInside, freeOnlyInside);
 	c.outsideAdaptive = mineOutside.size();
 	c.outsideReference = refOutside.size();
-	c.outsideIoU = maps::intersectionOverUnion(mineOutside, refOutside);
+	c.outsideIoU = intersectionOverUnion(mineOutside, refOutside);
 	return c;
 }
-}  // namespace avm
+}  // namespace avm::evaluation

@@ -1,4 +1,4 @@
-#include "avm/plugin/TrailCauses.h"
+#include "avm/evaluation/TrailCauses.h"
 
 #include <mrpt/math/TBoundingBox.h>
 #include <mrpt/poses/CPose3D.h>
@@ -16,7 +16,7 @@
 #include "avm/io/RunFolder.h"
 #include "TrailVoxels.h"
 
-namespace avm::maps
+namespace avm::evaluation
 {
 namespace
 {
@@ -225,4 +225,4 @@ std::string toMarkdown(const TrailCauses& causes)
 	}
 	return out.str();
 }
-}  // namespace avm::maps
+}  // namespace avm::evaluation

@@ -19,9 +19,9 @@
 #include "avm/persons/PersonBand.h"
 #include "avm/persons/PersonLayer.h"
 #include "avm/plugin/CAdaptiveOctoMap.h"
-#include "avm/plugin/ReferenceOctoMaps.h"
-#include "avm/plugin/TrailPixels.h"
-#include "avm/plugin/TrailShare.h"
+#include "avm/evaluation/ReferenceOctoMaps.h"
+#include "avm/evaluation/TrailPixels.h"
+#include "avm/evaluation/TrailShare.h"
 
 using avm::CAdaptiveOctoMap;
 using avm::test::MapFrame;
@@ -58,8 +58,8 @@ const std::vector<LabelledFrame>& labelledFrames()
 
 /** The trail (low + high) of a map built from the frames, labels on every
  *  3rd frame as avm-map detects, against references without the persons. */
-avm::maps::TrailRow trailOf(const CAdaptiveOctoMap& map, const avm::maps::TrailReference& high,
-	const avm::maps::TrailReference& low, const std::string& name)
+avm::evaluation::TrailRow trailOf(const CAdaptiveOctoMap& map, const avm::evaluation::TrailReference& high,
+	const avm::evaluation::TrailReference& low, const std::string& name)
 {
 	auto row = high.judge(*map.tree(avm::Resolution::High), name);
 	row += low.judge(*map.tree(avm::Resolution::Low), name);
@@ -68,9 +68,10 @@ avm::maps::TrailRow trailOf(const CAdaptiveOctoMap& map, const avm::maps::TrailR
 
 /** The cuts of a labelled frame, the persons' depth band as a map of default
  *  options takes it. */
-avm::maps::PersonCuts cutsOf(const LabelledFrame& lf)
+avm::evaluation::PersonCuts cutsOf(const LabelledFrame& lf)
 {
-	return avm::maps::personCuts(*lf.labelled, lf.frame.pose + lf.labelled->sensorPose, avm::maps::TrailOptions{});
+	return avm::evaluation::personCuts(
+		*lf.labelled, lf.frame.pose + lf.labelled->sensorPose, avm::evaluation::TrailOptions{});
 }
 
 /** The person labels of `obs` that hold pixels (avm-detect also names an
@@ -112,7 +113,7 @@ std::size_t occupiedIn(const CAdaptiveOctoMap& map, const mrpt::math::TBoundingB
 
 TEST(MovingPersons, AMovingPersonLeavesNoTrail)
 {
-	avm::maps::TrailReference high(0.05, 5.0), low(0.20, 5.0);
+	avm::evaluation::TrailReference high(0.05, 5.0), low(0.20, 5.0);
 	// Every person is still at once: the map as it was before moving persons
 	// were told apart (all their pixels are walls).
 	auto objects = regionMap(2.0), walls = regionMap(0.0);
@@ -129,17 +130,17 @@ TEST(MovingPersons, AMovingPersonLeavesNoTrail)
 	ASSERT_GE(objects.personTracks().size(), 1u);
 	const auto o = trailOf(objects, high, low, "objects"), w = trailOf(walls, high, low, "walls");
 	const auto single = high.judge(high.single(), "single 0.05 m");
-	for (const auto y : {avm::maps::Yardstick::PersonMask, avm::maps::Yardstick::Boxes})
+	for (const auto y : {avm::evaluation::Yardstick::PersonMask, avm::evaluation::Yardstick::Boxes})
 	{
-		std::cout << "trail share without " << avm::maps::describe(y) << ": persons as objects " << o.share(y) << " ("
-				  << o.trail(y) << " m3), as walls " << w.share(y) << " (" << w.trail(y)
+		std::cout << "trail share without " << avm::evaluation::describe(y) << ": persons as objects " << o.share(y)
+				  << " (" << o.trail(y) << " m3), as walls " << w.share(y) << " (" << w.trail(y)
 				  << " m3), single 0.05 m OctoMap " << single.share(y) << "\n";
 		EXPECT_LT(o.trail(y), 0.5 * w.trail(y));
 		EXPECT_LT(o.share(y), single.share(y));
 	}
 	// What the boxes' reference never saw behind the persons and the map
 	// rightly mapped is no trail against the person mask.
-	EXPECT_LT(o.trail(avm::maps::Yardstick::PersonMask), o.trail(avm::maps::Yardstick::Boxes));
+	EXPECT_LT(o.trail(avm::evaluation::Yardstick::PersonMask), o.trail(avm::evaluation::Yardstick::Boxes));
 	// The rest of the scene is still mapped: most of the walls' occupied volume.
 	EXPECT_GT(o.occupiedM3, 0.8 * w.occupiedM3);
 }
@@ -242,7 +243,7 @@ TEST(MovingPersons, APersonWhoStaysStillIsMappedAndPaperMapsEveryPoint)
 	// person who does not move.
 	const LabelledFrame* seen = nullptr;
 	for (const auto& lf : labelledFrames())
-		if (!avm::maps::personPixelMask(*lf.labelled, "person").empty() &&
+		if (!avm::evaluation::personPixelMask(*lf.labelled, "person").empty() &&
 			avm::persons::personPixelsFromLabels(*lf.labelled, "person", 200).size() == 1)
 		{
 			seen = &lf;
@@ -286,7 +287,7 @@ TEST(MovingPersons, TheFreeOnlyReferenceTreatsTheMovingPersonsAsTheMapDid)
 	// than the one of all pixels, and the map agrees with it better.
 	auto map = regionMap(2.0);
 	const auto& c = map.creationOptions();
-	avm::ReferenceOctoMaps reference(c.high.resolution, c.low.resolution, c.high.maxRange, c.low.maxRange);
+	avm::evaluation::ReferenceOctoMaps reference(c.high.resolution, c.low.resolution, c.high.maxRange, c.low.maxRange);
 	std::size_t i = 0, framesWithFreeOnly = 0;
 	for (const auto& lf : labelledFrames())
 	{
@@ -311,18 +312,18 @@ TEST(MovingPersons, TheSurfaceInABoxBesideAMovingPersonIsBackgroundNotTheirSilho
 	// pixels on the silhouette (a depth edge next to the person's band, their
 	// depth between the person and the background), they would move with the
 	// person, a real trail. They are mostly the background behind the band.
-	const avm::maps::TrailOptions options;  // the person keys at their built-in defaults, ini/default.ini's
+	const avm::evaluation::TrailOptions options;  // the person keys at their built-in defaults, ini/default.ini's
 	// region_margin; the odometry's depth_edge_ratio
 	const double margin = avm::persons::TPersonLayerOptions().regionMargin, edgeRatio = 0.05;
-	constexpr auto kClasses = static_cast<std::size_t>(avm::maps::TrailPixelClass::Count);
+	constexpr auto kClasses = static_cast<std::size_t>(avm::evaluation::TrailPixelClass::Count);
 	std::array<std::size_t, kClasses> inBoxes{}, surface{};
 	for (const auto& lf : labelledFrames())
 	{
 		const auto& obs = *lf.labelled;
 		const auto pose = lf.frame.pose + obs.sensorPose;
-		const auto cuts = avm::maps::personCuts(obs, pose, options);
+		const auto cuts = avm::evaluation::personCuts(obs, pose, options);
 		std::vector<float> personDepth;
-		const auto cls = avm::maps::trailPixelClasses(obs, pose, options, cuts.boxes, edgeRatio, personDepth);
+		const auto cls = avm::evaluation::trailPixelClasses(obs, pose, options, cuts.boxes, edgeRatio, personDepth);
 		avm::persons::PersonLayer layer;
 		layer.observe(obs, pose, avm::persons::personPixelsFromLabels(obs, "person", options.sighting.minPixels),
 			lf.frame.index, options.sighting, margin, 0.05);
@@ -333,7 +334,7 @@ TEST(MovingPersons, TheSurfaceInABoxBesideAMovingPersonIsBackgroundNotTheirSilho
 			{
 				const auto c = cls[static_cast<std::size_t>(v) * camera.width + u];
 				const auto raw = obs.rangeImage(v, u);
-				if (raw == 0 || c == static_cast<std::uint8_t>(avm::maps::TrailPixelClass::Other)) continue;
+				if (raw == 0 || c == static_cast<std::uint8_t>(avm::evaluation::TrailPixelClass::Other)) continue;
 				++inBoxes[c];
 				const auto point = pose.composePoint(camera.unproject(u, v, raw * obs.rangeUnits));
 				surface[c] += std::none_of(freeOnly.begin(), freeOnly.end(),
@@ -342,11 +343,11 @@ TEST(MovingPersons, TheSurfaceInABoxBesideAMovingPersonIsBackgroundNotTheirSilho
 	}
 	std::cout << "box pixels with depth, of them mapped as surface (outside every free-only box):\n";
 	for (std::size_t c = 0; c < kClasses; ++c)
-		std::cout << "  " << avm::maps::describe(static_cast<avm::maps::TrailPixelClass>(c)) << ": " << inBoxes[c]
-				  << ", " << surface[c] << "\n";
-	const auto of = [](const auto& counts, avm::maps::TrailPixelClass c)
+		std::cout << "  " << avm::evaluation::describe(static_cast<avm::evaluation::TrailPixelClass>(c)) << ": "
+				  << inBoxes[c] << ", " << surface[c] << "\n";
+	const auto of = [](const auto& counts, avm::evaluation::TrailPixelClass c)
 	{ return counts[static_cast<std::size_t>(c)]; };
-	using C = avm::maps::TrailPixelClass;
+	using C = avm::evaluation::TrailPixelClass;
 	EXPECT_GT(of(inBoxes, C::Mixed), 0u);
 	EXPECT_EQ(of(surface, C::Band), 0u);  // the free-only box holds the band (test above)
 	EXPECT_LT(10 * of(surface, C::Mixed), of(surface, C::Behind));
@@ -359,20 +360,20 @@ TEST(MovingPersons, ALowVoxelTheFineReferenceHoldsSurfaceInIsNoTrailOfThatReadin
 	// surface, and octomap's own coarse view of it (an inner node is occupied
 	// if a child is) calls the 0.20 m voxel occupied. The reading that asks
 	// the finer reference too counts less trail, never more.
-	avm::maps::TrailReference high(0.05, 5.0), low(0.20, 5.0);
+	avm::evaluation::TrailReference high(0.05, 5.0), low(0.20, 5.0);
 	for (const auto& lf : labelledFrames())
 	{
 		const auto cuts = cutsOf(lf);
 		high.insert(*lf.frame.obs, lf.frame.pose, cuts);
 		low.insert(*lf.frame.obs, lf.frame.pose, cuts);
 	}
-	using avm::maps::Yardstick;
+	using avm::evaluation::Yardstick;
 	const auto single = low.judge(low.single(), "single 0.20 m", &high);
 	const auto masked = low.judge(low.reference(Yardstick::PersonMask), "without the persons' own pixels", &high);
 	const auto unread = low.judge(low.single(), "single 0.20 m");
 	for (const auto y : {Yardstick::PersonMask, Yardstick::Boxes})
 	{
-		std::cout << "0.20 m trail without " << avm::maps::describe(y) << ": single " << single.trail(y) << " -> "
+		std::cout << "0.20 m trail without " << avm::evaluation::describe(y) << ": single " << single.trail(y) << " -> "
 				  << single.trailNoFineSurface(y) << " m3, without the persons' own pixels " << masked.trail(y)
 				  << " -> " << masked.trailNoFineSurface(y) << " m3\n";
 		EXPECT_LE(single.trailNoFineSurface(y), single.trail(y));

@@ -1,4 +1,4 @@
-#include "avm/plugin/MapBenchmark.h"
+#include "avm/evaluation/MapBenchmark.h"
 
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
@@ -18,7 +18,7 @@
 #include "avm/maps/OcTreeFile.h"
 #include "PlainTreeStats.h"
 
-namespace avm::maps
+namespace avm::evaluation
 {
 namespace
 {
@@ -251,4 +251,4 @@ std::string toMarkdown(const MapBenchmarkResult& r)
 	}
 	return s.str();
 }
-}  // namespace avm::maps
+}  // namespace avm::evaluation

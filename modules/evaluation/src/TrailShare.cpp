@@ -1,4 +1,4 @@
-#include "avm/plugin/TrailShare.h"
+#include "avm/evaluation/TrailShare.h"
 
 #include <mrpt/poses/CPose3D.h>
 #include <octomap/OcTree.h>
@@ -17,7 +17,7 @@
 #include "avm/persons/PersonBand.h"
 #include "avm/persons/PersonLabels.h"
 
-namespace avm::maps
+namespace avm::evaluation
 {
 std::vector<std::uint8_t> personPixelMask(const mrpt::obs::CObservation3DRangeScan& obs, const std::string& label)
 {
@@ -232,4 +232,4 @@ std::string toMarkdown(const TrailResult& r)
 	}
 	return out.str();
 }
-}  // namespace avm::maps
+}  // namespace avm::evaluation

@@ -4,10 +4,12 @@
 
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
+#include <mrpt/obs/TPixelLabelInfo.h>
 #include <mrpt/poses/CPose3D.h>
 #include <octomap/OcTree.h>
 
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 #include "TestData.h"
@@ -69,5 +71,18 @@ inline void insertWithOctomap(octomap::OcTree& tree, const MapFrame& f, double m
 	const auto c = worldCloud(f);
 	tree.insertPointCloud(c.points, c.origin, maxRange, false, true);
 }
-
+/** The frame with a 60 x 120 pixel patch at the image centre labelled
+ *  "person", as a stock MRPT app gives its persons to the map. */
+inline mrpt::obs::CObservation3DRangeScan::Ptr withPersonAtCentre(const MapFrame& f)
+{
+	auto labelled = mrpt::obs::CObservation3DRangeScan::Create(*f.obs);
+	auto labels = std::make_shared<mrpt::obs::TPixelLabelInfo<1>>();
+	const int rows = labelled->rangeImage.rows(), cols = labelled->rangeImage.cols();
+	labels->setSize(rows, cols);
+	labels->setLabelName(0, "person");
+	for (int r = rows / 2 - 60; r < rows / 2 + 60; r++)
+		for (int c = cols / 2 - 30; c < cols / 2 + 30; c++) labels->setLabel(r, c, 0);
+	labelled->pixelLabels = labels;
+	return labelled;
+}
 }  // namespace avm::test

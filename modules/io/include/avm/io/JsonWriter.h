@@ -1,4 +1,4 @@
-// A small streaming JSON writer for stats.json (MRPT's yaml reads JSON but
+// A small streaming JSON writer, for avm-map's stats.json (MRPT's yaml reads JSON but
 // does not write it).
 #pragma once
 
@@ -7,7 +7,7 @@
 #include <string_view>
 #include <vector>
 
-namespace avm::pipeline
+namespace avm::io
 {
 class JsonWriter
 {
@@ -46,4 +46,4 @@ class JsonWriter
 	std::vector<bool> m_first;  //!< per open container: no element written yet
 	std::vector<bool> m_isArray{false};
 };
-}  // namespace avm::pipeline
+}  // namespace avm::io

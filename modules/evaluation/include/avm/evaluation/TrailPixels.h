@@ -16,9 +16,9 @@
 #include <filesystem>
 #include <string>
 
-#include "avm/plugin/TrailShare.h"
+#include "avm/evaluation/TrailShare.h"
 
-namespace avm::maps
+namespace avm::evaluation
 {
 enum class TrailPixelClass
 {
@@ -82,4 +82,4 @@ TrailPixels classifyTrailPixels(const TrailOptions& options, const std::filesyst
 	const TrailReference& high, const TrailReference& low, Yardstick yardstick, double edgeRatio);
 
 std::string toMarkdown(const TrailPixels& t);
-}  // namespace avm::maps
+}  // namespace avm::evaluation

@@ -1,9 +1,9 @@
-#include "JsonWriter.h"
+#include "avm/io/JsonWriter.h"
 
 #include <cmath>
 #include <cstdio>
 
-namespace avm::pipeline
+namespace avm::io
 {
 void JsonWriter::prefix(std::string_view key)
 {
@@ -99,4 +99,4 @@ std::string JsonWriter::quoted(std::string_view s)
 	}
 	return q + "\"";
 }
-}  // namespace avm::pipeline
+}  // namespace avm::io
