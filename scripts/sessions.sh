@@ -123,7 +123,7 @@ chainRow() {
 spaceRow() {
   local name
   name=$(IFS=+; echo "$*" | sed 's/:/-/g')
-  [ -f "$work/gt-whole/stats.json" ] || run -c "$ini" -p gt -r "$whole" -o "$out/gt-whole"
+  run -c "$ini" -p gt -r "$whole" -o "$out/gt-whole"
   runChain gt "$@"
   "$build/bin/avm-eval" --maps "$out/gt-whole" "$out/gt-$name" | awk -v n="$*" '
     /^occupied/ {s = $3 " / " $5 ", IoU " $NF} /^low/ {l = $NF} /^high/ {h = $NF}

@@ -58,7 +58,10 @@ TEST(PersonTracker, ATrackIsAPersonOnceConfirmedBySightings)
 		tracker.update(seen, 3 * k, kStep * k);
 		const auto persons = confirmedTracks(tracker.tracks(), options.minSightings);
 		ASSERT_EQ(persons.size(), k >= 2 ? 1u : 0u) << "after " << k + 1 << " sightings";
-		if (!persons.empty()) EXPECT_EQ(persons[0].id, 1u);
+		if (!persons.empty())
+		{
+			EXPECT_EQ(persons[0].id, 1u);
+		}
 	}
 	ASSERT_EQ(tracker.tracks().size(), 2u);
 	EXPECT_EQ(tracker.tracks()[1].sightings, 2u);

@@ -118,7 +118,10 @@ TEST(Sessions, ASecondRunIsPlacedInTheFirstsMapAndMapsOnInItsWorld)
 	std::size_t seenAgain = 0;
 	for (const auto& p : after)
 	{
-		if (p.firstFrame >= 100) EXPECT_GT(p.id, lastId) << "a person first seen in the second run";
+		if (p.firstFrame >= 100)
+		{
+			EXPECT_GT(p.id, lastId) << "a person first seen in the second run";
+		}
 		if (p.id <= lastId && p.lastFrame >= 100) ++seenAgain;
 	}
 	// The people still in view when the first run ended are the same persons in the second.
@@ -214,7 +217,10 @@ TEST(Sessions, ABadEarlierRunIsNamedInOneLineAndNothingIsWritten)
 			EXPECT_NE(what.find(words), std::string::npos) << what;
 			EXPECT_EQ(what.find('\n'), std::string::npos) << what;
 		}
-		if (out != previous) EXPECT_FALSE(fs::exists(io::RunFolder(out).trajectory())) << "outputs were written";
+		if (out != previous)
+		{
+			EXPECT_FALSE(fs::exists(io::RunFolder(out).trajectory())) << "outputs were written";
+		}
 		EXPECT_FALSE(fs::exists(io::RunFolder(out).checkpoint())) << "a checkpoint was left";
 	};
 	expectRefused(dir / "missing", part(2), (dir / "missing").string() + ": no such folder", dir / "out1");
