@@ -38,11 +38,11 @@ run_ctest --test-dir "$build" "$@"
 # long pipeline runs (label long: the code they run is covered under the
 # sanitizers by shorter tests). So are the tests that make the same run twice
 # to compare the two (determinism, read-ahead, the mapping thread, a
-# continuation twice, a resumed run against one never stopped): the release
+# continuation twice, a resumed run or odometry against one never stopped): the release
 # pass checks what they compare, and each code path they run, the sanitizers
 # see in the other tests.
 twice='^(PipelineDeterminism|PipelineReadAhead|PipelineAsyncMapping)\.|^Sessions\.AContinuationGivesTheSameBytesTwice'
-twice+='|^PipelineCheckpoint\.AResumedRunEndsLikeARunThatWasNeverStopped'
+twice+='|^PipelineCheckpoint\.AResumedRunEndsLikeARunThatWasNeverStopped|^VisualOdometryState\.ResumedRun'
 echo "== AddressSanitizer + UndefinedBehaviorSanitizer build and tests ($build-asan)"
 # -O1 -g1, as the sanitizers' own docs advise: line tables for the reports'
 # stacks without full debug info, which made this build 2.8x slower to compile
