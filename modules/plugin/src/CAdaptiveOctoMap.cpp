@@ -1,6 +1,5 @@
 // The plugin map: registration in MRPT, construction from an .ini map
 // definition, and the person layer driving the dual octree's regions.
-#include "avm/persons/PersonColour.h"
 #include "avm/plugin/CAdaptiveOctoMap.h"
 
 #include <mrpt/core/initializer.h>
@@ -13,6 +12,7 @@
 #include <utility>
 
 #include "avm/io/RgbdFrame.h"
+#include "avm/persons/PersonColour.h"
 
 using namespace avm;
 
