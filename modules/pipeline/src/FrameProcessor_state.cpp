@@ -17,8 +17,20 @@ namespace
 {
 constexpr std::uint8_t kStateVersion = 5;
 
-void write(CArchive& out, const mrpt::math::TPoint3D& p) { out << p.x << p.y << p.z; }
-void read(CArchive& in, mrpt::math::TPoint3D& p) { in >> p.x >> p.y >> p.z; }
+// MRPT packs TPoint3D (#pragma pack(1)): in an optional after a 4-byte
+// member its doubles sit 4-byte aligned, where binding a double& is undefined
+// (UBSan says so), so they go through aligned copies.
+void write(CArchive& out, const mrpt::math::TPoint3D& p)
+{
+	const double x = p.x, y = p.y, z = p.z;
+	out << x << y << z;
+}
+void read(CArchive& in, mrpt::math::TPoint3D& p)
+{
+	double x = 0, y = 0, z = 0;
+	in >> x >> y >> z;
+	p = {x, y, z};
+}
 void write(CArchive& out, const mrpt::math::TBoundingBox& b)
 {
 	write(out, b.min);
