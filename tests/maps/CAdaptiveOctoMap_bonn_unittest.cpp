@@ -20,19 +20,11 @@
 
 using avm::CAdaptiveOctoMap;
 using avm::Resolution;
-using avm::test::bonnFrames;
+using avm::test::firstBonnFrames;
 using avm::test::MapFrame;
 
 namespace
 {
-/** Every 5th of the first 150 frames: 30 frames, about 1 m of camera path
- *  and the first people entering the view. */
-const std::vector<MapFrame>& frames()
-{
-	static const auto f = bonnFrames(150, 5);
-	return f;
-}
-
 void insertAll(CAdaptiveOctoMap& map, const std::vector<MapFrame>& fs)
 {
 	for (const auto& f : fs) ASSERT_TRUE(map.insertObservation(*f.obs, f.pose)) << "frame " << f.index;
@@ -41,7 +33,7 @@ void insertAll(CAdaptiveOctoMap& map, const std::vector<MapFrame>& fs)
 /** A box around the surface seen at the centre of the first frame. */
 mrpt::math::TBoundingBox boxAheadOfFirstFrame(double halfSize)
 {
-	const auto& f = frames().front();
+	const auto& f = firstBonnFrames().front();
 	const auto& img = f.obs->rangeImage;
 	const double d = img(img.rows() / 2, img.cols() / 2) * f.obs->rangeUnits;
 	EXPECT_GT(d, 0.3) << "no depth at the centre pixel of frame " << f.index;
@@ -96,11 +88,11 @@ TEST(CAdaptiveOctoMapBonn, PaperPolicyKeepsHighLeavesOutOfLowSpace)
 	ins.switchPolicy = avm::SwitchPolicy::Paper;
 	ins.switchAtFraction = 0.5;
 	CAdaptiveOctoMap map(resolutions(0.2, 0.05), ins, {});
-	map.setExpectedFrameCount(frames().size());
+	map.setExpectedFrameCount(firstBonnFrames().size());
 
-	const std::size_t half = frames().size() / 2;
+	const std::size_t half = firstBonnFrames().size() / 2;
 	std::string lowAtSwitch;
-	for (std::size_t i = 0; i < frames().size(); i++)
+	for (std::size_t i = 0; i < firstBonnFrames().size(); i++)
 	{
 		if (i == half)
 		{
@@ -108,7 +100,7 @@ TEST(CAdaptiveOctoMapBonn, PaperPolicyKeepsHighLeavesOutOfLowSpace)
 			map.tree(Resolution::Low)->writeBinaryConst(s);
 			lowAtSwitch = s.str();
 		}
-		ASSERT_TRUE(map.insertObservation(*frames()[i].obs, frames()[i].pose));
+		ASSERT_TRUE(map.insertObservation(*firstBonnFrames()[i].obs, firstBonnFrames()[i].pose));
 	}
 	ASSERT_EQ(map.switchInsertionIndex(), std::optional<std::size_t>(half));
 	ASSERT_TRUE(map.hasSwitched());
@@ -155,7 +147,7 @@ TEST(CAdaptiveOctoMapBonn, RegionPolicyMatchesSingleResolutionOctoMapsInsideAndO
 	const auto region = map.highResolutionRegions().at(0).boxes.at(0);
 
 	octomap::OcTree refHigh(0.05), refLow(0.2);
-	for (const auto& f : frames())
+	for (const auto& f : firstBonnFrames())
 	{
 		ASSERT_TRUE(map.insertObservation(*f.obs, f.pose));
 		avm::test::insertWithOctomap(refHigh, f, maxRange);
@@ -204,7 +196,7 @@ TEST(CAdaptiveOctoMapBonn, RegionPolicyMatchesSingleResolutionOctoMapsInsideAndO
 // once drives the map in any app.
 TEST(CAdaptiveOctoMapBonn, PersonPixelLabelsCreateARegionAroundThosePoints)
 {
-	auto f = frames().front();
+	auto f = firstBonnFrames().front();
 	auto labelled = mrpt::obs::CObservation3DRangeScan::Create(*f.obs);
 	auto labels = std::make_shared<mrpt::obs::TPixelLabelInfo<1>>();
 	const int rows = labelled->rangeImage.rows(), cols = labelled->rangeImage.cols();
@@ -290,7 +282,7 @@ CAdaptiveOctoMap mapWithPersonRegions(
 	CAdaptiveOctoMap map(resolutions(0.2, 0.05), ins, {}, people);
 	for (std::size_t i = 0; i < 6; i++)
 	{
-		const auto& f = frames().at(i);
+		const auto& f = firstBonnFrames().at(i);
 		const auto observed = map.observePersons(*f.obs, f.pose, personAtCentre(f), f.index);
 		EXPECT_TRUE(observed.at(0).sighting) << observed.at(0).skipReason;
 		EXPECT_TRUE(map.insertObservation(*f.obs, f.pose));
@@ -348,30 +340,31 @@ TEST(CAdaptiveOctoMapBonn, AFollowRegionEndsOnlyWhileInViewAndUnseen)
 {
 	CAdaptiveOctoMap::TInsertionOptions ins;
 	avm::persons::TPersonLayerOptions people;
-	people.regionEndAfterSeconds = 0.3;  // frames() are 5 source frames (0.17 s) apart
+	people.regionEndAfterSeconds = 0.3;  // firstBonnFrames() are 5 source frames (0.17 s) apart
 	{
 		auto map = mapWithPersonRegions(ins, people);
 		ASSERT_FALSE(map.highResolutionRegions().empty());
 		// Turned away: the same frames, the camera looking backwards.
 		for (std::size_t i = 6; i < 12; i++)
 		{
-			const auto& f = frames().at(i);
+			const auto& f = firstBonnFrames().at(i);
 			ASSERT_TRUE(map.insertObservation(*f.obs, f.pose + mrpt::poses::CPose3D(0, 0, 0, 0, M_PI, 0)));
 		}
 		EXPECT_FALSE(map.highResolutionRegions().empty()) << "a person out of view keeps the region";
 	}
 	auto map = mapWithPersonRegions(ins, people);
-	const auto& f6 = frames().at(6);
+	const auto& f6 = firstBonnFrames().at(6);
 	ASSERT_TRUE(map.insertObservation(*f6.obs, f6.pose));
 	EXPECT_FALSE(map.highResolutionRegions().empty()) << "0.17 s unseen is not enough";
-	const auto& f7 = frames().at(7);
+	const auto& f7 = firstBonnFrames().at(7);
 	ASSERT_TRUE(map.insertObservation(*f7.obs, f7.pose));
 	EXPECT_TRUE(map.highResolutionRegions().empty()) << "0.33 s in view and unseen";
 	// Persist: the same run keeps every region.
 	ins.regionLifetime = avm::RegionLifetime::Persist;
 	auto kept = mapWithPersonRegions(ins, people);
 	const auto before = kept.highResolutionRegions().size();
-	for (std::size_t i = 6; i < 10; i++) ASSERT_TRUE(kept.insertObservation(*frames().at(i).obs, frames().at(i).pose));
+	for (std::size_t i = 6; i < 10; i++)
+		ASSERT_TRUE(kept.insertObservation(*firstBonnFrames().at(i).obs, firstBonnFrames().at(i).pose));
 	EXPECT_EQ(kept.highResolutionRegions().size(), before);
 }
 
@@ -382,7 +375,7 @@ TEST(CAdaptiveOctoMapBonn, AFollowRegionEndsOnlyWhileInViewAndUnseen)
 TEST(CAdaptiveOctoMapBonn, SpaceEnteringARegionKeepsWhatTheLowTreeKnew)
 {
 	CAdaptiveOctoMap map(resolutions(0.2, 0.05), {}, {});
-	insertAll(map, std::vector<MapFrame>(frames().begin(), frames().begin() + 3));
+	insertAll(map, std::vector<MapFrame>(firstBonnFrames().begin(), firstBonnFrames().begin() + 3));
 	const auto box = boxAheadOfFirstFrame(0.4);
 	// The low voxels around the box and what the map said of each.
 	std::vector<std::pair<mrpt::math::TPoint3D, avm::OccupancyState>> before;
@@ -440,7 +433,7 @@ TEST(CAdaptiveOctoMapBonn, SerializationCopyAndCloneAreExact)
 {
 	CAdaptiveOctoMap map(resolutions(0.2, 0.05), {}, {});
 	map.addHighResolutionRegion(boxAheadOfFirstFrame(0.5));
-	insertAll(map, std::vector<MapFrame>(frames().begin(), frames().begin() + 6));
+	insertAll(map, std::vector<MapFrame>(firstBonnFrames().begin(), firstBonnFrames().begin() + 6));
 
 	mrpt::io::CMemoryStream buf;
 	auto arch = mrpt::serialization::archiveFrom(buf);
@@ -465,7 +458,7 @@ TEST(CAdaptiveOctoMapBonn, SerializationCopyAndCloneAreExact)
 
 	// Deep: inserting into the copy leaves the original alone.
 	const auto before = map.tree(Resolution::Low)->size();
-	ASSERT_TRUE(copy.insertObservation(*frames().back().obs, frames().back().pose));
+	ASSERT_TRUE(copy.insertObservation(*firstBonnFrames().back().obs, firstBonnFrames().back().pose));
 	EXPECT_EQ(map.tree(Resolution::Low)->size(), before);
 	EXPECT_NE(copy.tree(Resolution::Low)->size(), before);
 }
@@ -475,7 +468,7 @@ TEST(CAdaptiveOctoMapBonn, FilesLikelihoodRayCastAndEmptiness)
 	CAdaptiveOctoMap map(resolutions(0.2, 0.05), {}, {});
 	EXPECT_TRUE(map.isEmpty());
 	map.addHighResolutionRegion(boxAheadOfFirstFrame(0.5));
-	insertAll(map, std::vector<MapFrame>(frames().begin(), frames().begin() + 10));
+	insertAll(map, std::vector<MapFrame>(firstBonnFrames().begin(), firstBonnFrames().begin() + 10));
 	EXPECT_FALSE(map.isEmpty());
 
 	const auto dir = avm::test::scratchDir("map-files");
@@ -499,7 +492,7 @@ TEST(CAdaptiveOctoMapBonn, FilesLikelihoodRayCastAndEmptiness)
 	EXPECT_GT(voxels->getVoxelCount(1), 0u);
 
 	// The first frame is explained better at its true pose than 0.5 m off.
-	const auto& f = frames().front();
+	const auto& f = firstBonnFrames().front();
 	const double atTruth = map.computeObservationLikelihood(*f.obs, f.pose);
 	const double shifted = map.computeObservationLikelihood(*f.obs, f.pose + mrpt::poses::CPose3D(0, 0, 0.5, 0, 0, 0));
 	EXPECT_GT(atTruth, shifted);
@@ -533,7 +526,7 @@ TEST(CAdaptiveOctoMapBonn, FilesLikelihoodRayCastAndEmptiness)
 // as the depth images the map unprojects itself.
 TEST(CAdaptiveOctoMapBonn, PointCloudInputsMapLikeDepthImages)
 {
-	const std::vector<MapFrame> some(frames().begin(), frames().begin() + 5);
+	const std::vector<MapFrame> some(firstBonnFrames().begin(), firstBonnFrames().begin() + 5);
 	CAdaptiveOctoMap fromDepth, fromCloud, fromWorld;
 	for (auto* m : {&fromDepth, &fromCloud, &fromWorld}) m->addHighResolutionRegion(boxAheadOfFirstFrame(0.5));
 	for (const auto& f : some)
@@ -575,8 +568,8 @@ TEST(CAdaptiveOctoMapBonn, TwoInsertionThreadsGiveTheSameMap)
 	for (auto* m : {&single, &dual}) m->addHighResolutionRegion(boxAheadOfFirstFrame(0.6));
 	for (std::size_t i = 0; i < 8; i++)
 	{
-		ASSERT_TRUE(single.insertObservation(*frames()[i].obs, frames()[i].pose));
-		ASSERT_TRUE(dual.insertObservation(*frames()[i].obs, frames()[i].pose));
+		ASSERT_TRUE(single.insertObservation(*firstBonnFrames()[i].obs, firstBonnFrames()[i].pose));
+		ASSERT_TRUE(dual.insertObservation(*firstBonnFrames()[i].obs, firstBonnFrames()[i].pose));
 	}
 	expectSameTree(single.tree(Resolution::Low), dual.tree(Resolution::Low));
 	expectSameTree(single.tree(Resolution::High), dual.tree(Resolution::High));

@@ -24,13 +24,6 @@ using avm::test::MapFrame;
 
 namespace
 {
-/** Every 5th of the first 150 frames (0.17 s apart): 30 frames. */
-const std::vector<MapFrame>& frames()
-{
-	static const auto f = avm::test::bonnFrames(150, 5);
-	return f;
-}
-
 /** The checkpoint: after frames 0..kCheckpoint. A second one (of the resumed
  *  map, read into a map that already holds other data) after
  *  kSecondCheckpoint. */
@@ -42,7 +35,7 @@ constexpr std::size_t kCheckpoint = 10, kSecondCheckpoint = 20;
  *  back after the second checkpoint. */
 std::vector<avm::persons::PixelSet> personsOn(std::size_t i)
 {
-	const auto& obs = *frames().at(i).obs;
+	const auto& obs = *avm::test::firstBonnFrames().at(i).obs;
 	const int rows = obs.rangeImage.rows(), cols = obs.rangeImage.cols();
 	std::vector<avm::persons::PixelSet> out;
 	if (i >= 3 && i <= 9)
@@ -57,7 +50,7 @@ std::vector<avm::persons::PixelSet> personsOn(std::size_t i)
 /** Frame i as the pipeline gives it: its persons, then the frame. */
 void step(CAdaptiveOctoMap& map, std::size_t i)
 {
-	const auto& f = frames().at(i);
+	const auto& f = avm::test::firstBonnFrames().at(i);
 	const auto persons = personsOn(i);
 	if (!persons.empty()) map.observePersons(*f.obs, f.pose, persons, f.index);
 	ASSERT_TRUE(map.insertObservation(*f.obs, f.pose)) << "frame " << f.index;
@@ -171,14 +164,14 @@ std::set<std::uint32_t> regionIds(const CAdaptiveOctoMap& map)
 RunFacts runAndResume(CAdaptiveOctoMap& original, CAdaptiveOctoMap& reused)
 {
 	RunFacts facts;
-	const std::size_t end = frames().size();
+	const std::size_t end = avm::test::firstBonnFrames().size();
 	EXPECT_GT(end, kSecondCheckpoint + 5);
 	std::shared_ptr<CAdaptiveOctoMap> resumed;
 	CAdaptiveOctoMap* current = nullptr;
 	for (std::size_t i = 0; i < end; i++)
 	{
 		const std::string where =
-			"frame " + std::to_string(frames().at(i).index) + " (index " + std::to_string(i) + ")";
+			"frame " + std::to_string(avm::test::firstBonnFrames().at(i).index) + " (index " + std::to_string(i) + ")";
 		const auto before = regionIds(original);
 		step(original, i);
 		if (current) step(*current, i);
@@ -221,12 +214,12 @@ CAdaptiveOctoMap usedMap()
 	people.regionMargin = 0.4;
 	people.tracking.gate = 0.3;
 	CAdaptiveOctoMap map({}, other, {}, people);
-	const auto& f = frames().back();
+	const auto& f = avm::test::firstBonnFrames().back();
 	map.addHighResolutionRegion(
 		{f.pose.translation() - mrpt::math::TPoint3D(1, 1, 1), f.pose.translation() + mrpt::math::TPoint3D(1, 1, 1)});
 	map.observePersons(*f.obs, f.pose, personsOn(7), f.index);
-	for (std::size_t i = frames().size() - 3; i < frames().size(); i++)
-		EXPECT_TRUE(map.insertObservation(*frames()[i].obs, frames()[i].pose));
+	for (std::size_t i = avm::test::firstBonnFrames().size() - 3; i < avm::test::firstBonnFrames().size(); i++)
+		EXPECT_TRUE(map.insertObservation(*avm::test::firstBonnFrames()[i].obs, avm::test::firstBonnFrames()[i].pose));
 	return map;
 }
 }  // namespace

@@ -3,9 +3,11 @@
 // and the anchor holds.
 #include <gtest/gtest.h>
 
+#include "CameraCentre.h"
 #include "backend/PoseGraph.h"
 
 using namespace avm::odometry::detail;
+using avm::test::centreOf;
 
 namespace
 {
@@ -17,8 +19,6 @@ Eigen::Isometry3d cameraAt(double x, double yaw = 0)
 	T_wc.translation() = Eigen::Vector3d(x, 0, 0);
 	return T_wc.inverse();
 }
-
-Eigen::Vector3d centreOf(const Eigen::Isometry3d& T_cw) { return T_cw.inverse().translation(); }
 
 PoseGraphEdge edge(int from, int to, const std::map<int, Eigen::Isometry3d>& poses, double sigma, bool robust = false)
 {

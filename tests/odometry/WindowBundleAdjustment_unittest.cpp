@@ -7,10 +7,12 @@
 // keyframe sees as many anchored points as a tracked pose needs.
 #include <gtest/gtest.h>
 
+#include "CameraCentre.h"
 #include "backend/CeresBackend.h"
 
 using namespace avm::odometry;
 using namespace avm::odometry::detail;
+using avm::test::centreOf;
 
 namespace
 {
@@ -18,14 +20,12 @@ const avm::io::DepthCamera kCamera{542.8, 542.6, 315.6, 237.8, 640, 480, true};
 constexpr int kKeyframes = 3;
 
 /** T_cw of an optical camera (z forward) whose centre is at (x, 0, 0). */
-Eigen::Isometry3d cameraAt(double x)
+Eigen::Isometry3d opticalCameraAt(double x)
 {
 	Eigen::Isometry3d T_wc = Eigen::Isometry3d::Identity();
 	T_wc.translation() = Eigen::Vector3d(x, 0, 0);
 	return T_wc.inverse();
 }
-
-Eigen::Vector3d centreOf(const Eigen::Isometry3d& T_cw) { return T_cw.inverse().translation(); }
 
 struct Scene
 {
@@ -39,7 +39,7 @@ struct Scene
 		for (int k = 0; k < kKeyframes; ++k)
 		{
 			window.push_back(Keyframe{k, {}, 0});
-			truth.push_back(cameraAt(0.1 * k));
+			truth.push_back(opticalCameraAt(0.1 * k));
 		}
 		// A wall 2-3 m away, seen whole by every keyframe.
 		for (int i = 0; i < 20; ++i)

@@ -29,7 +29,7 @@ namespace fs = std::filesystem;
 namespace
 {
 /** The default configuration on 150 frames, without pictures. */
-mrpt::config::CConfigFileMemory defaultIni()
+mrpt::config::CConfigFileMemory defaultIniOn150Frames()
 {
 	auto ini = test::defaultIni();
 	ini.write("pipeline", "max_frames", "150");
@@ -68,7 +68,7 @@ std::string serialized(const CAdaptiveOctoMap& map) { return test::serializedByt
 TEST(PipelineCheckpoint, AResumedRunEndsLikeARunThatWasNeverStopped)
 {
 	const auto dir = test::scratchDir("pipeline-checkpoint");
-	auto ini = defaultIni();
+	auto ini = defaultIniOn150Frames();
 	ini.write("pipeline", "checkpoint_interval_s", "0");
 	// The map made again at the end: the resumed run's rebuild replays the
 	// persons and frames of the part before its checkpoint too.
@@ -132,7 +132,7 @@ TEST(PipelineCheckpoint, AMissingOrDamagedCheckpointIsNamedAndNothingIsWritten)
 	}
 
 	// An interrupted run: a finished one removes its checkpoint.
-	auto ini = defaultIni();
+	auto ini = defaultIniOn150Frames();
 	ini.write("pipeline", "detect_every_n", "0");
 	const auto run = dir / "run";
 	std::atomic<bool> stop{false};
@@ -168,7 +168,7 @@ TEST(PipelineCheckpoint, AResumedMapIsTheUninterruptedMapAfterEveryFrame)
 {
 	constexpr std::size_t kStopAfter = 80, kFrames = 90;
 	const auto dir = test::scratchDir("pipeline-checkpoint-every-frame");
-	auto ini = defaultIni();
+	auto ini = defaultIniOn150Frames();
 	ini.write("pipeline", "max_frames", std::to_string(kFrames));
 	ini.write("pipeline", "async_mapping", "false");
 	ini.write("pipeline", "checkpoint_interval_s", "0");

@@ -14,7 +14,7 @@ namespace fs = std::filesystem;
 namespace
 {
 /** The default configuration without pictures or checkpoints. */
-mrpt::config::CConfigFileMemory defaultIni()
+mrpt::config::CConfigFileMemory defaultIniWithoutCheckpoints()
 {
 	auto ini = test::defaultIni();
 	ini.write("pipeline", "picture_size", "0");
@@ -35,7 +35,7 @@ TEST(PipelineMapRebuild, AtUnchangedPosesTheMapIsTheSameByteForByte)
 	const auto dir = test::scratchDir("pipeline-map-rebuild-same");
 	const auto runWith = [&](const std::string& when)
 	{
-		auto ini = defaultIni();
+		auto ini = defaultIniWithoutCheckpoints();
 		ini.write("pipeline", "max_frames", "160");
 		ini.write("pipeline", "rebuild_map", when);
 		pipeline::MappingPipeline p(ini, AVM_SOURCE_DIR);
