@@ -12,6 +12,8 @@
 # avm-map on it on one core (taskset -c 0), twice, and whether the two
 # trajectories are the same bytes (a table). avm-map's log lines (loops, lost
 # frames) are left out of the runs printed; each run's avm-map.log has them.
+# Then the CPU a frame by stage (odometry, detector, map, the rest) on one core
+# and on two, and the map stage against octomap's insertion in the same run.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${AVM_BUILD_DIR:-$root/build}
@@ -51,6 +53,21 @@ field() {  # field RUN KEY : a top-level number from the run's stats.json, or n/
 }
 stage() {  # stage RUN NAME : mean_ms of one stage
   tr -d '\n ' < "$out/$1/stats.json" | sed -E "s/.*\"$2\":\{\"mean_ms\":([-0-9.eE+]+).*/\1/" | awk '{printf "%.1f", $1}'
+}
+stage_value() {  # stage_value RUN NAME KEY : one number of a stage (mean_ms, count ...)
+  tr -d '\n ' < "$out/$1/stats.json" | sed -nE "s/.*\"$2\":\{[^}]*\"$3\":([-0-9.eE+]+).*/\1/p"
+}
+cpu_row() {  # cpu_row RUN CORES : a row of the table of CPU a frame by stage
+  local frames total odometry detection map
+  frames=$(field "$1" frames)
+  total=$(field "$1" cpu_ms_per_frame)
+  odometry=$(stage_value "$1" odometry_cpu mean_ms)
+  detection=$(awk -v m="$(stage_value "$1" detection_cpu mean_ms)" -v n="$(stage_value "$1" detection_cpu count)" \
+    -v f="$frames" 'BEGIN {print m * n / f}')
+  map=$(stage_value "$1" map_cpu mean_ms)
+  awk -v r="$1" -v c="$2" -v fps="$(field "$1" fps)" -v t="$total" -v o="$odometry" -v d="$detection" -v m="$map" \
+    -v dm="$(stage_value "$1" detection_cpu mean_ms)" -v ate="$(field "$1" odometry_ate_rmse_m)" \
+    'BEGIN {printf "| %s | %s | %.1f | %.1f | %.1f | %.1f (%.1f a run) | %.1f | %.1f | %.4f |\n", r, c, fps, t, o, d, dm, m, t - o - d - m, ate}'
 }
 checkpoints() {  # checkpoints RUN : "N x M ms (P % of the run)" from stages.checkpoint and seconds
   tr -d '\n ' < "$out/$1/stats.json" |
@@ -165,6 +182,42 @@ tmp=$(mktemp "$root/doc/.performance.XXXX")
     fi
     echo
   fi
+  echo "## Where a frame's CPU goes, on one core and on two"
+  echo
+  echo "\`ini/default.ini\`, every thread of avm-map on the first core (\`taskset -c 0\`) or on both. CPU time a frame by stage: the odometry on the loop's thread (\`stages.odometry_cpu\`), the detector on its thread (\`stages.detection_cpu\`: a run's CPU time times the runs, over the frames; it runs on every third frame), the map stage on its thread (\`stages.map_cpu\`), and the rest (reading frames, the loop's person and region bookkeeping, checkpoints, handing frames between threads): the run's CPU time less the three. Targets of a small computer's single core: at most 16 ms a frame (60 fps), the odometry at most 7 ms."
+  echo
+  echo "\`\`\`"
+  cpu_runs=("${defaults[0]}:2" sub300-one-core:1)
+  map_command sub300-one-core && cmd=(taskset -c 0 "${cmd[@]}") && echo "${cmd[*]}" && (cd "$root" && "${cmd[@]}" >/dev/null)
+  if [ -f "$root/datasets/rgbd_bonn_crowd.rawlog" ]; then
+    quiet_run whole-two-cores --rawlog datasets/rgbd_bonn_crowd.rawlog && echo "${cmd[*]}"
+    cpu_runs+=(whole-one-core-1:1 whole-two-cores:2)
+  fi
+  echo "\`\`\`"
+  echo
+  echo "(\`${defaults[0]}\` is the first default run above; \`whole-one-core-1\`, the first of the whole sequence on one core.)"
+  echo
+  echo "| run | cores | fps | CPU [ms a frame, all threads] | odometry [ms CPU a frame] | detection [ms CPU a frame] | map [ms CPU a frame] | the rest [ms] | odometry ATE RMSE [m] |"
+  echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|"
+  for rc in "${cpu_runs[@]}"; do cpu_row "${rc%:*}" "${rc#*:}"; done
+  echo
+  echo "The map stage against octomap's own insertion of the same frames into a single 0.05 m OctoMap in the same run (\`[pipeline] reference_maps = true\`: \`reference.map_cpu_speedup_vs_single_high\` of stats.json, the octomap insertion's CPU time over the map stage's; target at least 8x):"
+  echo
+  echo "\`\`\`"
+  reference_runs=(sub300-reference)
+  quiet_run sub300-reference --set pipeline:reference_maps=true && echo "${cmd[*]}"
+  if [ -f "$root/datasets/rgbd_bonn_crowd.rawlog" ]; then
+    quiet_run whole-reference --rawlog datasets/rgbd_bonn_crowd.rawlog --set pipeline:reference_maps=true && echo "${cmd[*]}"
+    reference_runs+=(whole-reference)
+  fi
+  echo "\`\`\`"
+  echo
+  echo "| run | map stage [ms CPU a frame] | octomap 0.05 m insertion [ms a frame] | ratio |"
+  echo "|---|---:|---:|---:|"
+  for r in "${reference_runs[@]}"; do
+    echo "| $r | $(stage "$r" map_cpu) | $(tr -d '\n ' < "$out/$r/stats.json" | sed -nE 's/.*"single_high[a-z_]*":\{[^}]*"insert_mean_ms":([-0-9.eE+]+).*/\1/p' | awk '{printf "%.1f", $1}') | $(field "$r" map_cpu_speedup_vs_single_high | awk '{printf "%.1fx", $1}') |"
+  done
+  echo
   echo "## Long run: the sequence 10 times in one process (3000 frames), ground-truth poses"
   echo
   echo "Peak memory after each replay is in \`output/benchmark/long-run/stats.json\` (\`peak_memory_mb_per_replay\`):"

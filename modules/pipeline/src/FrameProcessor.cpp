@@ -116,10 +116,12 @@ void FrameProcessor::startDetection(const io::RgbdFrame& frame)
 	if (!m_detector || frame.index % m_options.detectEveryN != 0) return;
 	const auto detect = [detector = m_detector, index = frame.index, t = frame.timestamp(), obs = frame.observation]
 	{
-		DetectionResult r{index, t, obs, {}, 0};
+		DetectionResult r{index, t, obs, {}, 0, 0};
 		mrpt::system::CTicTac timer;
+		const double cpu = io::threadCpuMs();
 		r.persons = detection::personsOnly(detector->detect(io::colourImage(*obs)));
 		r.milliseconds = timer.Tac() * 1e3;
+		r.cpuMilliseconds = io::threadCpuMs() - cpu;
 		return r;
 	};
 	// On the worker thread, or deferred to when it is due: applied
@@ -138,6 +140,7 @@ void FrameProcessor::applyDueDetections(std::size_t frameIndex)
 		m_pendingDetections.pop_front();
 		m_stages.detectionWait.add(wait.Tac() * 1e3);
 		m_stages.detection.add(r.milliseconds);
+		m_stages.detectionCpu.add(r.cpuMilliseconds);
 		++m_counts.detectionRuns;
 		if (!r.persons.empty()) ++m_counts.framesWithPerson;
 		m_latestPersonBoxes.clear();

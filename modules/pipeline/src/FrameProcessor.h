@@ -57,7 +57,7 @@ struct PersonDetectionRecord
 /** Durations of each stage, frame by frame [ms]. */
 struct StageSamples
 {
-	io::TimingSamples odometry, detection, detectionWait, map, mapCpu, odometryCpu;
+	io::TimingSamples odometry, detection, detectionWait, map, mapCpu, odometryCpu, detectionCpu;
 };
 
 class FrameProcessor
@@ -151,6 +151,7 @@ class FrameProcessor
 		mrpt::obs::CObservation3DRangeScan::Ptr observation;
 		std::vector<detection::Detection> persons;
 		double milliseconds = 0;
+		double cpuMilliseconds = 0;  //!< of the thread that ran the detector
 	};
 	/** A detection started at frame k, applied at k + detection_lag_frames. */
 	struct PendingDetection

@@ -15,7 +15,7 @@ using mrpt::serialization::CArchive;
 
 namespace
 {
-constexpr std::uint8_t kStateVersion = 5;
+constexpr std::uint8_t kStateVersion = 6;
 
 // MRPT packs TPoint3D (#pragma pack(1)): in an optional after a 4-byte
 // member its doubles sit 4-byte aligned, where binding a double& is undefined
@@ -175,7 +175,7 @@ void FrameProcessor::saveState(CArchive& out)
 	write(out, c.regions);
 	write(out, c.loopsClosed);
 	for (const auto* t : {&m_stages.odometry, &m_stages.detection, &m_stages.detectionWait, &m_stages.map,
-			 &m_stages.mapCpu, &m_stages.odometryCpu})
+			 &m_stages.mapCpu, &m_stages.odometryCpu, &m_stages.detectionCpu})
 		write(out, *t);
 	write(out, m_trajectory);
 	for (const bool tracked : m_trackedPoses) out.WriteAs<std::uint8_t>(tracked);
@@ -218,7 +218,7 @@ void FrameProcessor::loadState(CArchive& in)
 	c.regions = readSize(in);
 	c.loopsClosed = readSize(in);
 	for (auto* t : {&m_stages.odometry, &m_stages.detection, &m_stages.detectionWait, &m_stages.map, &m_stages.mapCpu,
-			 &m_stages.odometryCpu})
+			 &m_stages.odometryCpu, &m_stages.detectionCpu})
 		read(in, *t);
 	read(in, m_trajectory);
 	m_trackedPoses.resize(m_trajectory.size());

@@ -324,6 +324,7 @@ RunSummary MappingPipeline::Impl::summarise(
 	summary.map = stages.map.summary();
 	summary.mapCpu = stages.mapCpu.summary();
 	summary.odometryCpu = stages.odometryCpu.summary();
+	summary.detectionCpu = stages.detectionCpu.summary();
 	summary.persons = maps->mapByClass<CAdaptiveOctoMap>()->confirmedPersons().size();
 	// Of all the sessions' poses, under one alignment; a continued session
 	// whose rawlog has no ground truth has none of its own to be judged by.

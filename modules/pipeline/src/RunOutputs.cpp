@@ -92,7 +92,8 @@ void writeStages(io::JsonWriter& json, const RunSummary& summary)
 	json.beginObject("stages");
 	for (const auto& [name, s] : {std::pair{"odometry", summary.odometry}, {"detection", summary.detection},
 			 {"detection_wait", summary.detectionWait}, {"map", summary.map}, {"map_cpu", summary.mapCpu},
-			 {"odometry_cpu", summary.odometryCpu}, {"checkpoint", summary.checkpoint}})
+			 {"odometry_cpu", summary.odometryCpu}, {"detection_cpu", summary.detectionCpu},
+			 {"checkpoint", summary.checkpoint}})
 		json.beginObject(name)
 			.value("mean_ms", s.meanMs)
 			.value("median_ms", s.medianMs)

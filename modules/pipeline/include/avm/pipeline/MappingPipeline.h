@@ -133,6 +133,9 @@ struct RunSummary
 	 *  odometry's wall-clock time also counts the detector's and the map's
 	 *  threads taking the core meanwhile (all of avm-map on one core). */
 	io::TimingSummary odometryCpu;
+	/** CPU time of a detector run on the thread that ran it (with [detection]
+	 *  threads = 1, all of the detector's work). */
+	io::TimingSummary detectionCpu;
 	/** Writing the checkpoints (count, mean ...): their cost. */
 	io::TimingSummary checkpoint;
 	/** A resumed run: the last frame its checkpoint had processed. */
