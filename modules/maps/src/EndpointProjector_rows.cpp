@@ -137,7 +137,14 @@ std::pair<int, int> EndpointProjector::markFreeOnlyPixels(const RowSetup& rs, in
 	double* const y = x + rs.cols;
 	double* const z = y + rs.cols;
 	rowPointsDouble(rays, raw, rs.unitsF, rs.rangeIsDepth, b, from, to, x, y, z);
-	for (const auto& box : m_freeOnlyBoxes) markInBox(x, y, z, box, candidate, from, to, freeOnly);
+	// A point in a box projects into the box's rectangle (the corners'
+	// projections with a pixel's margin), so each box is tested only there.
+	for (std::size_t i = 0; i < m_freeOnlyBoxes.size(); i++)
+	{
+		const auto& rect = m_freeOnlyRects[i];
+		if (v >= rect.v0 && v <= rect.v1)
+			markInBox(x, y, z, m_freeOnlyBoxes[i], candidate, rect.u0, rect.u1 + 1, freeOnly);
+	}
 	return {from, to};
 }
 
