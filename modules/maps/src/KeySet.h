@@ -87,7 +87,8 @@ class KeySet
 namespace avm::detail
 {
 /** A KeySet for keys inside a known box of voxels: one bit per voxel instead
- *  of hashing (the high tree's keys all lie in the regions). The bits of
+ *  of hashing (the high tree's keys all lie in the regions, a ray's keys outside
+ *  them within the tree's max range of its origin). The bits of
  *  4 x 4 x 4 voxels share a word, so a ray's next voxel is mostly in a word
  *  just read, and a box of regions takes a few tens of kB, not the MB a word
  *  per voxel took (the high tree's ray lookups were cache misses). Keys outside
