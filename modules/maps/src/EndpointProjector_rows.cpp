@@ -94,7 +94,7 @@ void EndpointProjector::scanBands(const RowSetup& rs, int rows)
 	{
 		auto& band = m_bands[i];
 		band.ends = i == 0 ? m_ends : &band.own;
-		band.ends->clear();
+		band.ends->clear(m_sketchBox);
 	}
 	if (m_bands.size() == 1)
 		scanRows(rs, 0, rows, m_bands[0]);
