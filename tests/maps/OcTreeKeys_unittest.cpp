@@ -138,6 +138,36 @@ TEST(KeySets, BoxKeySetAnswersAsASetWhateverTheBoxSides)
 	}
 }
 
+TEST(KeySets, ABoxKeySetStartsEmptyAfterAScanOfFewKeys)
+{
+	// A scan of few keys in a large box is cleared word by word, not the
+	// whole box: the next box, moved and of another size, must start empty
+	// all the same.
+	BoxKeySet box;
+	std::mt19937 rng(7);
+	octomap::OcTreeKey lo(30000, 30000, 30000), hi(30099, 30099, 30099);
+	for (int scan = 0; scan < 4; scan++)
+	{
+		box.reset(lo, hi);
+		EXPECT_TRUE(box.keys().empty());
+		KeyRange{{lo[0], lo[1], lo[2]}, {hi[0] + 1u, hi[1] + 1u, hi[2] + 1u}}.forEachKey(
+			[&](const octomap::OcTreeKey& k) { ASSERT_FALSE(box.contains(packKey(k))) << "scan " << scan; });
+		std::uniform_int_distribution<int> dx(lo[0], hi[0]), dy(lo[1], hi[1]), dz(lo[2], hi[2]);
+		std::set<std::uint64_t> reference;
+		for (int i = 0; i < 300; i++)
+		{
+			const auto k = packKey(octomap::OcTreeKey(dx(rng), dy(rng), dz(rng)));
+			ASSERT_EQ(box.insert(k), reference.insert(k).second);
+		}
+		EXPECT_EQ(std::set<std::uint64_t>(box.keys().begin(), box.keys().end()), reference);
+		for (int i = 0; i < 3; i++)
+		{
+			lo[i] = static_cast<octomap::key_type>(lo[i] + 3 + i);
+			hi[i] = static_cast<octomap::key_type>(hi[i] + 3 + i + (scan % 2 ? -9 : 7));
+		}
+	}
+}
+
 TEST(KeyRange, TheCubeOfAPrunedLeafIsWalkedOnlyWhereItOverlaps)
 {
 	const KeyRange range{{10, 20, 30}, {13, 22, 40}};

@@ -25,9 +25,17 @@ void EndpointProjector::begin(const mrpt::math::TPoint3D& origin, const ScanTarg
 	m_hasRegions = targets.regions && !targets.regions->empty() && targets.inside;
 	if (m_hasRegions) m_insideGrid.set(targets.inside->getResolution());
 	m_hasSketch = targets.sketch != nullptr;
-	if (m_hasSketch) m_sketchGrid.set(targets.sketchResolution);
+	m_sketchBox = KeyRange::of(octomap::OcTreeKey(0, 0, 0));
+	if (m_hasSketch)
+	{
+		m_sketchGrid.set(targets.sketchResolution);
+		const double lowEdge = m_outsideGrid.resolution;
+		const double reach = targets.outsideMaxRange + (0.5 * std::sqrt(3.0) + 1) * lowEdge;
+		m_sketchBox = KeyRange::covering(origin - mrpt::math::TPoint3D(reach, reach, reach),
+			origin + mrpt::math::TPoint3D(reach, reach, reach), m_sketchGrid.inverse);
+	}
 	m_ends = &ends;
-	m_ends->clear();
+	m_ends->clear(m_sketchBox);
 	m_lastOutsideKey = m_lastInsideKey = m_lastCrossingKey = 0;
 }
 

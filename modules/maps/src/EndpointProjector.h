@@ -72,12 +72,15 @@ struct EndpointSets
 	KeySet outside, inside, crossing;
 	/** Endpoint voxels of free-only pixels: outside regions and inside them. */
 	KeySet freeOnlyOutside, freeOnlyInside;
-	/** High voxels of the endpoints in low-tree space, for the sketch. */
-	KeySet sketch;
+	/** High voxels of the endpoints in low-tree space, for the sketch: only
+	 *  those in the box given to clear(). */
+	BoxKeySet sketch;
 
-	void clear()
+	/** Empties the sets; the sketch then takes the keys in `sketchBox`. */
+	void clear(const KeyRange& sketchBox)
 	{
-		for (auto* s : {&outside, &inside, &crossing, &freeOnlyOutside, &freeOnlyInside, &sketch}) s->clear();
+		for (auto* s : {&outside, &inside, &crossing, &freeOnlyOutside, &freeOnlyInside}) s->clear();
+		sketch.reset(sketchBox.first(), sketchBox.last());
 	}
 	/** Adds the keys of `other`, set by set. */
 	void merge(const EndpointSets& other)
@@ -212,6 +215,11 @@ class EndpointProjector
 	bool m_hasRegions = false, m_hasSketch = false;
 	mrpt::math::TPoint3D m_origin;
 	KeyGrid m_outsideGrid, m_insideGrid, m_sketchGrid;
+	/** The sketch's keys that can matter: RayIntegrator::finish() marks a
+	 *  sketch key only within the low tree's max range of the origin (the
+	 *  high voxel's centre or its low voxel's), so the keys within that
+	 *  range, half a low voxel's diagonal and a low voxel. */
+	KeyRange m_sketchBox{};
 	EndpointSets* m_ends = nullptr;
 	std::uint64_t m_lastOutsideKey = 0, m_lastInsideKey = 0, m_lastCrossingKey = 0;
 	std::vector<float> m_columnFactor;

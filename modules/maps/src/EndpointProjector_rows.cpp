@@ -94,7 +94,7 @@ void EndpointProjector::scanBands(const RowSetup& rs, int rows)
 	{
 		auto& band = m_bands[i];
 		band.ends = i == 0 ? m_ends : &band.own;
-		band.ends->clear();
+		band.ends->clear(m_sketchBox);
 	}
 	if (m_bands.size() == 1)
 		scanRows(rs, 0, rows, m_bands[0]);
@@ -137,7 +137,14 @@ std::pair<int, int> EndpointProjector::markFreeOnlyPixels(const RowSetup& rs, in
 	double* const y = x + rs.cols;
 	double* const z = y + rs.cols;
 	rowPointsDouble(rays, raw, rs.unitsF, rs.rangeIsDepth, b, from, to, x, y, z);
-	for (const auto& box : m_freeOnlyBoxes) markInBox(x, y, z, box, candidate, from, to, freeOnly);
+	// A point in a box projects into the box's rectangle (the corners'
+	// projections with a pixel's margin), so each box is tested only there.
+	for (std::size_t i = 0; i < m_freeOnlyBoxes.size(); i++)
+	{
+		const auto& rect = m_freeOnlyRects[i];
+		if (v >= rect.v0 && v <= rect.v1)
+			markInBox(x, y, z, m_freeOnlyBoxes[i], candidate, rect.u0, rect.u1 + 1, freeOnly);
+	}
 	return {from, to};
 }
 
@@ -149,15 +156,20 @@ void EndpointProjector::classifyRow(const RowSetup& rs, const rows::RowRays& ray
 	const float* const depth = band.near.data();
 	float* const inRegion = band.near.data() + n;  // 1: the point lies in a region
 	float* const crossTo = inRegion + n;           // >= 0: depth where its ray leaves the farthest region it crosses
+	float* const ix = crossTo + n;                 // 1 / the rays' direction, per axis
+	float* const iy = ix + n;
+	float* const iz = iy + n;
 	std::fill(inRegion + from, inRegion + to, 0.0f);
 	std::fill(crossTo + from, crossTo + to, -1.0f);
+	rowInverseDirections(rays, from, to, ix, iy, iz);
 	// Each region only over the columns its box projects to.
 	for (std::size_t r = 0; r < rs.regions->size(); r++)
 	{
 		const auto& rect = m_regionRects[r];
 		if (v < rect.v0 || v > rect.v1) continue;
 		const int boxFrom = std::max(from, rect.u0), boxTo = std::min(to, rect.u1 + 1);
-		if (boxFrom < boxTo) classifyAgainstBox(rays, depth, (*rs.regions)[r].box, boxFrom, boxTo, inRegion, crossTo);
+		if (boxFrom < boxTo)
+			classifyAgainstBox(rays, ix, iy, iz, depth, (*rs.regions)[r].box, boxFrom, boxTo, inRegion, crossTo);
 	}
 	insideRowKeys(rays, depth, inRegion, crossTo, static_cast<float>(m_insideGrid.inverse), from, to, inside, outsideX);
 }
@@ -173,7 +185,7 @@ void EndpointProjector::scanRows(const RowSetup& rs, int v0, int v1, PixelBand& 
 	// Two rows of outside, inside and sketch keys: this one and the one above,
 	// which starts as "no voxel".
 	band.keys.assign(18 * n, -1);
-	band.near.resize(3 * n);
+	band.near.resize(6 * n);
 	band.flags.assign(n + 8, 0);  // forEachFlagged reads whole words
 	band.candidate.resize(n);
 	band.freeOnly.resize(n);

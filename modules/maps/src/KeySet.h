@@ -87,7 +87,8 @@ class KeySet
 namespace avm::detail
 {
 /** A KeySet for keys inside a known box of voxels: one bit per voxel instead
- *  of hashing (the high tree's keys all lie in the regions). The bits of
+ *  of hashing (the high tree's keys all lie in the regions, a ray's keys outside
+ *  them within the tree's max range of its origin). The bits of
  *  4 x 4 x 4 voxels share a word, so a ray's next voxel is mostly in a word
  *  just read, and a box of regions takes a few tens of kB, not the MB a word
  *  per voxel took (the high tree's ray lookups were cache misses). Keys outside
@@ -99,6 +100,18 @@ class BoxKeySet
 	/** Starts a scan over keys in [lo, hi] (inclusive, per axis). */
 	void reset(const octomap::OcTreeKey& lo, const octomap::OcTreeKey& hi)
 	{
+		// A scan's keys touch few words of a large box (a surface's voxels
+		// in a box of the sensor's range): zeroing those words instead of
+		// all of them spares writing megabytes, which pushes other data out
+		// of the cache.
+		const bool zeroed = m_dense && m_keys.size() * 16 < m_bits.size();
+		if (zeroed)
+			for (const auto k : m_keys)
+			{
+				std::size_t word;
+				std::uint64_t bit;
+				if (locate(k, word, bit)) m_bits[word] = 0;  // always: every stored key lies in the box
+			}
 		m_sparse.clear();
 		m_keys.clear();
 		std::size_t cells = 1;
@@ -110,7 +123,11 @@ class BoxKeySet
 			cells *= m_dim[i];
 		}
 		m_dense = cells <= kMaxCells;
-		if (m_dense) m_bits.assign(m_bricks[0] * m_bricks[1] * m_bricks[2], 0);
+		const std::size_t words = m_bricks[0] * m_bricks[1] * m_bricks[2];
+		if (m_dense && zeroed)
+			m_bits.resize(words, 0);
+		else if (m_dense)
+			m_bits.assign(words, 0);
 	}
 	bool insert(std::uint64_t key)
 	{

@@ -7,6 +7,7 @@
 #include <octomap/OcTreeKey.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 
 #include "avm/maps/OcTreeKeyLayout.h"
@@ -233,6 +234,24 @@ struct KeyRange
 			part.hi[i] = std::min<unsigned>(k[i] + span, hi[i]);
 		}
 		if (!part.empty()) part.forEachKey(visit);
+	}
+	/** The keys of the voxels of a grid (edge 1 / `inverseResolution`) that
+	 *  the box [min, max] touches, clamped to the tree. */
+	static KeyRange covering(const mrpt::math::TPoint3D& min, const mrpt::math::TPoint3D& max, double inverseResolution)
+	{
+		// In doubles until clamped: a huge box gives keys beyond an int.
+		auto key = [&](double c)
+		{
+			const double k = std::floor(c * inverseResolution) + kKeyOffset;
+			return static_cast<unsigned>(std::clamp(k, 0.0, double(kKeyEnd - 1)));
+		};
+		KeyRange r{};
+		for (int i = 0; i < 3; i++)
+		{
+			r.lo[i] = key(min[i]);
+			r.hi[i] = key(max[i]) + 1;
+		}
+		return r;
 	}
 	/** The single voxel `k`. */
 	static KeyRange of(const octomap::OcTreeKey& k)

@@ -66,6 +66,7 @@ bool forEachRayKey(
 		visit(current);
 	}
 }
+
 }  // namespace
 
 void RayIntegrator::begin(const mrpt::math::TPoint3D& origin, const ScanTargets& targets)
@@ -77,8 +78,16 @@ void RayIntegrator::begin(const mrpt::math::TPoint3D& origin, const ScanTargets&
 	if (m_hasRegions) m_insideGrid.set(targets.inside->getResolution());
 	if (targets.sketch) m_sketchGrid.set(targets.sketchResolution);
 	m_projector.begin(origin, targets, m_ends);
-	m_outsideFree.clear();
-	m_outsideOccupied.clear();
+	// Every key a ray maps outside the regions lies within the tree's max
+	// range of the origin (castSegment clips there; half a voxel farther
+	// where a segment meets a region face, one voxel where the traversal's
+	// rounding steps past a segment's end): a dense box of them, three
+	// voxels wider than that range.
+	const double reach = targets.outsideMaxRange + 3 * m_outsideGrid.resolution;
+	const auto inReach = KeyRange::covering(origin - mrpt::math::TPoint3D(reach, reach, reach),
+		origin + mrpt::math::TPoint3D(reach, reach, reach), m_outsideGrid.inverse);
+	m_outsideFree.reset(inReach.first(), inReach.last());
+	m_outsideOccupied.reset(inReach.first(), inReach.last());
 	if (m_hasRegions)
 	{
 		// Inside keys only matter inside the regions: a dense box of them.
@@ -159,9 +168,8 @@ void RayIntegrator::castRay(const mrpt::math::TPoint3D& end, std::uint64_t endKe
 	if (endpoint == Endpoint::Inside && length <= m_targets.insideMaxRange) m_insideOccupied.insert(endKey);
 }
 
-template <typename Set>
-void RayIntegrator::applyUpdates(octomap::OcTree& tree, const KeyGrid& grid, const Set& freeKeys, Set& occupiedKeys,
-	const KeySet& freeOnlyEnds, bool keepInsideRegions)
+void RayIntegrator::applyUpdates(octomap::OcTree& tree, const KeyGrid& grid, const BoxKeySet& freeKeys,
+	BoxKeySet& occupiedKeys, const KeySet& freeOnlyEnds, bool keepInsideRegions)
 {
 	// A voxel belongs to exactly one tree: region space to the high tree,
 	// the rest to the low tree.

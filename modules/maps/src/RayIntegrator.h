@@ -63,8 +63,7 @@ class RayIntegrator
 	/** Frees the keys of `freeKeys` that are no endpoint of the scan (of
 	 *  `occupiedKeys` or `freeOnlyEnds`, which joins it), then marks the
 	 *  scan's occupied keys occupied; each only where it is `tree`'s space. */
-	template <typename Set>
-	void applyUpdates(octomap::OcTree& tree, const KeyGrid& grid, const Set& freeKeys, Set& occupiedKeys,
+	void applyUpdates(octomap::OcTree& tree, const KeyGrid& grid, const BoxKeySet& freeKeys, BoxKeySet& occupiedKeys,
 		const KeySet& freeOnlyEnds, bool keepInsideRegions);
 
 	ScanTargets m_targets;
@@ -77,7 +76,11 @@ class RayIntegrator
 	EndpointSets m_ends;
 	/** The outside grid's voxels of m_ends.inside. */
 	KeySet m_insideEndsOutsideGrid;
-	KeySet m_outsideFree, m_outsideOccupied;
+	/** The scan's free and occupied keys, outside the regions and inside
+	 *  them; the occupied sets also take the free-only endpoints
+	 *  (applyUpdates), which may lie beyond their boxes: those only keep
+	 *  keys out of the free set, whose keys all lie in the box. */
+	BoxKeySet m_outsideFree, m_outsideOccupied;
 	BoxKeySet m_insideFree, m_insideOccupied;
 	BatchUpdate m_batch;
 	std::vector<std::pair<double, double>> m_intervals;

@@ -43,24 +43,35 @@ AVM_ROW_PASS void pointRowKeys(const RowRays& r, const float* depth, float inver
 	}
 }
 
+/** 1 / each component of the rays' directions, pixels [from, to) (a tiny
+ *  offset keeps axis-parallel rays finite): the slab tests' divisions, done
+ *  once a row for all the boxes. */
+AVM_ROW_PASS void rowInverseDirections(const RowRays& r, int from, int to, float* ix, float* iy, float* iz)
+{
+	for (int u = from; u < to; u++)
+	{
+		const float a = r.colFactor[u];
+		ix[u] = 1.0f / (r.bx + r.sx * a + 1e-12f);
+		iy[u] = 1.0f / (r.by + r.sy * a + 1e-12f);
+		iz[u] = 1.0f / (r.bz + r.sz * a + 1e-12f);
+	}
+}
+
 /** Slab method against one box, in depth units: inside[u] becomes 1 where
  *  the point lies in the box; crossTo[u] the depth where the ray leaves the
- *  box if the point lies beyond it (the farthest such box wins). */
-AVM_ROW_PASS void classifyAgainstBox(const RowRays& r, const float* depth, const mrpt::math::TBoundingBox& box,
-	int from, int to, float* inside, float* crossTo)
+ *  box if the point lies beyond it (the farthest such box wins). `ix`, `iy`,
+ *  `iz`: the row's rowInverseDirections. */
+AVM_ROW_PASS void classifyAgainstBox(const RowRays& r, const float* ix, const float* iy, const float* iz,
+	const float* depth, const mrpt::math::TBoundingBox& box, int from, int to, float* inside, float* crossTo)
 {
 	auto relative = [](double bound, float origin) { return static_cast<float>(bound) - origin; };
 	const float minx = relative(box.min.x, r.ox), miny = relative(box.min.y, r.oy), minz = relative(box.min.z, r.oz);
 	const float maxx = relative(box.max.x, r.ox), maxy = relative(box.max.y, r.oy), maxz = relative(box.max.z, r.oz);
 	for (int u = from; u < to; u++)
 	{
-		const float a = r.colFactor[u];
-		// A tiny offset keeps axis-parallel rays finite.
-		const float ix = 1.0f / (r.bx + r.sx * a + 1e-12f), iy = 1.0f / (r.by + r.sy * a + 1e-12f),
-					iz = 1.0f / (r.bz + r.sz * a + 1e-12f);
-		const float x0 = minx * ix, x1 = maxx * ix;
-		const float y0 = miny * iy, y1 = maxy * iy;
-		const float z0 = minz * iz, z1 = maxz * iz;
+		const float x0 = minx * ix[u], x1 = maxx * ix[u];
+		const float y0 = miny * iy[u], y1 = maxy * iy[u];
+		const float z0 = minz * iz[u], z1 = maxz * iz[u];
 		const float e = std::max(std::max(std::min(x0, x1), std::min(y0, y1)), std::max(std::min(z0, z1), 0.0f));
 		const float x = std::min(std::min(std::max(x0, x1), std::max(y0, y1)), std::max(z0, z1));
 		const float d = depth[u];

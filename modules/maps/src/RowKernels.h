@@ -47,11 +47,17 @@ void rowDepth(const std::uint16_t* row, const float* rangeScale, float units, in
  *  the points of a row; -1 where there is no depth or below the tree. */
 void pointRowKeys(const RowRays& r, const float* depth, float inverse, int cols, RowKeys out);
 
+/** 1 / each component of the rays' directions, pixels [from, to) (a tiny
+ *  offset keeps axis-parallel rays finite): the slab tests' divisions, done
+ *  once a row for all the boxes. */
+void rowInverseDirections(const RowRays& r, int from, int to, float* ix, float* iy, float* iz);
+
 /** Slab method against one box, in depth units: inside[u] becomes 1 where
  *  the point lies in the box; crossTo[u] the depth where the ray leaves the
- *  box if the point lies beyond it (the farthest such box wins). */
-void classifyAgainstBox(const RowRays& r, const float* depth, const mrpt::math::TBoundingBox& box, int from, int to,
-	float* inside, float* crossTo);
+ *  box if the point lies beyond it (the farthest such box wins). `ix`, `iy`,
+ *  `iz`: the row's rowInverseDirections. */
+void classifyAgainstBox(const RowRays& r, const float* ix, const float* iy, const float* iz, const float* depth,
+	const mrpt::math::TBoundingBox& box, int from, int to, float* inside, float* crossTo);
 
 /** Inside keys of the classified pixels: of the point where it lies in a
  *  region, else of the voxel where its ray leaves the farthest region it
