@@ -97,13 +97,14 @@ tmp=$(mktemp "$root/doc/.performance.XXXX")
   echo
   echo "## What the default's speed settings buy"
   echo
-  echo "The default detects at 256x192 (the 640x480 frame scaled by 0.4, no padding), reads frames ahead on a thread of its own, inserts a frame into the map on a worker thread while odometry processes the next, and replays a rawlog that holds the frames as a camera gives them (\`avm-tum2rawlog --embed-images --compression 0\`). Against: YOLOX-Nano's native 416x416 input; 320x256; reading on the main loop's thread; the gzip rawlog with the colour as PNG files (the converter's default form); and detection on every frame, synchronous (the slowest setting):"
+  echo "The default detects at 256x192 (the 640x480 frame scaled by 0.4, no padding), reads frames ahead on a thread of its own, inserts a frame into the map on a worker thread while odometry processes the next, and replays a rawlog that holds the frames as a camera gives them (\`avm-tum2rawlog --embed-images --compression 0\`). Against: YOLOX-Nano's native 416x416 input; 320x256; reading on the main loop's thread; inserting on it; the gzip rawlog with the colour as PNG files (the converter's default form); and detection on every frame, synchronous (the slowest setting):"
   echo
   echo "\`\`\`"
-  settings=(input-416 input-320x256 no-read-ahead gzip-png-rawlog every-frame)
+  settings=(input-416 input-320x256 no-read-ahead no-mapping-thread gzip-png-rawlog every-frame)
   quiet_run input-416 --set detection:input_width=416 --set detection:input_height=416 && echo "${cmd[*]}"
   quiet_run input-320x256 --set detection:input_width=320 --set detection:input_height=256 && echo "${cmd[*]}"
   quiet_run no-read-ahead --set pipeline:read_ahead_frames=0 && echo "${cmd[*]}"
+  quiet_run no-mapping-thread --set pipeline:async_mapping=false && echo "${cmd[*]}"
   quiet_run gzip-png-rawlog --rawlog output/benchmark/bonn_crowd_sub300_gz.rawlog && echo "${cmd[*]}"
   quiet_run every-frame --set pipeline:detect_every_n=1 --set pipeline:async_detection=false && echo "${cmd[*]}"
   echo "\`\`\`"
@@ -112,18 +113,6 @@ tmp=$(mktemp "$root/doc/.performance.XXXX")
   echo "|---|---:|---:|---:|---:|---:|---:|---:|"
   for r in "${defaults[0]}" "${settings[@]}"; do
     echo "| $r | $(field "$r" fps | awk '{printf "%.1f", $1}') | $(field "$r" cpu_ms_per_frame | awk '{printf "%.1f", $1}') | $(field "$r" peak_memory_mb | awk '{printf "%.0f", $1}') | $(stage "$r" odometry) | $(stage "$r" detection) | $(stage "$r" map) | $(field "$r" odometry_ate_rmse_m | awk '{printf "%.4f", $1}') |"
-  done
-  echo
-  echo "## The mapping thread, alternating runs"
-  echo
-  echo "Three pairs, each the default and then the same without the mapping thread (\`--set pipeline:async_mapping=false\`), so that both see the machine in the same mood:"
-  echo
-  echo "| pair | fps with / without | CPU [ms a frame] with / without | CPU time stolen [%] with / without |"
-  echo "|---|---:|---:|---:|"
-  for i in 1 2 3; do
-    quiet_run "mapping-thread-$i"
-    quiet_run "no-mapping-thread-$i" --set pipeline:async_mapping=false
-    echo "| $i | $(pair_field "mapping-thread-$i" "no-mapping-thread-$i" fps 1) | $(pair_field "mapping-thread-$i" "no-mapping-thread-$i" cpu_ms_per_frame 1) | $(pair_field "mapping-thread-$i" "no-mapping-thread-$i" cpu_stolen_percent 0) |"
   done
   echo
   echo "## The live view (--gui), alternating runs"
