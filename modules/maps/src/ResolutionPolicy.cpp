@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "OcTreeKeys.h"
+#include "avm/io/PointArchive.h"
 
 namespace avm::detail
 {
@@ -266,7 +267,7 @@ void ResolutionPolicy::serializeTo(mrpt::serialization::CArchive& out, const Reg
 		out << r.regionId;
 		if (record) record(out, r.regionId);
 		out.WriteAs<uint32_t>(r.boxes.size());
-		for (const auto& b : r.boxes) out << b.min.x << b.min.y << b.min.z << b.max.x << b.max.y << b.max.z;
+		for (const auto& b : r.boxes) io::writeBox(out, b);
 	}
 }
 
@@ -283,7 +284,7 @@ void ResolutionPolicy::serializeFrom(mrpt::serialization::CArchive& in, const Re
 		r.boxes.resize(in.ReadAs<uint32_t>());
 		for (auto& b : r.boxes)
 		{
-			in >> b.min.x >> b.min.y >> b.min.z >> b.max.x >> b.max.y >> b.max.z;
+			io::readBox(in, b);
 			requireValid(b);
 		}
 	}

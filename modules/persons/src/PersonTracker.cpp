@@ -4,6 +4,8 @@
 #include <iterator>
 #include <tuple>
 
+#include "avm/io/PointArchive.h"
+
 namespace avm::persons
 {
 PersonTracker::PersonTracker(const TrackerOptions& options) : m_options(options) {}
@@ -94,14 +96,16 @@ void PersonTracker::serializeTo(mrpt::serialization::CArchive& out) const
 	for (const auto& t : m_tracks)
 	{
 		out << t.id << static_cast<uint64_t>(t.firstFrame) << static_cast<uint64_t>(t.lastFrame) << t.firstTime
-			<< t.lastTime << t.position.x << t.position.y << t.position.z << t.box.min.x << t.box.min.y << t.box.min.z
-			<< t.box.max.x << t.box.max.y << t.box.max.z << static_cast<uint64_t>(t.sightings) << t.velocity.x
-			<< t.velocity.y << t.velocity.z << t.settledAt.x << t.settledAt.y << t.settledAt.z << t.settledSince
-			<< t.still;
+			<< t.lastTime;
+		io::writePoint(out, t.position);
+		io::writeBox(out, t.box);
+		out << static_cast<uint64_t>(t.sightings);
+		io::writePoint(out, t.velocity);
+		io::writePoint(out, t.settledAt);
+		out << t.settledSince << t.still;
 		out.WriteAs<uint32_t>(t.shape.size());
 		for (const auto& p : t.shape) out << p.x << p.y << p.z;
-		out << t.bandExtent.min.x << t.bandExtent.min.y << t.bandExtent.min.z << t.bandExtent.max.x
-			<< t.bandExtent.max.y << t.bandExtent.max.z;
+		io::writeBox(out, t.bandExtent);
 	}
 }
 
@@ -111,12 +115,17 @@ void PersonTracker::serializeFrom(mrpt::serialization::CArchive& in, const Track
 	for (auto& t : m_tracks)
 	{
 		uint64_t first = 0, last = 0, count = 0;
-		in >> t.id >> first >> last >> t.firstTime >> t.lastTime >> t.position.x >> t.position.y >> t.position.z >>
-			t.box.min.x >> t.box.min.y >> t.box.min.z >> t.box.max.x >> t.box.max.y >> t.box.max.z >> count;
+		in >> t.id >> first >> last >> t.firstTime >> t.lastTime;
+		io::readPoint(in, t.position);
+		io::readBox(in, t.box);
+		in >> count;
 		t.firstFrame = first, t.lastFrame = last, t.sightings = count;
 		if (parts.motion)
-			in >> t.velocity.x >> t.velocity.y >> t.velocity.z >> t.settledAt.x >> t.settledAt.y >> t.settledAt.z >>
-				t.settledSince >> t.still;
+		{
+			io::readPoint(in, t.velocity);
+			io::readPoint(in, t.settledAt);
+			in >> t.settledSince >> t.still;
+		}
 		else
 			t.settledAt = t.position, t.settledSince = t.lastTime;
 		// Read point by point: a corrupt count ends the stream, not the memory.
@@ -128,9 +137,7 @@ void PersonTracker::serializeFrom(mrpt::serialization::CArchive& in, const Track
 			t.shape.push_back(p);
 		}
 		t.bandExtent = t.box;
-		if (parts.bandExtent)
-			in >> t.bandExtent.min.x >> t.bandExtent.min.y >> t.bandExtent.min.z >> t.bandExtent.max.x >>
-				t.bandExtent.max.y >> t.bandExtent.max.z;
+		if (parts.bandExtent) io::readBox(in, t.bandExtent);
 	}
 }
 }  // namespace avm::persons

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "FrameProcessor.h"
+#include "avm/io/PointArchive.h"
 
 namespace avm::pipeline::detail
 {
@@ -17,30 +18,6 @@ namespace
 {
 constexpr std::uint8_t kStateVersion = 6;
 
-// MRPT packs TPoint3D (#pragma pack(1)): in an optional after a 4-byte
-// member its doubles sit 4-byte aligned, where binding a double& is undefined
-// (UBSan says so), so they go through aligned copies.
-void write(CArchive& out, const mrpt::math::TPoint3D& p)
-{
-	const double x = p.x, y = p.y, z = p.z;
-	out << x << y << z;
-}
-void read(CArchive& in, mrpt::math::TPoint3D& p)
-{
-	double x = 0, y = 0, z = 0;
-	in >> x >> y >> z;
-	p = {x, y, z};
-}
-void write(CArchive& out, const mrpt::math::TBoundingBox& b)
-{
-	write(out, b.min);
-	write(out, b.max);
-}
-void read(CArchive& in, mrpt::math::TBoundingBox& b)
-{
-	read(in, b.min);
-	read(in, b.max);
-}
 void write(CArchive& out, const io::TimingSamples& t) { out << t.samples(); }
 void read(CArchive& in, io::TimingSamples& t)
 {
@@ -124,13 +101,13 @@ void write(CArchive& out, const PersonDetectionRecord& r)
 			writeOptional(out, seen.sighting,
 				[&](const persons::PersonSighting& s)
 				{
-					write(out, s.position);
-					write(out, s.box);
+					io::writePoint(out, s.position);
+					io::writeBox(out, s.box);
 					write(out, s.points);
 					out << s.depth;
 				});
 			out << seen.personId;
-			writeOptional(out, seen.regionBox, [&](const mrpt::math::TBoundingBox& b) { write(out, b); });
+			writeOptional(out, seen.regionBox, [&](const mrpt::math::TBoundingBox& b) { io::writeBox(out, b); });
 			out << seen.skipReason;
 		});
 }
@@ -148,13 +125,13 @@ void read(CArchive& in, PersonDetectionRecord& r)
 			readOptional(in, seen.sighting,
 				[&](persons::PersonSighting& s)
 				{
-					read(in, s.position);
-					read(in, s.box);
+					io::readPoint(in, s.position);
+					io::readBox(in, s.box);
 					s.points = readSize(in);
 					in >> s.depth;
 				});
 			in >> seen.personId;
-			readOptional(in, seen.regionBox, [&](mrpt::math::TBoundingBox& b) { read(in, b); });
+			readOptional(in, seen.regionBox, [&](mrpt::math::TBoundingBox& b) { io::readBox(in, b); });
 			in >> seen.skipReason;
 		});
 }
