@@ -31,8 +31,7 @@ void EndpointProjector::begin(const mrpt::math::TPoint3D& origin, const ScanTarg
 		m_sketchGrid.set(targets.sketchResolution);
 		const double lowEdge = m_outsideGrid.resolution;
 		const double reach = targets.outsideMaxRange + (0.5 * std::sqrt(3.0) + 1) * lowEdge;
-		m_sketchBox = KeyRange::covering(origin - mrpt::math::TPoint3D(reach, reach, reach),
-			origin + mrpt::math::TPoint3D(reach, reach, reach), m_sketchGrid.inverse);
+		m_sketchBox = KeyRange::around(origin, reach, m_sketchGrid.inverse);
 	}
 	m_ends = &ends;
 	m_ends->clear(m_sketchBox);

@@ -236,10 +236,10 @@ struct KeyRange
 		if (!part.empty()) part.forEachKey(visit);
 	}
 	/** The keys of the voxels of a grid (edge 1 / `inverseResolution`) that
-	 *  the box [min, max] touches, clamped to the tree. */
-	static KeyRange covering(const mrpt::math::TPoint3D& min, const mrpt::math::TPoint3D& max, double inverseResolution)
+	 *  the cube of half edge `reach` around `centre` touches, clamped to the tree. */
+	static KeyRange around(const mrpt::math::TPoint3D& centre, double reach, double inverseResolution)
 	{
-		// In doubles until clamped: a huge box gives keys beyond an int.
+		// In doubles until clamped: a huge cube gives keys beyond an int.
 		auto key = [&](double c)
 		{
 			const double k = std::floor(c * inverseResolution) + kKeyOffset;
@@ -248,8 +248,8 @@ struct KeyRange
 		KeyRange r{};
 		for (int i = 0; i < 3; i++)
 		{
-			r.lo[i] = key(min[i]);
-			r.hi[i] = key(max[i]) + 1;
+			r.lo[i] = key(centre[i] - reach);
+			r.hi[i] = key(centre[i] + reach) + 1;
 		}
 		return r;
 	}

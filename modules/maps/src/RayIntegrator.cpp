@@ -66,7 +66,6 @@ bool forEachRayKey(
 		visit(current);
 	}
 }
-
 }  // namespace
 
 void RayIntegrator::begin(const mrpt::math::TPoint3D& origin, const ScanTargets& targets)
@@ -84,8 +83,7 @@ void RayIntegrator::begin(const mrpt::math::TPoint3D& origin, const ScanTargets&
 	// rounding steps past a segment's end): a dense box of them, three
 	// voxels wider than that range.
 	const double reach = targets.outsideMaxRange + 3 * m_outsideGrid.resolution;
-	const auto inReach = KeyRange::covering(origin - mrpt::math::TPoint3D(reach, reach, reach),
-		origin + mrpt::math::TPoint3D(reach, reach, reach), m_outsideGrid.inverse);
+	const auto inReach = KeyRange::around(origin, reach, m_outsideGrid.inverse);
 	m_outsideFree.reset(inReach.first(), inReach.last());
 	m_outsideOccupied.reset(inReach.first(), inReach.last());
 	if (m_hasRegions)
