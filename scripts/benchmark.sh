@@ -54,20 +54,17 @@ field() {  # field RUN KEY : a top-level number from the run's stats.json, or n/
 stage() {  # stage RUN NAME : mean_ms of one stage
   tr -d '\n ' < "$out/$1/stats.json" | sed -E "s/.*\"$2\":\{\"mean_ms\":([-0-9.eE+]+).*/\1/" | awk '{printf "%.1f", $1}'
 }
-stage_value() {  # stage_value RUN NAME KEY : one number of a stage (mean_ms, count ...)
+value_in() {  # value_in RUN OBJECT KEY : one number of a stats.json object (a stage's mean_ms, count ...)
   tr -d '\n ' < "$out/$1/stats.json" | sed -nE "s/.*\"$2\":\{[^}]*\"$3\":([-0-9.eE+]+).*/\1/p"
 }
 cpu_row() {  # cpu_row RUN CORES : a row of the table of CPU a frame by stage
-  local frames total odometry detection map
-  frames=$(field "$1" frames)
-  total=$(field "$1" cpu_ms_per_frame)
-  odometry=$(stage_value "$1" odometry_cpu mean_ms)
-  detection=$(awk -v m="$(stage_value "$1" detection_cpu mean_ms)" -v n="$(stage_value "$1" detection_cpu count)" \
-    -v f="$frames" 'BEGIN {print m * n / f}')
-  map=$(stage_value "$1" map_cpu mean_ms)
-  awk -v r="$1" -v c="$2" -v fps="$(field "$1" fps)" -v t="$total" -v o="$odometry" -v d="$detection" -v m="$map" \
-    -v dm="$(stage_value "$1" detection_cpu mean_ms)" -v ate="$(field "$1" odometry_ate_rmse_m)" \
-    'BEGIN {printf "| %s | %s | %.1f | %.1f | %.1f | %.1f (%.1f a run) | %.1f | %.1f | %.4f |\n", r, c, fps, t, o, d, dm, m, t - o - d - m, ate}'
+  awk -v r="$1" -v c="$2" -v fps="$(field "$1" fps)" -v f="$(field "$1" frames)" -v t="$(field "$1" cpu_ms_per_frame)" \
+    -v o="$(value_in "$1" odometry_cpu mean_ms)" -v dm="$(value_in "$1" detection_cpu mean_ms)" \
+    -v dn="$(value_in "$1" detection_cpu count)" -v m="$(value_in "$1" map_cpu mean_ms)" \
+    -v ate="$(field "$1" odometry_ate_rmse_m)" 'BEGIN {
+      d = dm * dn / f
+      printf "| %s | %s | %.1f | %.1f | %.1f | %.1f (%.1f a run) | %.1f | %.1f | %.4f |\n", r, c, fps, t, o, d, dm, m, t - o - d - m, ate
+    }'
 }
 checkpoints() {  # checkpoints RUN : "N x M ms (P % of the run)" from stages.checkpoint and seconds
   tr -d '\n ' < "$out/$1/stats.json" |
@@ -204,7 +201,7 @@ tmp=$(mktemp "$root/doc/.performance.XXXX")
   echo "| run | map stage [ms CPU a frame] | octomap 0.05 m insertion [ms a frame] | ratio |"
   echo "|---|---:|---:|---:|"
   for r in "${reference_runs[@]}"; do
-    echo "| $r | $(stage "$r" map_cpu) | $(tr -d '\n ' < "$out/$r/stats.json" | sed -nE 's/.*"single_high[a-z_]*":\{[^}]*"insert_mean_ms":([-0-9.eE+]+).*/\1/p' | awk '{printf "%.1f", $1}') | $(field "$r" map_cpu_speedup_vs_single_high | awk '{printf "%.1fx", $1}') |"
+    echo "| $r | $(stage "$r" map_cpu) | $(value_in "$r" single_high insert_mean_ms | awk '{printf "%.1f", $1}') | $(field "$r" map_cpu_speedup_vs_single_high | awk '{printf "%.1fx", $1}') |"
   done
   echo
   echo "## Long run: the sequence 10 times in one process (3000 frames), ground-truth poses"
