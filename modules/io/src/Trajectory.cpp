@@ -116,7 +116,8 @@ mrpt::poses::CPose3D rigidTransformFromMatrix(const double (&m)[16])
 	for (int r = 0; r < 3; ++r)
 		for (int c = 0; c < 3; ++c) A(r, c) = m[4 * r + c];
 	const Eigen::JacobiSVD<Eigen::Matrix3d> svd(A, Eigen::ComputeFullU | Eigen::ComputeFullV);
-	if (svd.info() != Eigen::Success || svd.rank() < 3 || svd.singularValues().minCoeff() < 1e-6)
+	// Its success first: on a failure JacobiSVD leaves the singular values unset.
+	if (svd.info() != Eigen::Success || svd.singularValues().minCoeff() < 1e-6)
 		throw std::runtime_error("transform matrix has a degenerate rotation block");
 	const Eigen::Matrix3d R = svd.matrixU() * svd.matrixV().transpose();
 	if (R.determinant() < 0) throw std::runtime_error("transform matrix is a reflection");
