@@ -76,7 +76,9 @@ void addBackEndKeys(io::IniKeys<TOdometryOptions>& keys)
 		.number("ba_iterations", &O::ba_iterations, "", "Ceres iterations of one bundle adjustment",
 			{[](int v) { return v >= 1; }, "must be >= 1"})
 		.number("ba_max_landmarks", &O::ba_max_landmarks, "",
-			"landmarks in one bundle adjustment, the most-viewed first; 0 = all",
+			"landmarks in one bundle adjustment, the most-viewed first, and as many of a joined place's anchored "
+			"points; "
+			"0 = all",
 			{[](int v) { return v >= 0; }, "must be >= 0 (0 = all)"})
 		.number("keyframe_translation", &O::keyframe_translation, "m",
 			"motion from the last keyframe that makes a keyframe", {[](double v) { return v > 0; }, "must be > 0 m"})

@@ -155,22 +155,28 @@ void CeresBackend::bundleAdjust(const std::deque<Keyframe>& window, std::vector<
 	for (const auto& T : windowPoses) poses.push_back(toParams(T));
 	std::unordered_map<int, std::array<double, 3>> points;
 	// The landmarks seen most often tie the window together best; a cap on
-	// their number bounds the time a keyframe takes.
-	std::vector<std::pair<int, int>> shared;  // (views, id)
-	std::vector<int> anchored;                // held fixed; one view ties a pose to them
+	// their number bounds the time a keyframe takes. The anchored points (a
+	// joined place's, held fixed; one view ties a pose to them) have a cap
+	// of their own: a continued session's window sees up to 1,700 of them,
+	// which tripled its residuals, and letting them take the free points'
+	// share instead made the continuations' trajectories worse.
+	std::vector<std::pair<int, int>> unanchored, anchoredRanked;  // (views, id)
 	for (const auto& [id, n] : seenBy)
 		if (landmarks.at(id).anchored)
-			anchored.push_back(id);
+			anchoredRanked.emplace_back(n, id);
 		else if (n >= 2)
-			shared.emplace_back(n, id);
-	const std::size_t cap = m_options.ba_max_landmarks > 0 ? std::size_t(m_options.ba_max_landmarks) : shared.size();
-	if (shared.size() > cap)
+			unanchored.emplace_back(n, id);
+	const auto keepMostViewed = [cap = m_options.ba_max_landmarks](std::vector<std::pair<int, int>>& ranked)
 	{
-		std::nth_element(shared.begin(), shared.begin() + cap, shared.end(), std::greater<>());
-		shared.resize(cap);
-	}
-	std::vector<int> inProblem;
-	for (const auto& [n, id] : shared) inProblem.push_back(id);
+		if (cap <= 0 || ranked.size() <= std::size_t(cap)) return;
+		std::nth_element(ranked.begin(), ranked.begin() + cap, ranked.end(), std::greater<>());
+		ranked.resize(std::size_t(cap));
+	};
+	keepMostViewed(unanchored);
+	keepMostViewed(anchoredRanked);
+	std::vector<int> inProblem, anchored;
+	for (const auto& [n, id] : unanchored) inProblem.push_back(id);
+	for (const auto& [n, id] : anchoredRanked) anchored.push_back(id);
 	inProblem.insert(inProblem.end(), anchored.begin(), anchored.end());
 	for (const int id : inProblem)
 	{
@@ -204,7 +210,8 @@ void CeresBackend::bundleAdjust(const std::deque<Keyframe>& window, std::vector<
 		for (const auto& kf : window)
 			mostAnchoredSeen = std::max(
 				mostAnchoredSeen, std::size_t(std::count_if(kf.observations.begin(), kf.observations.end(),
-									  [&](const Observation& o) { return landmarks.at(o.landmark).anchored; })));
+									  [&](const Observation& o)
+									  { return points.count(o.landmark) && landmarks.at(o.landmark).anchored; })));
 	if (mostAnchoredSeen < std::size_t(m_options.min_inliers)) problem.SetParameterBlockConstant(poses.front().data());
 	ceres::Solver::Summary summary;
 	ceres::Solve(solverOptions(m_options.ba_iterations, m_options.threads, ceres::DENSE_SCHUR), &problem, &summary);
