@@ -44,9 +44,18 @@ std::optional<LoopMeasurement> measureLoop(const FrameFeatures& f, const Eigen::
 	// Before the vocabulary exists every keyframe is a candidate; loops wait for it.
 	if (!map.trained()) return std::nullopt;
 	std::optional<LoopMeasurement> best;
+	// Candidates come in runs of neighbouring keyframes; a place around one
+	// that the camera was measured against holds most of a neighbour's
+	// points, and measuring it again would find the same camera.
+	std::vector<int> measured;
+	const auto nearMeasured = [&](int keyframe)
+	{
+		return std::any_of(
+			measured.begin(), measured.end(), [&](int m) { return std::abs(keyframe - m) <= options.loop_neighbours; });
+	};
 	for (const auto& c : map.candidates(f.descriptors, std::size_t(options.loop_candidates), newestId))
 	{
-		if (skip && skip(c.keyframe)) continue;
+		if ((skip && skip(c.keyframe)) || nearMeasured(c.keyframe)) continue;
 		const LandmarkMap place = placeAround(c.keyframe, newestId, map, options.loop_neighbours);
 		if (place.empty()) continue;
 		// Where the odometry thinks the camera is, the place should project
@@ -65,9 +74,9 @@ std::optional<LoopMeasurement> measureLoop(const FrameFeatures& f, const Eigen::
 			if (!pnp) continue;
 		}
 		auto refined = backend.refinePnp(f, *pnp, matches, place);
-		if (!refined || int(refined->inliers.size()) < options.loop_min_inliers ||
-			(best && refined->inliers.size() <= best->inliers))
-			continue;
+		if (!refined || int(refined->inliers.size()) < options.loop_min_inliers) continue;
+		measured.push_back(c.keyframe);
+		if (best && refined->inliers.size() <= best->inliers) continue;
 		LoopMeasurement m;
 		m.candidate = c.keyframe;
 		m.T_cw = refined->T_cw;
