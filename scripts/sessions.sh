@@ -6,7 +6,8 @@
 # of each continuation's frames were placed in the earlier sessions' map, the
 # ATE of all the sessions' poses together under one alignment, the loops
 # closed, the CPU a frame of the last session beside a fresh run of the same
-# frames, and the session's size and load time; and the same space mapped
+# frames (without, and apart, the map rebuild that a closed loop makes at the
+# end), and the session's size and load time; and the same space mapped
 # over two sessions at ground-truth poses against one run of the whole
 # sequence (IoU of the occupied space, avm-eval --maps). Writes
 # doc/sessions-results.md whole, with the commands.
@@ -61,22 +62,37 @@ ate() { "$build/bin/avm-eval" "$1" "$gt" | awk '/^ATE/ {print $3}'; }
 commands=()
 run() { commands+=("build/bin/avm-map -q $*"); "$build/bin/avm-map" -q "$@" >/dev/null; }
 
+# perFrame DIR: the CPU a frame [ms] of the run in DIR without its map rebuild
+# (a pass over all the run's frames again, made once after a loop closed);
+# and the rebuild's, as "frames rebuild".
+perFrame() {
+  local frames rebuild
+  frames=$(json "$1" frames)
+  rebuild=$(json "$1" cpu_seconds)  # map_rebuild's, the only one of that name
+  awk -v c="$(json "$1" cpu_ms_per_frame)" -v f="$frames" -v r="${rebuild:-0}" \
+    'BEGIN { printf "%f %f", c - 1e3 * r / f, 1e3 * r / f }'
+}
+
 # cpuPair PREV RAWLOG: the CPU a frame of RAWLOG continuing PREV and of RAWLOG
 # run fresh, "continued / fresh" [ms], each the median of three runs on one
-# core, alternating, so that the machine's load falls on both alike.
+# core, alternating, so that the machine's load falls on both alike; then the
+# map rebuild's share of each, "continued / fresh" [ms a frame].
 cpuPair() {
-  local i cont=() fresh=()
+  local i cont=() fresh=() contRebuild=() freshRebuild=() c f
   commands+=("taskset -c 0 build/bin/avm-map -q --continue $1 -r $2 -o $out/cpu-continued  # 3 times, alternating with:"
     "taskset -c 0 build/bin/avm-map -q -c $ini -r $2 -o $out/cpu-fresh  # the medians")
   for i in 1 2 3; do
     rm -rf "$work/cpu-continued" "$work/cpu-fresh"
     taskset -c 0 "$build/bin/avm-map" -q --continue "$1" -r "$2" -o "$out/cpu-continued" >/dev/null
     taskset -c 0 "$build/bin/avm-map" -q -c "$ini" -r "$2" -o "$out/cpu-fresh" >/dev/null
-    cont+=("$(json "$work/cpu-continued" cpu_ms_per_frame)")
-    fresh+=("$(json "$work/cpu-fresh" cpu_ms_per_frame)")
+    read -r c f <<<"$(perFrame "$work/cpu-continued")"
+    cont+=("$c") contRebuild+=("$f")
+    read -r c f <<<"$(perFrame "$work/cpu-fresh")"
+    fresh+=("$c") freshRebuild+=("$f")
   done
   median() { printf '%s\n' "$@" | sort -g | sed -n 2p; }
-  printf '%.1f / %.1f' "$(median "${cont[@]}")" "$(median "${fresh[@]}")"
+  printf '%.1f / %.1f | %.1f / %.1f' "$(median "${cont[@]}")" "$(median "${fresh[@]}")" \
+    "$(median "${contRebuild[@]}")" "$(median "${freshRebuild[@]}")"
 }
 
 # runChain POSES CUT...: each cut continuing the one before; sets $last (the
@@ -131,8 +147,8 @@ spaceRow() {
 }
 
 tableHead() {
-  echo "| sessions (frames of the whole sequence) | placed, each continuation | ATE, all sessions [m] | loops closed | CPU a frame, last session, one core: continued / fresh [ms] | session.bin, load |"
-  echo "|---|---|---|---|---|---|"
+  echo "| sessions (frames of the whole sequence) | placed, each continuation | ATE, all sessions [m] | loops closed | CPU a frame, last session, one core: continued / fresh [ms] | its map rebuild after a loop, a frame: continued / fresh [ms] | session.bin, load |"
+  echo "|---|---|---|---|---|---|---|"
 }
 spaceHead() {
   echo "| sessions at ground-truth poses | occupied voxels (0.05 m): whole run / sessions, IoU | low tree IoU | high tree IoU |"
