@@ -1,8 +1,8 @@
 #include "avm/persons/PersonSighting.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
+#include <cstdint>
 #include <optional>
 #include <sstream>
 
@@ -90,6 +90,7 @@ SightingEstimate estimateSighting(const mrpt::obs::CObservation3DRangeScan& obs,
 	const double w = u1 - u0 + 1, h = v1 - v0 + 1;
 	const double cu0 = u0 + w * kCoreX0, cu1 = u0 + w * kCoreX1, cv0 = v0 + h * kCoreY0, cv1 = v0 + h * kCoreY1;
 	std::vector<float> core, all;
+	all.reserve(pixels.size() / step + 1);
 	for (std::size_t k = 0; k < pixels.size(); k += step)
 	{
 		const auto i = pixels[k];
@@ -109,9 +110,16 @@ SightingEstimate estimateSighting(const mrpt::obs::CObservation3DRangeScan& obs,
 	const auto take = [&](const mrpt::math::TPoint3D& p) { xs.push_back(p.x), ys.push_back(p.y), zs.push_back(p.z); };
 	const auto pointOf = [&](std::uint32_t i, float d)
 	{ return sensorPoseInWorld.composePoint(camera.unproject(i % cols, i / cols, d)); };
+	// Reserved up front: grown a push at a time, these vectors (tens of
+	// thousands of points a person a frame) were copied at every doubling.
+	if (keep == BandPoints::Keep) band.reserve(pixels.size());
+	for (auto* v : {&xs, &ys, &zs}) v->reserve(pixels.size() / step + 1);
 	auto extent = mrpt::math::TBoundingBox::PlusMinusInfinity();
 	std::size_t inBand = 0;
-	for (std::size_t k = 0; k < pixels.size(); ++k)
+	// k % step == 0 without a division a pixel: the sample's pixels are
+	// every step-th from the first.
+	for (std::size_t k = 0, toNextSample = 0; k < pixels.size();
+		 ++k, toNextSample = toNextSample ? toNextSample - 1 : step - 1)
 	{
 		const auto i = pixels[k];
 		const float d = metresAt(i);
@@ -120,7 +128,7 @@ SightingEstimate estimateSighting(const mrpt::obs::CObservation3DRangeScan& obs,
 		const auto p = pointOf(i, d);
 		extent.updateWithPoint(p);
 		if (keep == BandPoints::Keep) band.push_back(p);
-		if (k % step == 0) take(p);
+		if (toNextSample == 0) take(p);
 	}
 	if (inBand < o.minPixels)
 	{
@@ -157,19 +165,32 @@ std::vector<mrpt::math::TPoint3Df> personShape(
 	// The voxels of a tree of this resolution: octomap's keys, unchecked (a
 	// person is never near the edge of a tree).
 	const double perMetre = 1.0 / resolution;
-	using Key = std::array<int, 3>;
-	std::vector<Key> keys;
-	const auto centre = [resolution](const Key& k) {
-		return mrpt::math::TPoint3D(
-			keyCentre(k[0], resolution), keyCentre(k[1], resolution), keyCentre(k[2], resolution));
+	// A key's three axes in one word, each in a field of its own, so that
+	// the words sort as the keys do (x, then y, then z), and compare in one
+	// instruction where triples took three.
+	constexpr unsigned kFieldBits = 21;
+	constexpr std::int64_t kFieldOffset = std::int64_t(1) << (kFieldBits - 1),
+						   kFieldMask = (std::int64_t(1) << kFieldBits) - 1;
+	using Key = std::uint64_t;
+	const auto packed = [&](int x, int y, int z) {
+		return (Key(x + kFieldOffset) << (2 * kFieldBits)) | (Key(y + kFieldOffset) << kFieldBits) |
+			   Key(z + kFieldOffset);
 	};
+	const auto axis = [&](Key k, unsigned field)
+	{ return int(std::int64_t((k >> (field * kFieldBits)) & kFieldMask) - kFieldOffset); };
+	const auto centre = [&](Key k)
+	{
+		return mrpt::math::TPoint3D(
+			keyCentre(axis(k, 2), resolution), keyCentre(axis(k, 1), resolution), keyCentre(axis(k, 0), resolution));
+	};
+	std::vector<Key> keys;
 	// Neighbouring pixels of a row mostly fall in one voxel (a 0.05 m voxel is
 	// about ten pixels wide at 2.5 m): skipping a repeat of the last key keeps
 	// the set and leaves a tenth as many keys to sort.
 	std::optional<Key> last;
 	for (const auto& p : bandPoints)
 	{
-		const Key k{keyOf(p.x, perMetre), keyOf(p.y, perMetre), keyOf(p.z, perMetre)};
+		const Key k = packed(keyOf(p.x, perMetre), keyOf(p.y, perMetre), keyOf(p.z, perMetre));
 		if (k == last) continue;
 		last = k;
 		if (within.containsPoint(centre(k))) keys.push_back(k);
