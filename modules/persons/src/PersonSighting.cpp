@@ -1,6 +1,7 @@
 #include "avm/persons/PersonSighting.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <optional>
@@ -40,6 +41,30 @@ float densestWindowDepth(std::vector<float>& d, double band)
 		if (j - i > bestEnd - bestBegin) bestBegin = i, bestEnd = j;
 	}
 	return d[bestBegin + (bestEnd - bestBegin) / 2];
+}
+
+/** The person's depth: the middle of the densest depth band of a sample of
+ *  the pixels (every step-th) in the core of their extent (u0, v0, u1, v1),
+ *  or of all the sample when the core has too few. */
+template <typename MetresAt>
+float personDepth(const PixelSet& pixels, std::size_t step, int cols, const MetresAt& metresAt,
+	const std::array<int, 4>& extent, double depthBand)
+{
+	const auto [u0, v0, u1, v1] = extent;
+	const double w = u1 - u0 + 1, h = v1 - v0 + 1;
+	const double cu0 = u0 + w * kCoreX0, cu1 = u0 + w * kCoreX1, cv0 = v0 + h * kCoreY0, cv1 = v0 + h * kCoreY1;
+	std::vector<float> core, all;
+	all.reserve(pixels.size() / step + 1);
+	for (std::size_t k = 0; k < pixels.size(); k += step)
+	{
+		const auto i = pixels[k];
+		const float d = metresAt(i);
+		if (!(d > 0)) continue;
+		all.push_back(d);
+		const double u = i % cols, v = i / cols;
+		if (u >= cu0 && u < cu1 && v >= cv0 && v < cv1) core.push_back(d);
+	}
+	return densestWindowDepth(core.size() >= kMinCoreSamples ? core : all, depthBand);
 }
 
 std::string format(const char* what, double value, const char* key, double limit)
@@ -86,21 +111,7 @@ SightingEstimate estimateSighting(const mrpt::obs::CObservation3DRangeScan& obs,
 	// step-th pixel, the same ones for the same input).
 	const std::size_t step = std::max<std::size_t>(1, (pixels.size() + kMaxSamples - 1) / kMaxSamples);
 
-	// The person's depth from the core of its pixels.
-	const double w = u1 - u0 + 1, h = v1 - v0 + 1;
-	const double cu0 = u0 + w * kCoreX0, cu1 = u0 + w * kCoreX1, cv0 = v0 + h * kCoreY0, cv1 = v0 + h * kCoreY1;
-	std::vector<float> core, all;
-	all.reserve(pixels.size() / step + 1);
-	for (std::size_t k = 0; k < pixels.size(); k += step)
-	{
-		const auto i = pixels[k];
-		const float d = metresAt(i);
-		if (!(d > 0)) continue;
-		all.push_back(d);
-		const double u = i % cols, v = i / cols;
-		if (u >= cu0 && u < cu1 && v >= cv0 && v < cv1) core.push_back(d);
-	}
-	const float depth = densestWindowDepth(core.size() >= kMinCoreSamples ? core : all, o.depthBand);
+	const float depth = personDepth(pixels, step, cols, metresAt, {u0, v0, u1, v1}, o.depthBand);
 
 	// The person's points, each pixel within the band unprojected once: the
 	// statistics take the regular sample of them, the extent all of them, and
