@@ -125,7 +125,8 @@ void addPlaceKeys(io::IniKeys<TOdometryOptions>& keys)
 			"a loop candidate is at least this many keyframes older than the new keyframe",
 			{[](int v) { return v >= 1; }, "must be >= 1"})
 		.number("loop_candidates", &O::loop_candidates, "",
-			"map keyframes a new keyframe is checked against for a loop, most similar words first",
+			"map keyframes a new keyframe is checked against for a loop, most similar words first; one within "
+			"loop_neighbours of a candidate already measured is skipped",
 			{[](int v) { return v >= 1; }, "must be >= 1"})
 		.number("loop_neighbours", &O::loop_neighbours, "keyframes",
 			"keyframes on each side of a loop candidate whose points, with the candidate's, the loop is measured "

@@ -56,8 +56,9 @@ struct TOdometryOptions : public io::CIniKeyOptions<TOdometryOptions>
 	double motion_gate = 8.0;
 	int window_size = 12;   //!< keyframes in the sliding-window bundle adjustment (0 = no BA)
 	int ba_iterations = 8;  //!< Ceres iterations of one bundle adjustment
-	int ba_max_landmarks =
-		500;  //!< landmarks in one bundle adjustment, the most-viewed first, and as many anchored points (0 = all)
+	/** Landmarks in one bundle adjustment, the most-viewed first, and as many
+	 *  anchored points (0 = all). */
+	int ba_max_landmarks = 500;
 	// --- keyframes
 	double keyframe_translation = 0.08;  //!< [m] motion from the last keyframe that makes a keyframe
 	double keyframe_rotation = 8.0;      //!< [deg] rotation from the last keyframe that makes a keyframe
