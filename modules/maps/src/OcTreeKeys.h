@@ -19,16 +19,12 @@ constexpr std::uint64_t kKeyMask = (std::uint64_t(1) << kKeyBits) - 1;
 /** What a packed key changes by for one voxel along x, y and z. */
 constexpr std::uint64_t kPackedUnit[3] = {std::uint64_t(1) << (2 * kKeyBits), std::uint64_t(1) << kKeyBits, 1};
 
-/** 3 x 16-bit key in one word, +1 so that 0 can mark "no key". */
-inline std::uint64_t packKey(const octomap::OcTreeKey& k)
-{
-	return (std::uint64_t(k[0]) * kPackedUnit[0] | std::uint64_t(k[1]) * kPackedUnit[1] | std::uint64_t(k[2])) + 1;
-}
+/** avm::packKey of an octomap key. */
+inline std::uint64_t packKey(const octomap::OcTreeKey& k) { return avm::packKey(k[0], k[1], k[2]); }
 inline octomap::OcTreeKey unpackKey(std::uint64_t packed)
 {
-	const std::uint64_t v = packed - 1;
-	return octomap::OcTreeKey(static_cast<octomap::key_type>(v >> (2 * kKeyBits)),
-		static_cast<octomap::key_type>((v >> kKeyBits) & kKeyMask), static_cast<octomap::key_type>(v & kKeyMask));
+	return octomap::OcTreeKey(static_cast<octomap::key_type>(unpackAxis(packed, 0)),
+		static_cast<octomap::key_type>(unpackAxis(packed, 1)), static_cast<octomap::key_type>(unpackAxis(packed, 2)));
 }
 
 /** What adding to a packed key moves it by `step` (-1, 0 or 1) voxels along

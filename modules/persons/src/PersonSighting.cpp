@@ -22,6 +22,13 @@ constexpr std::size_t kMinCoreSamples = 20;
 // Pixels the depth and the box are estimated from, at most.
 constexpr std::size_t kMaxSamples = 8000;
 
+/** Column and row of the pixel of index i in an image `cols` wide. */
+std::array<int, 2> pixelAt(std::uint32_t i, int cols)
+{
+	return {
+		static_cast<int>(i % static_cast<std::uint32_t>(cols)), static_cast<int>(i / static_cast<std::uint32_t>(cols))};
+}
+
 /** The value at fraction q of the sorted order (nearest rank). */
 double percentile(std::vector<double>& v, double q)
 {
@@ -57,11 +64,10 @@ float personDepth(const PixelSet& pixels, std::size_t step, int cols, const Metr
 	all.reserve(pixels.size() / step + 1);
 	for (std::size_t k = 0; k < pixels.size(); k += step)
 	{
-		const auto i = pixels[k];
-		const float d = metresAt(i);
+		const auto [u, v] = pixelAt(pixels[k], cols);
+		const float d = metresAt(u, v);
 		if (!(d > 0)) continue;
 		all.push_back(d);
-		const double u = i % cols, v = i / cols;
 		if (u >= cu0 && u < cu1 && v >= cv0 && v < cv1) core.push_back(d);
 	}
 	return densestWindowDepth(core.size() >= kMinCoreSamples ? core : all, depthBand);
@@ -89,15 +95,15 @@ SightingEstimate estimateSighting(const mrpt::obs::CObservation3DRangeScan& obs,
 	const int cols = camera.width;
 	const auto& img = obs.rangeImage;
 	const double units = obs.rangeUnits;
-	auto metresAt = [&](std::uint32_t i) { return static_cast<float>(img(i / cols, i % cols) * units); };
+	auto metresAt = [&](int u, int v) { return static_cast<float>(img(v, u) * units); };
 
 	int u0 = cols, u1 = -1, v0 = camera.height, v1 = -1;
 	std::size_t withDepth = 0;
 	for (const auto i : pixels)
 	{
-		const int u = static_cast<int>(i % cols), v = static_cast<int>(i / cols);
+		const auto [u, v] = pixelAt(i, cols);
 		u0 = std::min(u0, u), u1 = std::max(u1, u), v0 = std::min(v0, v), v1 = std::max(v1, v);
-		if (metresAt(i) > 0) ++withDepth;
+		if (metresAt(u, v) > 0) ++withDepth;
 	}
 	const double fraction = double(withDepth) / double(pixels.size());
 	if (fraction < o.minDepthFraction)
@@ -119,8 +125,8 @@ SightingEstimate estimateSighting(const mrpt::obs::CObservation3DRangeScan& obs,
 	auto& band = est.bandPoints;
 	std::vector<double> xs, ys, zs;
 	const auto take = [&](const mrpt::math::TPoint3D& p) { xs.push_back(p.x), ys.push_back(p.y), zs.push_back(p.z); };
-	const auto pointOf = [&](std::uint32_t i, float d)
-	{ return sensorPoseInWorld.composePoint(camera.unproject(i % cols, i / cols, d)); };
+	const auto pointOf = [&](int u, int v, float d)
+	{ return sensorPoseInWorld.composePoint(camera.unproject(u, v, d)); };
 	// Reserved up front: grown a push at a time, these vectors (tens of
 	// thousands of points a person a frame) were copied at every doubling.
 	if (keep == BandPoints::Keep) band.reserve(pixels.size());
@@ -132,11 +138,11 @@ SightingEstimate estimateSighting(const mrpt::obs::CObservation3DRangeScan& obs,
 	for (std::size_t k = 0, toNextSample = 0; k < pixels.size();
 		 ++k, toNextSample = toNextSample ? toNextSample - 1 : step - 1)
 	{
-		const auto i = pixels[k];
-		const float d = metresAt(i);
+		const auto [u, v] = pixelAt(pixels[k], cols);
+		const float d = metresAt(u, v);
 		if (!inPersonBand(d, depth, o)) continue;
 		++inBand;
-		const auto p = pointOf(i, d);
+		const auto p = pointOf(u, v, d);
 		extent.updateWithPoint(p);
 		if (keep == BandPoints::Keep) band.push_back(p);
 		if (toNextSample == 0) take(p);
@@ -154,7 +160,10 @@ SightingEstimate estimateSighting(const mrpt::obs::CObservation3DRangeScan& obs,
 	{
 		xs.clear(), ys.clear(), zs.clear();
 		for (const auto i : pixels)
-			if (inPersonBand(metresAt(i), depth, o)) take(pointOf(i, metresAt(i)));
+		{
+			const auto [u, v] = pixelAt(i, cols);
+			if (inPersonBand(metresAt(u, v), depth, o)) take(pointOf(u, v, metresAt(u, v)));
+		}
 	}
 	PersonSighting s;
 	s.points = inBand;
@@ -173,26 +182,16 @@ std::vector<mrpt::math::TPoint3Df> personShape(
 {
 	std::vector<mrpt::math::TPoint3Df> shape;
 	if (!(resolution > 0)) return shape;
-	// The voxels of a tree of this resolution: octomap's keys, unchecked (a
-	// person is never near the edge of a tree).
+	// The voxels of a tree of this resolution, by octomap's keys packed in
+	// one word (avm/maps/OcTreeKeyLayout.h), which sort as the keys do and
+	// compare in one instruction where triples took three. A point beyond
+	// the tree has no voxel in the map either.
 	const double perMetre = 1.0 / resolution;
-	// A key's three axes in one word, each in a field of its own, so that
-	// the words sort as the keys do (x, then y, then z), and compare in one
-	// instruction where triples took three.
-	constexpr unsigned kFieldBits = 21;
-	constexpr std::int64_t kFieldOffset = std::int64_t(1) << (kFieldBits - 1),
-						   kFieldMask = (std::int64_t(1) << kFieldBits) - 1;
 	using Key = std::uint64_t;
-	const auto packed = [&](int x, int y, int z) {
-		return (Key(x + kFieldOffset) << (2 * kFieldBits)) | (Key(y + kFieldOffset) << kFieldBits) |
-			   Key(z + kFieldOffset);
-	};
-	const auto axis = [&](Key k, unsigned field)
-	{ return int(std::int64_t((k >> (field * kFieldBits)) & kFieldMask) - kFieldOffset); };
 	const auto centre = [&](Key k)
 	{
-		return mrpt::math::TPoint3D(
-			keyCentre(axis(k, 2), resolution), keyCentre(axis(k, 1), resolution), keyCentre(axis(k, 0), resolution));
+		return mrpt::math::TPoint3D(keyCentre(int(unpackAxis(k, 0)), resolution),
+			keyCentre(int(unpackAxis(k, 1)), resolution), keyCentre(int(unpackAxis(k, 2)), resolution));
 	};
 	std::vector<Key> keys;
 	// Neighbouring pixels of a row mostly fall in one voxel (a 0.05 m voxel is
@@ -201,7 +200,9 @@ std::vector<mrpt::math::TPoint3Df> personShape(
 	std::optional<Key> last;
 	for (const auto& p : bandPoints)
 	{
-		const Key k = packed(keyOf(p.x, perMetre), keyOf(p.y, perMetre), keyOf(p.z, perMetre));
+		const int x = keyOf(p.x, perMetre), y = keyOf(p.y, perMetre), z = keyOf(p.z, perMetre);
+		if (!keyInTree(x) || !keyInTree(y) || !keyInTree(z)) continue;
+		const Key k = packKey(x, y, z);
 		if (k == last) continue;
 		last = k;
 		if (within.containsPoint(centre(k))) keys.push_back(k);

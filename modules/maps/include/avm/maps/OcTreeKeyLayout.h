@@ -2,11 +2,13 @@
 // trees whose key on each axis is floor(coordinate / resolution) + kKeyOffset.
 // The one place that says so: the map's hot paths build their packed keys,
 // tags and Morton codes on it (src/OcTreeKeys.h), the person layer snaps its
-// shapes to the trees' voxels with it and the reference maps split pruned
-// leaves with it. No octomap types here, so it costs its users nothing.
+// shapes to the trees' voxels and sorts them by packed key with it, and the
+// reference maps split pruned leaves with it. No octomap types here, so it
+// costs its users nothing.
 #pragma once
 
 #include <cmath>
+#include <cstdint>
 
 namespace avm
 {
@@ -22,6 +24,22 @@ constexpr int kKeyEnd = 2 * kKeyOffset;
 inline int keyOf(double coordinate, double inverseResolution)
 {
 	return static_cast<int>(std::floor(coordinate * inverseResolution)) + kKeyOffset;
+}
+
+/** The key lies in the tree: [0, kKeyEnd). */
+constexpr bool keyInTree(int key) { return key >= 0 && key < kKeyEnd; }
+
+/** Three keys of the tree (keyInTree) in one word, x in the highest bits,
+ *  then y, then z, so that packed keys sort as (x, y, z) triples do; plus
+ *  one, so that 0 can mark "no key". */
+constexpr std::uint64_t packKey(unsigned x, unsigned y, unsigned z)
+{
+	return ((std::uint64_t(x) << (2 * kKeyBits)) | (std::uint64_t(y) << kKeyBits) | std::uint64_t(z)) + 1;
+}
+/** Axis `axis` (0 x, 1 y, 2 z) of a packed key. */
+constexpr unsigned unpackAxis(std::uint64_t packed, int axis)
+{
+	return static_cast<unsigned>(((packed - 1) >> ((2 - axis) * kKeyBits)) & ((std::uint64_t(1) << kKeyBits) - 1));
 }
 
 /** The centre of key `key`'s voxel on one axis [m]. */
