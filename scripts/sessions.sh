@@ -24,7 +24,7 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${AVM_BUILD_DIR:-$root/build}
 doc=$root/doc/sessions-results.md
 ini=ini/default.ini
-chain=() groundTruth=0 last="" placed=() loops=0
+chain=() groundTruth=0 last="" placed=() loops=0 cpuCells=""
 while [ $# -gt 0 ]; do
   case $1 in
     --out) doc=$2; shift 2 ;;
@@ -73,26 +73,44 @@ perFrame() {
     'BEGIN { printf "%f %f", c - 1e3 * r / f, 1e3 * r / f }'
 }
 
-# cpuPair PREV RAWLOG: the CPU a frame of RAWLOG continuing PREV and of RAWLOG
-# run fresh, "continued / fresh" [ms], each the median of three runs on one
-# core, alternating, so that the machine's load falls on both alike; then the
-# map rebuild's share of each, "continued / fresh" [ms a frame].
+# cpuPair PREV RAWLOG [BEFORE ONERUN]: the CPU a frame of RAWLOG continuing
+# PREV and of RAWLOG run fresh, "continued / fresh" [ms]; with BEFORE and
+# ONERUN (rawlogs of the frames before RAWLOG's, and of those and RAWLOG's:
+# all the sessions' frames as one run), also the CPU a frame of RAWLOG's
+# frames within that one run: ONERUN's CPU less BEFORE's, over RAWLOG's
+# frames; a run of ONERUN has the earlier frames' map in view at those frames,
+# as the continuation has. Each the median of three runs on one core,
+# alternating, so that the machine's load falls on all alike; the map rebuild
+# apart, then its share of the first two, "continued / fresh" [ms a frame].
+# Into $cpuCells, not printed: the commands it runs are listed in the doc,
+# which a command substitution's subshell would lose.
 cpuPair() {
-  local i cont=() fresh=() contRebuild=() freshRebuild=() c f
+  local i cont=() fresh=() oneRun=() contRebuild=() freshRebuild=() c f b o frames
   commands+=("taskset -c 0 build/bin/avm-map -q --continue $1 -r $2 -o $out/cpu-continued  # 3 times, alternating with:"
     "taskset -c 0 build/bin/avm-map -q -c $ini -r $2 -o $out/cpu-fresh  # the medians")
+  [ -z "${3:-}" ] || commands+=("taskset -c 0 build/bin/avm-map -q -c $ini -r $3 -o $out/cpu-before  # and"
+    "taskset -c 0 build/bin/avm-map -q -c $ini -r $4 -o $out/cpu-one-run")
   for i in 1 2 3; do
-    rm -rf "$work/cpu-continued" "$work/cpu-fresh"
+    rm -rf "$work/cpu-continued" "$work/cpu-fresh" "$work/cpu-before" "$work/cpu-one-run"
     taskset -c 0 "$build/bin/avm-map" -q --continue "$1" -r "$2" -o "$out/cpu-continued" >/dev/null
     taskset -c 0 "$build/bin/avm-map" -q -c "$ini" -r "$2" -o "$out/cpu-fresh" >/dev/null
     read -r c f <<<"$(perFrame "$work/cpu-continued")"
     cont+=("$c") contRebuild+=("$f")
     read -r c f <<<"$(perFrame "$work/cpu-fresh")"
     fresh+=("$c") freshRebuild+=("$f")
+    [ -n "${3:-}" ] || continue
+    taskset -c 0 "$build/bin/avm-map" -q -c "$ini" -r "$3" -o "$out/cpu-before" >/dev/null
+    taskset -c 0 "$build/bin/avm-map" -q -c "$ini" -r "$4" -o "$out/cpu-one-run" >/dev/null
+    read -r b _ <<<"$(perFrame "$work/cpu-before")"
+    read -r o _ <<<"$(perFrame "$work/cpu-one-run")"
+    frames=$(json "$work/cpu-fresh" frames)
+    oneRun+=("$(awk -v b="$b" -v nb="$(json "$work/cpu-before" frames)" -v o="$o" \
+      -v no="$(json "$work/cpu-one-run" frames)" -v f="$frames" 'BEGIN { print (o * no - b * nb) / f }')")
   done
   median() { printf '%s\n' "$@" | sort -g | sed -n 2p; }
-  printf '%.1f / %.1f | %.1f / %.1f' "$(median "${cont[@]}")" "$(median "${fresh[@]}")" \
-    "$(median "${contRebuild[@]}")" "$(median "${freshRebuild[@]}")"
+  cpuCells=$(printf '%.1f / %.1f | %s | %.1f / %.1f' "$(median "${cont[@]}")" "$(median "${fresh[@]}")" \
+    "$([ ${#oneRun[@]} = 0 ] && echo - || printf '%.1f' "$(median "${oneRun[@]}")")" \
+    "$(median "${contRebuild[@]}")" "$(median "${freshRebuild[@]}")")
 }
 
 # runChain POSES CUT...: each cut continuing the one before; sets $last (the
@@ -124,14 +142,29 @@ runChain() {
   last=$work/$poses-$name
 }
 
+# contiguous CUT...: the cuts start at frame 0 and leave no frame out between them.
+contiguous() {
+  local next=0 c
+  for c in "$@"; do
+    [ "${c%:*}" = "$next" ] || return 1
+    next=$((${c#*:} + 1))
+  done
+}
+
 # chainRow CUT...: the chain at the odometry's poses, its table row.
 chainRow() {
   runChain vo "$@"
   local load
   load=$(sed -n 's/.*loaded in \([0-9.]*\) s.*/\1/p' "$last/avm-map.log" | tail -1)
-  # The last session's frames run fresh: the CPU a frame a continuation is held to.
+  # The last session's frames run fresh: the CPU a frame a continuation is
+  # held to; and within one run of all the chain's frames, where its cuts
+  # leave no frames out between them.
+  local lastCut=${*: -1} oneRun=()
+  local lastFirst=${lastCut%:*} lastLast=${lastCut#*:}
+  if contiguous "$@"; then oneRun=("$(cut "0:$((lastFirst - 1))" gt)" "$(cut "0:$lastLast" gt)"); fi
+  cpuPair "$lastPrevious" "$lastRawlog" "${oneRun[@]}"
   printf '| %s | %s | %s | %s | %s | %.1f MB, %s s |\n' "$*" "$(printf '%s; ' "${placed[@]}" | sed 's/; $//')" \
-    "$(ate "$last/trajectory.txt")" "$loops" "$(cpuPair "$lastPrevious" "$lastRawlog")" \
+    "$(ate "$last/trajectory.txt")" "$loops" "$cpuCells" \
     "$(awk -v b="$(stat -c %s "$last/session.bin")" 'BEGIN { printf "%.1f", b / 1e6 }')" "${load:-?}"
 }
 
@@ -147,8 +180,8 @@ spaceRow() {
 }
 
 tableHead() {
-  echo "| sessions (frames of the whole sequence) | placed, each continuation | ATE, all sessions [m] | loops closed | CPU a frame, last session, one core: continued / fresh [ms] | its map rebuild after a loop, a frame: continued / fresh [ms] | session.bin, load |"
-  echo "|---|---|---|---|---|---|---|"
+  echo "| sessions (frames of the whole sequence) | placed, each continuation | ATE, all sessions [m] | loops closed | CPU a frame, last session, one core: continued / fresh [ms] | the same frames within one run of all [ms] | its map rebuild after a loop, a frame: continued / fresh [ms] | session.bin, load |"
+  echo "|---|---|---|---|---|---|---|---|"
 }
 spaceHead() {
   echo "| sessions at ground-truth poses | occupied voxels (0.05 m): whole run / sessions, IoU | low tree IoU | high tree IoU |"
@@ -183,7 +216,8 @@ alone=$(ate "$work/vo-0-462-and-alone.txt")
   echo "Cuts of the whole \`rgbd_bonn_crowd\` (926 frames after trimming to its ground truth) with"
   echo "\`avm-tum2rawlog --trim-to-ground-truth --frames FIRST:LAST\`, every continuation with \`--no-gt\`; ATE of"
   echo "the chain's last \`trajectory.txt\` (all its sessions' poses) against the whole sequence's ground truth,"
-  echo "one SE(3) alignment (\`avm-eval\`)."
+  echo "one SE(3) alignment (\`avm-eval\`). Within one run: the CPU of a run of frames 0 to the last session's"
+  echo "last less that of a run of the frames before the last session's, over its frames (- where the cuts leave frames out)."
   echo
   sed -n '1,/^$/p' "$tmp" | sed '/^$/d'
   echo
