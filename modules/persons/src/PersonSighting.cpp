@@ -29,6 +29,30 @@ std::array<int, 2> pixelAt(std::uint32_t i, int cols)
 		static_cast<int>(i % static_cast<std::uint32_t>(cols)), static_cast<int>(i / static_cast<std::uint32_t>(cols))};
 }
 
+/** Pixel (u, v) at depth d [m], in the world: DepthCamera::unproject, then
+ *  CPose3D::composePoint's sums, term for term and in its order (the same
+ *  bits), without a call into MRPT and its optional Jacobians a pixel. */
+class WorldPointOf
+{
+   public:
+	WorldPointOf(const mrpt::poses::CPose3D& sensorPoseInWorld, const io::DepthCamera& camera)
+		: m_R(sensorPoseInWorld.getRotationMatrix()), m_t(sensorPoseInWorld.m_coords), m_camera(camera)
+	{
+	}
+	mrpt::math::TPoint3D operator()(int u, int v, float d) const
+	{
+		const auto l = m_camera.unproject(u, v, d);
+		return {m_R(0, 0) * l.x + m_R(0, 1) * l.y + m_R(0, 2) * l.z + m_t[0],
+			m_R(1, 0) * l.x + m_R(1, 1) * l.y + m_R(1, 2) * l.z + m_t[1],
+			m_R(2, 0) * l.x + m_R(2, 1) * l.y + m_R(2, 2) * l.z + m_t[2]};
+	}
+
+   private:
+	mrpt::math::CMatrixDouble33 m_R;
+	mrpt::math::CVectorFixedDouble<3> m_t;
+	const io::DepthCamera& m_camera;
+};
+
 /** The value at fraction q of the sorted order (nearest rank). */
 double percentile(std::vector<double>& v, double q)
 {
@@ -125,8 +149,7 @@ SightingEstimate estimateSighting(const mrpt::obs::CObservation3DRangeScan& obs,
 	auto& band = est.bandPoints;
 	std::vector<double> xs, ys, zs;
 	const auto take = [&](const mrpt::math::TPoint3D& p) { xs.push_back(p.x), ys.push_back(p.y), zs.push_back(p.z); };
-	const auto pointOf = [&](int u, int v, float d)
-	{ return sensorPoseInWorld.composePoint(camera.unproject(u, v, d)); };
+	const WorldPointOf pointOf(sensorPoseInWorld, camera);
 	// Reserved up front: grown a push at a time, these vectors (tens of
 	// thousands of points a person a frame) were copied at every doubling.
 	if (keep == BandPoints::Keep) band.reserve(pixels.size());
