@@ -3,6 +3,7 @@
 #include "RayIntegrator.h"
 
 #include "avm/io/DepthCamera.h"
+#include "avm/io/PoseTransform.h"
 
 #include <algorithm>
 #include <array>
@@ -53,11 +54,12 @@ void RayIntegrator::forgetSketchSeenThrough(const mrpt::obs::CObservation3DRange
 		offsets[bit] = {R(0, 0) * w[0] + R(1, 0) * w[1] + R(2, 0) * w[2],
 			R(0, 1) * w[0] + R(1, 1) * w[1] + R(2, 1) * w[2], R(0, 2) * w[0] + R(1, 2) * w[1] + R(2, 2) * w[2]};
 	}
+	const io::PoseTransform sensor(sensorPose);
 	m_targets.sketch->updateBits(
 		[&](std::uint64_t lowKey, std::uint64_t bits)
 		{
 			if (bits == 0) return bits;
-			const auto lowCentre = sensorPose.inverseComposePoint(centreOf(lowKey, highEdge * ratio));
+			const auto lowCentre = sensor.inverseCompose(centreOf(lowKey, highEdge * ratio));
 			if (lowCentre.x <= -lowHalfDiagonal || lowCentre.norm() > maxRange + lowHalfDiagonal) return bits;
 			if (outsideTheImage(lowCentre)) return bits;
 			for (std::uint64_t rest = bits; rest != 0; rest &= rest - 1)

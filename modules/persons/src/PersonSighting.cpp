@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "avm/io/DepthCamera.h"
+#include "avm/io/PoseTransform.h"
 #include "avm/maps/OcTreeKeyLayout.h"
 #include "avm/persons/PersonBand.h"
 
@@ -29,27 +30,21 @@ std::array<int, 2> pixelAt(std::uint32_t i, int cols)
 		static_cast<int>(i % static_cast<std::uint32_t>(cols)), static_cast<int>(i / static_cast<std::uint32_t>(cols))};
 }
 
-/** Pixel (u, v) at depth d [m], in the world: DepthCamera::unproject, then
- *  CPose3D::composePoint's sums, term for term and in its order (the same
- *  bits), without a call into MRPT and its optional Jacobians a pixel. */
+/** Pixel (u, v) at depth d [m], in the world. */
 class WorldPointOf
 {
    public:
 	WorldPointOf(const mrpt::poses::CPose3D& sensorPoseInWorld, const io::DepthCamera& camera)
-		: m_R(sensorPoseInWorld.getRotationMatrix()), m_t(sensorPoseInWorld.m_coords), m_camera(camera)
+		: m_sensor(sensorPoseInWorld), m_camera(camera)
 	{
 	}
 	mrpt::math::TPoint3D operator()(int u, int v, float d) const
 	{
-		const auto l = m_camera.unproject(u, v, d);
-		return {m_R(0, 0) * l.x + m_R(0, 1) * l.y + m_R(0, 2) * l.z + m_t[0],
-			m_R(1, 0) * l.x + m_R(1, 1) * l.y + m_R(1, 2) * l.z + m_t[1],
-			m_R(2, 0) * l.x + m_R(2, 1) * l.y + m_R(2, 2) * l.z + m_t[2]};
+		return m_sensor.compose(m_camera.unproject(u, v, d));
 	}
 
    private:
-	mrpt::math::CMatrixDouble33 m_R;
-	mrpt::math::CVectorFixedDouble<3> m_t;
+	io::PoseTransform m_sensor;
 	const io::DepthCamera& m_camera;
 };
 
