@@ -13,7 +13,8 @@
 # trajectories are the same bytes (a table). avm-map's log lines (loops, lost
 # frames) are left out of the runs printed; each run's avm-map.log has them.
 # Then the CPU a frame by stage (odometry, detector, map, the rest) on one core
-# and on two, and the map stage against octomap's insertion in the same run.
+# and on two, the map stage against octomap's insertion in the same run, and
+# the odometry's own stages (avm-odometry --stage-times, one core).
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${AVM_BUILD_DIR:-$root/build}
@@ -21,7 +22,7 @@ out=$root/output/benchmark
 doc=$root/doc/performance.md
 
 source "$root/scripts/prepare.sh"
-avm_prepare "$build" -DCMAKE_BUILD_TYPE=Release avm-map
+avm_prepare "$build" -DCMAKE_BUILD_TYPE=Release avm-map avm-odometry
 
 defaults=(default default-2 default-3 default-4 default-5)
 
@@ -203,6 +204,16 @@ tmp=$(mktemp "$root/doc/.performance.XXXX")
   for r in "${reference_runs[@]}"; do
     echo "| $r | $(stage "$r" map_cpu) | $(value_in "$r" single_high insert_mean_ms | awk '{printf "%.1f", $1}') | $(field "$r" map_cpu_speedup_vs_single_high | awk '{printf "%.1fx", $1}') |"
   done
+  echo
+  echo "Inside the odometry: \`avm-odometry\` alone on the first core, on the whole sequence where it is there (else sub300), with the detector on every frame between its stages. One thread: a stage's wall time is its CPU time. MRPT's CTimeLogger table of its stages, and the odometry's own time a frame (all stages):"
+  echo
+  echo "\`\`\`"
+  odometry_input=datasets/bonn_crowd_sub300.rawlog
+  [ -f "$root/datasets/rgbd_bonn_crowd.rawlog" ] && odometry_input=datasets/rgbd_bonn_crowd.rawlog
+  odometry_cmd=(taskset -c 0 build/bin/avm-odometry -c ini/default.ini --stage-times "$odometry_input" output/benchmark/odometry-stages.txt)
+  echo "${odometry_cmd[*]}"
+  (cd "$root" && "${odometry_cmd[@]}") | grep -vE '^-+ avm odometry stages|^loop|^  (measured|tracked) ?:' | sed -n '/^frames /,$p'
+  echo "\`\`\`"
   echo
   echo "## Long run: the sequence 10 times in one process (3000 frames), ground-truth poses"
   echo
