@@ -7,7 +7,7 @@
 
 namespace
 {
-TEST(PoseTransform, ComposesAndInverseComposesToMrptsBits)
+TEST(PoseTransform, TransformsToMrptsBits)
 {
 	mrpt::random::CRandomGenerator random(7);
 	for (int pose = 0; pose < 200; pose++)
@@ -20,11 +20,13 @@ TEST(PoseTransform, ComposesAndInverseComposesToMrptsBits)
 			const mrpt::math::TPoint3D x(u(10), u(10), u(10));
 			const auto composed = p.composePoint(x), inverse = p.inverseComposePoint(x);
 			const auto ours = t.compose(x), oursInverse = t.inverseCompose(x);
+			const auto rotated = p.inverseRotateVector(x), oursRotated = t.inverseRotate(x);
 			for (int i = 0; i < 3; i++)
 			{
 				// Bit for bit, not near: EXPECT_EQ on the doubles.
 				EXPECT_EQ(ours[i], composed[i]) << "pose " << p << " point " << x;
 				EXPECT_EQ(oursInverse[i], inverse[i]) << "pose " << p << " point " << x;
+				EXPECT_EQ(oursRotated[i], rotated[i]) << "pose " << p << " vector " << x;
 			}
 		}
 	}

@@ -44,17 +44,15 @@ void RayIntegrator::forgetSketchSeenThrough(const mrpt::obs::CObservation3DRange
 	// A high voxel's centre is its low voxel's plus a fixed offset per bit:
 	// the offsets turned into the sensor frame once per image.
 	const unsigned ratio = m_targets.sketch->ratio();
-	const auto& R = sensorPose.getRotationMatrix();
+	const io::PoseTransform sensor(sensorPose);
 	std::vector<mrpt::math::TPoint3D> offsets(ratio * ratio * ratio);
 	for (unsigned bit = 0; bit < offsets.size(); ++bit)
 	{
 		const auto o = m_targets.sketch->offsetOfBit(bit);
-		double w[3];
+		mrpt::math::TPoint3D w;
 		for (int i = 0; i < 3; ++i) w[i] = (o[i] + 0.5) * highEdge - 0.5 * highEdge * ratio;
-		offsets[bit] = {R(0, 0) * w[0] + R(1, 0) * w[1] + R(2, 0) * w[2],
-			R(0, 1) * w[0] + R(1, 1) * w[1] + R(2, 1) * w[2], R(0, 2) * w[0] + R(1, 2) * w[1] + R(2, 2) * w[2]};
+		offsets[bit] = sensor.inverseRotate(w);
 	}
-	const io::PoseTransform sensor(sensorPose);
 	m_targets.sketch->updateBits(
 		[&](std::uint64_t lowKey, std::uint64_t bits)
 		{

@@ -1,10 +1,10 @@
-// A pose's point transforms for loops over many points: CPose3D's
-// composePoint and inverseComposePoint with MRPT 2.5's sums, term for term
-// and in its order, so that they give the same bits (avm and MRPT are both
-// built without -march flags: nothing contracts a product and a sum into one
-// rounding). The pose's rotation and translation are copied, and its inverse
-// made, once: MRPT's calls pass three optional Jacobians for every point, and
-// inverseComposePoint inverts the pose again for every point.
+// A pose's transforms for loops over many points: CPose3D's composePoint,
+// inverseComposePoint and inverseRotateVector with MRPT 2.5's sums, term for
+// term and in its order, so that they give the same bits (avm and MRPT are
+// both built without -march flags: nothing contracts a product and a sum
+// into one rounding). The pose's rotation and translation are copied, and
+// its inverse made, once: MRPT's calls pass three optional Jacobians for
+// every point, and inverseComposePoint inverts the pose again for every point.
 #pragma once
 
 #include <mrpt/math/CMatrixFixed.h>
@@ -37,6 +37,13 @@ class PoseTransform
 		return {m_tInverse[0] + m_R(0, 0) * g.x + m_R(1, 0) * g.y + m_R(2, 0) * g.z,
 			m_tInverse[1] + m_R(0, 1) * g.x + m_R(1, 1) * g.y + m_R(2, 1) * g.z,
 			m_tInverse[2] + m_R(0, 2) * g.x + m_R(1, 2) * g.y + m_R(2, 2) * g.z};
+	}
+
+	/** pose.inverseRotateVector(global): a direction in the pose's own frame. */
+	mrpt::math::TPoint3D inverseRotate(const mrpt::math::TPoint3D& g) const
+	{
+		return {m_R(0, 0) * g.x + m_R(1, 0) * g.y + m_R(2, 0) * g.z,
+			m_R(0, 1) * g.x + m_R(1, 1) * g.y + m_R(2, 1) * g.z, m_R(0, 2) * g.x + m_R(1, 2) * g.y + m_R(2, 2) * g.z};
 	}
 
    private:
