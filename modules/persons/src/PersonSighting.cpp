@@ -180,7 +180,7 @@ SightingEstimate estimateSighting(const mrpt::obs::CObservation3DRangeScan& obs,
 		for (const auto i : pixels)
 		{
 			const auto [u, v] = pixelAt(i, cols);
-			if (inPersonBand(metresAt(u, v), depth, o)) take(pointOf(u, v, metresAt(u, v)));
+			if (const float d = metresAt(u, v); inPersonBand(d, depth, o)) take(pointOf(u, v, d));
 		}
 	}
 	PersonSighting s;
