@@ -12,6 +12,7 @@
 #include "OcTreeKeys.h"
 
 using namespace avm::detail;
+using avm::centreOf;
 using avm::keySpanAtDepth;
 using avm::kKeyOffset;
 

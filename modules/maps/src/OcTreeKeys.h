@@ -83,13 +83,6 @@ inline std::uint64_t packedOrNone(int x, int y, int z)
 }
 /** @} */
 
-/** The centre of the voxel of a packed key. */
-inline mrpt::math::TPoint3D centreOf(std::uint64_t packed, double resolution)
-{
-	const auto k = unpackKey(packed);
-	return {keyCentre(k[0], resolution), keyCentre(k[1], resolution), keyCentre(k[2], resolution)};
-}
-
 /** The key of a coordinate that lies on a voxel border (a grid-aligned box's
  *  face), robust to its rounding. */
 inline long gridKeyOf(double alignedCoordinate, double resolution)

@@ -206,11 +206,6 @@ std::vector<mrpt::math::TPoint3Df> personShape(
 	// the tree has no voxel in the map either.
 	const double perMetre = 1.0 / resolution;
 	using Key = std::uint64_t;
-	const auto centre = [&](Key k)
-	{
-		return mrpt::math::TPoint3D(keyCentre(int(unpackAxis(k, 0)), resolution),
-			keyCentre(int(unpackAxis(k, 1)), resolution), keyCentre(int(unpackAxis(k, 2)), resolution));
-	};
 	std::vector<Key> keys;
 	// Neighbouring pixels of a row mostly fall in one voxel (a 0.05 m voxel is
 	// about ten pixels wide at 2.5 m): skipping a repeat of the last key keeps
@@ -223,14 +218,14 @@ std::vector<mrpt::math::TPoint3Df> personShape(
 		const Key k = packKey(x, y, z);
 		if (k == last) continue;
 		last = k;
-		if (within.containsPoint(centre(k))) keys.push_back(k);
+		if (within.containsPoint(centreOf(k, resolution))) keys.push_back(k);
 	}
 	std::sort(keys.begin(), keys.end());
 	keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
 	shape.reserve(keys.size());
 	for (const auto& k : keys)
 	{
-		const auto c = centre(k);
+		const auto c = centreOf(k, resolution);
 		shape.emplace_back(static_cast<float>(c.x), static_cast<float>(c.y), static_cast<float>(c.z));
 	}
 	return shape;

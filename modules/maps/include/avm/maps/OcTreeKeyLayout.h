@@ -7,6 +7,8 @@
 // costs its users nothing.
 #pragma once
 
+#include <mrpt/math/TPoint3D.h>
+
 #include <cmath>
 #include <cstdint>
 
@@ -46,6 +48,13 @@ constexpr unsigned unpackAxis(std::uint64_t packed, int axis)
 inline double keyCentre(int key, double resolution)
 {
 	return (static_cast<double>(key - kKeyOffset) + 0.5) * resolution;
+}
+
+/** The centre of the voxel of a packed key (packKey) [m]. */
+inline mrpt::math::TPoint3D centreOf(std::uint64_t packed, double resolution)
+{
+	return {keyCentre(int(unpackAxis(packed, 0)), resolution), keyCentre(int(unpackAxis(packed, 1)), resolution),
+		keyCentre(int(unpackAxis(packed, 2)), resolution)};
 }
 
 /** Finest keys along each axis of a node at `depth` (root 0, leaves
