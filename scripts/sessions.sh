@@ -85,27 +85,30 @@ perFrame() {
 # Into $cpuCells, not printed: the commands it runs are listed in the doc,
 # which a command substitution's subshell would lose.
 cpuPair() {
-  local i cont=() fresh=() oneRun=() contRebuild=() freshRebuild=() c f b o frames
+  local i cont=() fresh=() oneRun=() contRebuild=() freshRebuild=() c f b o
   commands+=("taskset -c 0 build/bin/avm-map -q --continue $1 -r $2 -o $out/cpu-continued  # 3 times, alternating with:"
     "taskset -c 0 build/bin/avm-map -q -c $ini -r $2 -o $out/cpu-fresh  # the medians")
   [ -z "${3:-}" ] || commands+=("taskset -c 0 build/bin/avm-map -q -c $ini -r $3 -o $out/cpu-before  # and"
     "taskset -c 0 build/bin/avm-map -q -c $ini -r $4 -o $out/cpu-one-run")
+  # pinned NAME ARGS...: avm-map ARGS on the first core into cpu-NAME; its perFrame.
+  pinned() {
+    local name=$1
+    shift
+    rm -rf "${work:?}/cpu-$name"
+    taskset -c 0 "$build/bin/avm-map" -q "$@" -o "$out/cpu-$name" >/dev/null
+    perFrame "$work/cpu-$name"
+  }
   for i in 1 2 3; do
-    rm -rf "$work/cpu-continued" "$work/cpu-fresh" "$work/cpu-before" "$work/cpu-one-run"
-    taskset -c 0 "$build/bin/avm-map" -q --continue "$1" -r "$2" -o "$out/cpu-continued" >/dev/null
-    taskset -c 0 "$build/bin/avm-map" -q -c "$ini" -r "$2" -o "$out/cpu-fresh" >/dev/null
-    read -r c f <<<"$(perFrame "$work/cpu-continued")"
+    read -r c f <<<"$(pinned continued --continue "$1" -r "$2")"
     cont+=("$c") contRebuild+=("$f")
-    read -r c f <<<"$(perFrame "$work/cpu-fresh")"
+    read -r c f <<<"$(pinned fresh -c "$ini" -r "$2")"
     fresh+=("$c") freshRebuild+=("$f")
     [ -n "${3:-}" ] || continue
-    taskset -c 0 "$build/bin/avm-map" -q -c "$ini" -r "$3" -o "$out/cpu-before" >/dev/null
-    taskset -c 0 "$build/bin/avm-map" -q -c "$ini" -r "$4" -o "$out/cpu-one-run" >/dev/null
-    read -r b _ <<<"$(perFrame "$work/cpu-before")"
-    read -r o _ <<<"$(perFrame "$work/cpu-one-run")"
-    frames=$(json "$work/cpu-fresh" frames)
+    read -r b _ <<<"$(pinned before -c "$ini" -r "$3")"
+    read -r o _ <<<"$(pinned one-run -c "$ini" -r "$4")"
     oneRun+=("$(awk -v b="$b" -v nb="$(json "$work/cpu-before" frames)" -v o="$o" \
-      -v no="$(json "$work/cpu-one-run" frames)" -v f="$frames" 'BEGIN { print (o * no - b * nb) / f }')")
+      -v no="$(json "$work/cpu-one-run" frames)" -v f="$(json "$work/cpu-fresh" frames)" \
+      'BEGIN { print (o * no - b * nb) / f }')")
   done
   median() { printf '%s\n' "$@" | sort -g | sed -n 2p; }
   cpuCells=$(printf '%.1f / %.1f | %s | %.1f / %.1f' "$(median "${cont[@]}")" "$(median "${fresh[@]}")" \
