@@ -1,13 +1,40 @@
 // avm-eval: ATE (after SE(3) alignment), RPE per second and the camera's acceleration of a TUM trajectory
-// against a TUM ground truth; with --maps, the occupied space two avm-map runs share.
+// against a TUM ground truth; with --maps, the occupied space two avm-map runs share; with --walk-ins, how
+// soon a run's detector finds the persons who walk into view.
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 
 #include "avm/io/ProgramMain.h"
 #include "avm/evaluation/MapComparison.h"
 #include "avm/evaluation/TrajectoryEvaluation.h"
+#include "avm/evaluation/WalkIns.h"
+
+namespace
+{
+void printWalkIns(const std::vector<avm::evaluation::WalkIn>& walkIns)
+{
+	std::size_t found = 0, frames = 0, most = 0;
+	for (const auto& w : walkIns)
+	{
+		if (!w.foundAt)
+		{
+			std::printf("walk-in  person %u at frame %zu: never found\n", w.person, w.frame);
+			continue;
+		}
+		const std::size_t after = *w.foundAt - w.frame;
+		std::printf("walk-in  person %u at frame %zu: found at frame %zu (%zu frames later)\n", w.person, w.frame,
+			*w.foundAt, after);
+		++found;
+		frames += after;
+		most = std::max(most, after);
+	}
+	std::printf("walk-ins %zu, found %zu, frames to find them: total %zu, mean %.2f, most %zu\n", walkIns.size(), found,
+		frames, found ? double(frames) / double(found) : 0.0, most);
+}
+}  // namespace
 
 int main(int argc, char** argv)
 {
@@ -17,12 +44,19 @@ int main(int argc, char** argv)
 		[&](avm::io::CommandLine& cmd)
 		{
 			TCLAP::UnlabeledValueArg<std::string> argEst("ESTIMATE",
-				"estimated trajectory (TUM); with --maps, an avm-map output folder", true, "", "EST.txt", cmd);
+				"estimated trajectory (TUM); with --maps or --walk-ins, an avm-map output folder", true, "", "EST.txt",
+				cmd);
 			TCLAP::UnlabeledValueArg<std::string> argGt("GROUNDTRUTH",
-				"ground truth (TUM); with --maps, another avm-map output folder", true, "", "GT.txt", cmd);
+				"ground truth (TUM); with --maps, another avm-map output folder; with --walk-ins, the output folder of "
+				"a run of the same rawlog with the detector on every frame",
+				true, "", "GT.txt", cmd);
 			TCLAP::SwitchArg argMaps("", "maps",
 				"compare the occupied space of two avm-map runs instead (both trees, at the high resolution, a low "
 				"voxel as the high voxels it covers): voxels of each and their intersection over union",
+				cmd);
+			TCLAP::SwitchArg argWalkIns("", "walk-ins",
+				"the persons who walk into view in the reference run (GROUNDTRUTH: its detector on every frame, "
+				"detect_every_n = 1) and the frame the run's detector (ESTIMATE) first found each at",
 				cmd);
 			TCLAP::ValueArg<double> argMaxDt(
 				"", "max-dt", "max timestamp difference of a match [s] (default 0.02)", false, 0.02, "S", cmd);
@@ -41,6 +75,11 @@ int main(int argc, char** argv)
 					c.lowIoU);
 				std::printf("high tree       %zu / %zu voxels of %.3f m, IoU %.4f\n", c.highA, c.highB,
 					c.highResolution, c.highIoU);
+				return 0;
+			}
+			if (argWalkIns.getValue())
+			{
+				printWalkIns(avm::evaluation::walkInsFound(argEst.getValue(), argGt.getValue()));
 				return 0;
 			}
 
