@@ -1,7 +1,8 @@
 // Checkpoints and resume on the real Bonn sequence with the default
 // configuration (odometry, detection on its worker thread, per-person
-// regions): a run stopped in the middle and resumed from its checkpoint ends
-// with the same files, byte for byte, as a run that was never stopped.
+// regions), and with the detector scheduled on change: a run stopped in the
+// middle and resumed from its checkpoint ends with the same files, byte for
+// byte, as a run that was never stopped.
 // scripts/kill-test.sh does the same with SIGKILL at random instants.
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
@@ -63,12 +64,14 @@ const char* const kRunFiles[] = {"trajectory.txt", "trajectory_status.txt", "det
 
 /** All of the map's state (trees, regions, person tracks, surface sketch). */
 std::string serialized(const CAdaptiveOctoMap& map) { return test::serializedBytes(map); }
-}  // namespace
 
-TEST(PipelineCheckpoint, AResumedRunEndsLikeARunThatWasNeverStopped)
+/** The default configuration, [pipeline] detection_schedule = `schedule`,
+ *  stopped at frame 100 and resumed, against the same run never stopped. */
+void expectAResumedRunToEndLikeARunNeverStopped(const std::string& schedule)
 {
-	const auto dir = test::scratchDir("pipeline-checkpoint");
+	const auto dir = test::scratchDir("pipeline-checkpoint-" + schedule);
 	auto ini = defaultIniOn150Frames();
+	ini.write("pipeline", "detection_schedule", schedule);
 	ini.write("pipeline", "checkpoint_interval_s", "0");
 	// The map made again at the end: the resumed run's rebuild replays the
 	// persons and frames of the part before its checkpoint too.
@@ -112,6 +115,19 @@ TEST(PipelineCheckpoint, AResumedRunEndsLikeARunThatWasNeverStopped)
 		EXPECT_GT(test::fileBytes(uninterrupted / name).size(), 100u) << name;
 		EXPECT_EQ(test::fileBytes(uninterrupted / name), test::fileBytes(stopped / name)) << name;
 	}
+}
+}  // namespace
+
+TEST(PipelineCheckpoint, AResumedRunEndsLikeARunThatWasNeverStopped)
+{
+	expectAResumedRunToEndLikeARunNeverStopped("fixed");
+}
+
+// The schedule's last look (the detector's last frame, sampled) goes into the
+// checkpoint: the resumed run calls the detector on the same frames.
+TEST(PipelineCheckpoint, AResumedRunWithTheDetectorOnChangeEndsLikeARunThatWasNeverStopped)
+{
+	expectAResumedRunToEndLikeARunNeverStopped("on_change");
 }
 
 TEST(PipelineCheckpoint, AMissingOrDamagedCheckpointIsNamedAndNothingIsWritten)

@@ -61,6 +61,21 @@ TEST(TPipelineOptions, ValuesOutOfRangeNameSectionKeyAndRange)
 	EXPECT_EQ(loadError("detection_lag_frames = 31"), "[pipeline] detection_lag_frames = 31: must be 0..30 frames");
 	EXPECT_EQ(loadError("pose_source = slam"), "[pipeline] pose_source = slam: must be vo or gt");
 	EXPECT_EQ(loadError("read_ahead_frames = 3"), "");
+	EXPECT_EQ(loadError("detection_schedule = sometimes"),
+		"[pipeline] detection_schedule = sometimes: must be fixed or on_change");
+	EXPECT_EQ(loadError("detect_moved_share = 0"), "[pipeline] detect_moved_share = 0: must be in (0, 1]");
+	EXPECT_EQ(loadError("detect_change_depth = -1"), "[pipeline] detect_change_depth = -1: must be in (0, 10] m");
+}
+
+// The on_change schedule runs the detector at most every detect_every_n-th
+// frame and at least every detect_max_interval-th: the second cannot be the
+// shorter.
+TEST(TPipelineOptions, TheLongestDetectionIntervalIsNoShorterThanTheShortest)
+{
+	EXPECT_EQ(loadError("detect_every_n = 4\ndetect_max_interval = 3"),
+		"[pipeline] detect_max_interval = 3: must be >= detect_every_n");
+	EXPECT_EQ(loadError("detect_every_n = 4\ndetect_max_interval = 4"), "");
+	EXPECT_EQ(loadError("detect_max_interval = 31"), "[pipeline] detect_max_interval = 31: must be 1..30 frames");
 }
 
 // gui and gui_fps: what avm-map makes its live view from (avm/viewer/LiveView.h).

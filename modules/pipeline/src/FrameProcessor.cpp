@@ -30,7 +30,8 @@ FrameProcessor::FrameProcessor(const TPipelineOptions& options, const odometry::
 	  m_detector(detector),
 	  m_maps(maps),
 	  m_adaptive(*maps.mapByClass<CAdaptiveOctoMap>()),
-	  m_log(log)
+	  m_log(log),
+	  m_detectionScheduler(options)
 {
 }
 
@@ -113,7 +114,15 @@ void FrameProcessor::finish()
 
 void FrameProcessor::startDetection(const io::RgbdFrame& frame)
 {
-	if (!m_detector || frame.index % m_options.detectEveryN != 0) return;
+	if (!m_detector) return;
+	const auto cause = m_detectionScheduler.due(frame.index, *frame.observation, m_recentPoses);
+	if (!cause) return;
+	++m_counts.detectionsStartedBy[*cause];
+	runDetector(frame);
+}
+
+void FrameProcessor::runDetector(const io::RgbdFrame& frame)
+{
 	const auto detect = [detector = m_detector, index = frame.index, t = frame.timestamp(), obs = frame.observation]
 	{
 		DetectionResult r{index, t, obs, {}, 0, 0};
@@ -229,6 +238,7 @@ void FrameProcessor::continueSession(const std::filesystem::path& previous)
 	m_stages = {};
 	m_recentPoses.clear();
 	m_latestPersonBoxes.clear();
+	m_detectionScheduler.forgetLastLook();
 	m_personWork = {};
 	if (m_odometry) m_odometry->continueSession();
 }

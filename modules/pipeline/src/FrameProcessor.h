@@ -41,6 +41,7 @@
 #include "avm/odometry/VisualOdometry.h"
 #include "avm/pipeline/FrameObserver.h"
 #include "avm/pipeline/MappingPipeline.h"
+#include "DetectionScheduler.h"
 
 namespace avm::pipeline::detail
 {
@@ -168,7 +169,9 @@ class FrameProcessor
 	};
 
 	// 1. Person boxes.
+	/** The detector on the frame, when the schedule has it run there. */
 	void startDetection(const io::RgbdFrame& frame);
+	void runDetector(const io::RgbdFrame& frame);
 	/** The detections due at frameIndex (waiting for them): their boxes mask
 	 *  the odometry from now on, their persons wait for updatePersons. */
 	void applyDueDetections(std::size_t frameIndex);
@@ -204,6 +207,7 @@ class FrameProcessor
 	mrpt::maps::CMultiMetricMap& m_maps;
 	CAdaptiveOctoMap& m_adaptive;
 	mrpt::system::COutputLogger& m_log;
+	DetectionScheduler m_detectionScheduler;
 
 	std::optional<odometry::VisualOdometry> m_odometry;  // started at the first frame
 	RunSummary m_counts;

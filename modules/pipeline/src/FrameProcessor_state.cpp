@@ -16,7 +16,7 @@ using mrpt::serialization::CArchive;
 
 namespace
 {
-constexpr std::uint8_t kStateVersion = 6;
+constexpr std::uint8_t kStateVersion = 7;
 
 void write(CArchive& out, const io::TimingSamples& t) { out << t.samples(); }
 void read(CArchive& in, io::TimingSamples& t)
@@ -151,6 +151,12 @@ void FrameProcessor::saveState(CArchive& out)
 	write(out, c.framesWithPerson);
 	write(out, c.regions);
 	write(out, c.loopsClosed);
+	write(out, c.detectionsStartedBy.size());
+	for (const auto& [cause, runs] : c.detectionsStartedBy)
+	{
+		out << cause;
+		write(out, runs);
+	}
 	for (const auto* t : {&m_stages.odometry, &m_stages.detection, &m_stages.detectionWait, &m_stages.map,
 			 &m_stages.mapCpu, &m_stages.odometryCpu, &m_stages.detectionCpu})
 		write(out, *t);
@@ -172,6 +178,7 @@ void FrameProcessor::saveState(CArchive& out)
 	for (const auto& b : m_latestPersonBoxes)
 		out << static_cast<std::int32_t>(b.x) << static_cast<std::int32_t>(b.y) << static_cast<std::int32_t>(b.width)
 			<< static_cast<std::int32_t>(b.height);
+	m_detectionScheduler.saveState(out);
 	out << m_personWork.wallMs << m_personWork.cpuMs;
 	write(out, m_pendingDetections.size());
 	for (const auto& p : m_pendingDetections) write(out, p.applyAt - m_options.detectionLagFrames);
@@ -194,6 +201,13 @@ void FrameProcessor::loadState(CArchive& in)
 	c.framesWithPerson = readSize(in);
 	c.regions = readSize(in);
 	c.loopsClosed = readSize(in);
+	c.detectionsStartedBy.clear();
+	for (std::size_t n = readSize(in); n > 0; --n)
+	{
+		std::string cause;
+		in >> cause;
+		c.detectionsStartedBy[cause] = readSize(in);
+	}
 	for (auto* t : {&m_stages.odometry, &m_stages.detection, &m_stages.detectionWait, &m_stages.map, &m_stages.mapCpu,
 			 &m_stages.odometryCpu, &m_stages.detectionCpu})
 		read(in, *t);
@@ -221,6 +235,7 @@ void FrameProcessor::loadState(CArchive& in)
 		b.width = in.ReadAs<std::int32_t>();
 		b.height = in.ReadAs<std::int32_t>();
 	}
+	m_detectionScheduler.loadState(in);
 	in >> m_personWork.wallMs >> m_personWork.cpuMs;
 	m_detectionsToRestart.clear();
 	for (std::size_t n = readSize(in); n > 0; --n) m_detectionsToRestart.insert(readSize(in));
@@ -235,7 +250,7 @@ void FrameProcessor::loadState(CArchive& in)
 bool FrameProcessor::resumeThrough(const io::RgbdFrame& frame)
 {
 	if (!m_lastFrame || frame.index > *m_lastFrame) return false;
-	if (m_detectionsToRestart.erase(frame.index)) startDetection(frame);
+	if (m_detectionsToRestart.erase(frame.index)) runDetector(frame);
 	return true;
 }
 }  // namespace avm::pipeline::detail

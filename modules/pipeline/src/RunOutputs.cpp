@@ -181,12 +181,17 @@ std::string statsJson(const RunSummary& summary, const RunRecord& record, const 
 			.endObject();
 	json.beginObject("detection")
 		.value("detector", record.detector)
-		.value("every_n_frames", static_cast<int>(opt.detectEveryN))
-		.value("asynchronous", opt.asyncDetection)
+		.value("schedule", toString(opt.detectionSchedule))
+		.value("every_n_frames", static_cast<int>(opt.detectEveryN));
+	if (opt.detectionSchedule == DetectionSchedule::OnChange)
+		json.value("max_interval_frames", static_cast<int>(opt.detectMaxInterval));
+	json.value("asynchronous", opt.asyncDetection)
 		.value("lag_frames", static_cast<int>(opt.detectionLagFrames))
 		.value("runs", summary.detectionRuns)
-		.value("frames_with_person", summary.framesWithPerson)
-		.endObject();
+		.value("frames_with_person", summary.framesWithPerson);
+	json.beginObject("started_by");
+	for (const auto& [cause, runs] : summary.detectionsStartedBy) json.value(cause, runs);
+	json.endObject().endObject();
 	json.value("switch_frame", summary.switchFrame);
 	json.beginObject("map");
 	for (const auto& [name, s] : {std::pair{"low", trees.low}, {"high", trees.high}})

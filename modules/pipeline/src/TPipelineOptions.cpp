@@ -22,6 +22,12 @@ const io::EnumNames<MapRebuild>& mapRebuildNames()
 		{{MapRebuild::Never, "never"}, {MapRebuild::AfterLoops, "after_loops"}, {MapRebuild::Always, "always"}});
 	return names;
 }
+const io::EnumNames<DetectionSchedule>& detectionScheduleNames()
+{
+	static const io::EnumNames<DetectionSchedule> names(
+		"detection schedule", {{DetectionSchedule::Fixed, "fixed"}, {DetectionSchedule::OnChange, "on_change"}});
+	return names;
+}
 }  // namespace
 
 PoseSource poseSourceFromString(const std::string& name) { return poseSourceNames().parse(name); }
@@ -32,6 +38,10 @@ MapRebuild mapRebuildFromString(const std::string& name) { return mapRebuildName
 
 std::string toString(MapRebuild when) { return mapRebuildNames().name(when); }
 
+DetectionSchedule detectionScheduleFromString(const std::string& name) { return detectionScheduleNames().parse(name); }
+
+std::string toString(DetectionSchedule schedule) { return detectionScheduleNames().name(schedule); }
+
 io::IniKeys<TPipelineOptions> TPipelineOptions::iniKeys()
 {
 	using O = TPipelineOptions;
@@ -39,8 +49,35 @@ io::IniKeys<TPipelineOptions> TPipelineOptions::iniKeys()
 	keys.choice(
 			"pose_source", &O::poseSource, poseSourceFromString, [](PoseSource p) { return toString(p); },
 			"vo (visual odometry) | gt (the rawlog's ground truth)", "must be vo or gt")
-		.number<int>("detect_every_n", &O::detectEveryN, "", "run the detector on every N-th frame; 0 = no detection",
+		.number<int>("detect_every_n", &O::detectEveryN, "",
+			"run the detector on every N-th frame (on_change: at most this often); 0 = no detection",
 			{[](int v) { return v >= 0; }, "must be >= 0 (0 = no detection)"})
+		.choice(
+			"detection_schedule", &O::detectionSchedule, detectionScheduleFromString,
+			[](DetectionSchedule s) { return toString(s); },
+			"fixed (every detect_every_n-th frame) | on_change (every detect_every_n-th frame where the view changed "
+			"since the detector's last frame: detect_moved_share, detect_new_view_share; else every "
+			"detect_max_interval-th)",
+			"must be fixed or on_change")
+		.number<int>("detect_max_interval", &O::detectMaxInterval, "frames",
+			"on_change: the most frames between two detector runs; >= detect_every_n",
+			{[](int v) { return v >= 1 && v <= 30; }, "must be 1..30 frames"})
+		.check(
+			"detect_max_interval", [](const O& o) { return o.detectMaxInterval >= o.detectEveryN; },
+			"must be >= detect_every_n")
+		.number("detect_moved_share", &O::detectMovedShare, "0..1",
+			"on_change: the share of the image whose depth differs by more than detect_change_depth from the "
+			"detector's last frame seen from the camera's predicted pose that runs the detector (someone walking in, "
+			"or walking on)",
+			{[](double v) { return v > 0 && v <= 1; }, "must be in (0, 1]"})
+		.number("detect_new_view_share", &O::detectNewViewShare, "0..1",
+			"on_change: the share of the image newly in view since the detector's last frame (outside that frame, "
+			"or without depth there) that runs the detector (the camera turned)",
+			{[](double v) { return v > 0 && v <= 1; }, "must be in (0, 1]"})
+		.number("detect_change_depth", &O::detectChangeDepth, "m",
+			"on_change: a pixel's depth changed when it differs by more than this from all four nearest of the "
+			"detector's last frame",
+			{[](double v) { return v > 0 && v <= 10; }, "must be in (0, 10] m"})
 		.number("async_detection", &O::asyncDetection, "",
 			"detector on a worker thread beside odometry and mapping; same run either way")
 		.number<int>("detection_lag_frames", &O::detectionLagFrames, "frames",

@@ -18,6 +18,7 @@
 #include <atomic>
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -46,12 +47,33 @@ enum class MapRebuild
 MapRebuild mapRebuildFromString(const std::string& name);  //!< throws on anything but the three names
 std::string toString(MapRebuild when);
 
+/** Which frames the detector runs on. */
+enum class DetectionSchedule
+{
+	Fixed,    //!< "fixed": every detect_every_n-th frame
+	OnChange  //!< "on_change": when the view changed since the detector last looked (src/DetectionScheduler.h)
+};
+DetectionSchedule detectionScheduleFromString(const std::string& name);  //!< throws on anything but the two names
+std::string toString(DetectionSchedule schedule);
+
 /** Section [pipeline]. */
 struct TPipelineOptions : public io::CIniKeyOptions<TPipelineOptions>
 {
 	PoseSource poseSource = PoseSource::VisualOdometry;  //!< pose_source
-	/** Run the detector on every N-th frame; 0 turns detection off. */
+	/** Run the detector on every N-th frame; 0 turns detection off. With
+	 *  the on_change schedule, the fewest frames between two runs. */
 	unsigned detectEveryN = 3;
+	DetectionSchedule detectionSchedule = DetectionSchedule::Fixed;  //!< detection_schedule
+	/** on_change: the most frames between two runs, whatever changed. */
+	unsigned detectMaxInterval = 6;
+	/** on_change: the share of the image whose depth moved by more than
+	 *  detectChangeDepth since the detector's last frame (seen from where
+	 *  the camera is now) that runs it. */
+	double detectMovedShare = 0.01;
+	/** on_change: the share of the image newly in view since the detector's
+	 *  last frame (outside it, or without depth there) that runs it. */
+	double detectNewViewShare = 0.1;
+	double detectChangeDepth = 0.2;  //!< [m] on_change: a depth difference that is a change
 	/** Detection on a worker thread, beside odometry and mapping. */
 	bool asyncDetection = true;
 	/** A detection started at frame k is applied (odometry masks, persons,
@@ -106,6 +128,10 @@ struct RunSummary
 	double realTimeFactor = 0;               //!< recorded duration / processing time
 	std::optional<std::size_t> switchFrame;  //!< first frame mapped at high resolution
 	std::size_t detectionRuns = 0, framesWithPerson = 0;
+	/** Detector runs started, by what started them (DetectionScheduler's
+	 *  causes: "every_n", or on_change's "first", "interval", "moved",
+	 *  "new_view", "no_pose"). */
+	std::map<std::string, std::size_t> detectionsStartedBy;
 	std::size_t regions = 0;        //!< person sightings that placed a region
 	std::size_t persons = 0;        //!< person tracks confirmed as persons (track_min_sightings)
 	std::optional<double> ateRmse;  //!< [m] odometry vs ground truth, when both exist
