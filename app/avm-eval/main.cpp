@@ -19,14 +19,15 @@ void printWalkIns(const std::vector<avm::evaluation::WalkIn>& walkIns)
 	std::size_t found = 0, frames = 0, most = 0;
 	for (const auto& w : walkIns)
 	{
+		std::printf("walk-in  person %u at frame %zu (the reference saw them on %zu of the 30 frames from it): ",
+			w.person, w.frame, w.framesSeen);
 		if (!w.foundAt)
 		{
-			std::printf("walk-in  person %u at frame %zu: never found\n", w.person, w.frame);
+			std::printf("never found\n");
 			continue;
 		}
 		const std::size_t after = *w.foundAt - w.frame;
-		std::printf("walk-in  person %u at frame %zu: found at frame %zu (%zu frames later)\n", w.person, w.frame,
-			*w.foundAt, after);
+		std::printf("found at frame %zu (%zu frames later)\n", *w.foundAt, after);
 		++found;
 		frames += after;
 		most = std::max(most, after);

@@ -56,6 +56,7 @@ TEST(WalkIns, ANewIdOnAPersonAlreadyInViewIsNoWalkInAndEachWalkInIsFoundWhereThe
 	ASSERT_EQ(walkIns.size(), 3u);
 	EXPECT_EQ(walkIns[0].person, 1u);
 	EXPECT_EQ(walkIns[0].frame, 10u);
+	EXPECT_EQ(walkIns[0].framesSeen, 5u) << "frames 10-14, id 1 then 2";
 	ASSERT_TRUE(walkIns[0].foundAt);
 	EXPECT_EQ(*walkIns[0].foundAt, 12u);
 	EXPECT_EQ(walkIns[1].person, 3u);

@@ -24,7 +24,8 @@ constexpr double kSameBox = 0.5;
 /** The frames before a first box that are looked at: a tenth of a second at
  *  30 Hz, over the detector missing a person on a frame or two. */
 constexpr std::size_t kFramesBefore = 3;
-/** A person the reference has not found for a second at 30 Hz has left. */
+/** A person the reference has not found for a second at 30 Hz has left;
+ *  WalkIn::framesSeen counts over that second. */
 constexpr std::size_t kFramesLost = 30;
 
 struct Box
@@ -154,7 +155,10 @@ std::vector<WalkIn> walkInsFound(const std::filesystem::path& run, const std::fi
 			const std::size_t frame = start->first;
 			Box box = start->second;
 			box.person = firstBox.person;
-			WalkIn w{frame, *firstBox.person, std::nullopt};
+			WalkIn w{frame, *firstBox.person, 1, std::nullopt};
+			FollowedPerson seen(truth, frame, box);
+			for (auto it = truth.upper_bound(frame); it != truth.end() && it->first < frame + kFramesLost; ++it)
+				w.framesSeen += seen.at(it->first).has_value();
 			FollowedPerson person(truth, frame, box);
 			for (auto it = found.lower_bound(frame); it != found.end() && !w.foundAt; ++it)
 			{

@@ -21,8 +21,11 @@ namespace avm::evaluation
 {
 struct WalkIn
 {
-	std::size_t frame = 0;               //!< the frame the reference first found the person at
-	unsigned person = 0;                 //!< the reference's person id
+	std::size_t frame = 0;  //!< the frame the reference first found the person at
+	unsigned person = 0;    //!< the reference's person id
+	/** Frames of the second from `frame` on (30 at 30 Hz) the reference had
+	 *  their box on: a person seen on a few only is found by luck. */
+	std::size_t framesSeen = 0;
 	std::optional<std::size_t> foundAt;  //!< the run's first frame with the person's box; none: never
 };
 
