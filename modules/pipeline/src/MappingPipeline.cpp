@@ -369,7 +369,13 @@ MappingPipeline::MappingPipeline(const mrpt::config::CConfigFileBase& ini, const
 	if (d.options.detectEveryN > 0)
 	{
 		d.detector = detection::createDetector(d.detectorOptions, projectRoot);
-		logStr(mrpt::system::LVL_INFO, "detector: " + d.detector->description() + "\n");
+		const auto& o = d.options;
+		const std::string when = o.detectionSchedule == DetectionSchedule::OnChange
+									 ? "where the view changed, every " + std::to_string(o.detectEveryN) + " to " +
+										   std::to_string(o.detectMaxInterval) + " frames"
+								 : o.detectEveryN == 1 ? "on every frame"
+													   : "every " + std::to_string(o.detectEveryN) + " frames";
+		logStr(mrpt::system::LVL_INFO, "detector: " + d.detector->description() + ", " + when + "\n");
 	}
 	else
 		logStr(mrpt::system::LVL_INFO, "detector: none (detect_every_n = 0)\n");
