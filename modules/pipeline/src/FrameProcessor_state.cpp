@@ -1,8 +1,9 @@
 // A FrameProcessor's part of a checkpoint: everything but the map that a
 // resumed run needs to go on exactly as the killed one would have: the
 // counts and stage times, trajectory, person records, the poses lagging
-// detections will need, the odometry's mask and state, and which frames'
-// detections were still pending (they are run again, not stored).
+// detections will need, the odometry's mask and state, the detection
+// schedule's last look, and which frames' detections were still pending
+// (they are run again, not stored).
 #include <mrpt/poses/CPose3D.h>
 
 #include <stdexcept>
