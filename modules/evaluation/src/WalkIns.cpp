@@ -145,27 +145,25 @@ std::vector<WalkIn> walkInsFound(const std::filesystem::path& run, const std::fi
 {
 	const BoxesByFrame found = readBoxes(run), truth = readBoxes(reference);
 	std::vector<WalkIn> walkIns;
-	std::set<unsigned> seen;
+	std::set<unsigned> ids;
 	for (const auto& [firstFrame, boxes] : truth)
 		for (const auto& firstBox : boxes)
 		{
-			if (!firstBox.person || !seen.insert(*firstBox.person).second) continue;
+			if (!firstBox.person || !ids.insert(*firstBox.person).second) continue;
 			const auto start = walkedInAt(truth, firstFrame, firstBox);
 			if (!start) continue;
 			const std::size_t frame = start->first;
 			Box box = start->second;
 			box.person = firstBox.person;
 			WalkIn w{frame, *firstBox.person, 1, std::nullopt};
-			FollowedPerson seen(truth, frame, box);
+			FollowedPerson counted(truth, frame, box);
 			for (auto it = truth.upper_bound(frame); it != truth.end() && it->first < frame + kFramesLost; ++it)
-				w.framesSeen += seen.at(it->first).has_value();
+				w.framesSeen += counted.at(it->first).has_value();
 			FollowedPerson person(truth, frame, box);
 			for (auto it = found.lower_bound(frame); it != found.end() && !w.foundAt; ++it)
-			{
-				const auto theirs = it->first == frame ? std::optional<Box>(box) : person.at(it->first);
-				for (const auto& b : it->second)
-					if (theirs && iou(b, *theirs) >= kSameBox) w.foundAt = it->first;
-			}
+				if (const auto theirs = person.at(it->first))
+					for (const auto& b : it->second)
+						if (iou(b, *theirs) >= kSameBox) w.foundAt = it->first;
 			walkIns.push_back(w);
 		}
 	std::stable_sort(
