@@ -49,9 +49,10 @@ std::optional<std::string> DetectionScheduler::lookAgain(
 	const Look& now, const mrpt::obs::CObservation3DRangeScan& obs, const std::map<std::size_t, CPose3D>& poses) const
 {
 	if (now.frame - m_lastLook->frame >= m_options.detectMaxInterval) return "interval";
+	if (now.frame < 2) return "no_pose";
 	const auto look = poses.find(m_lastLook->frame);
 	const auto last = poses.find(now.frame - 1), beforeLast = poses.find(now.frame - 2);
-	if (now.frame < 2 || look == poses.end() || last == poses.end() || beforeLast == poses.end()) return "no_pose";
+	if (look == poses.end() || last == poses.end() || beforeLast == poses.end()) return "no_pose";
 	// The camera where the constant-velocity model puts it: the frame's own
 	// pose is the odometry's, after the detector has started.
 	const CPose3D predicted = last->second + (last->second - beforeLast->second);
