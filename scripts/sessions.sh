@@ -79,14 +79,14 @@ perFrame() {
 # all the sessions' frames as one run), also the CPU a frame of RAWLOG's
 # frames within that one run: ONERUN's CPU less BEFORE's, over RAWLOG's
 # frames; a run of ONERUN has the earlier frames' map in view at those frames,
-# as the continuation has. Each the median of three runs on one core,
+# as the continuation has. Each the median of five runs on one core,
 # alternating, so that the machine's load falls on all alike; the map rebuild
 # apart, then its share of the first two, "continued / fresh" [ms a frame].
 # Into $cpuCells, not printed: the commands it runs are listed in the doc,
 # which a command substitution's subshell would lose.
 cpuPair() {
   local i cont=() fresh=() oneRun=() contRebuild=() freshRebuild=() c f b o
-  commands+=("taskset -c 0 build/bin/avm-map -q --continue $1 -r $2 -o $out/cpu-continued  # 3 times, alternating with:"
+  commands+=("taskset -c 0 build/bin/avm-map -q --continue $1 -r $2 -o $out/cpu-continued  # 5 times, alternating with:"
     "taskset -c 0 build/bin/avm-map -q -c $ini -r $2 -o $out/cpu-fresh  # the medians")
   [ -z "${3:-}" ] || commands+=("taskset -c 0 build/bin/avm-map -q -c $ini -r $3 -o $out/cpu-before  # and"
     "taskset -c 0 build/bin/avm-map -q -c $ini -r $4 -o $out/cpu-one-run")
@@ -98,7 +98,7 @@ cpuPair() {
     taskset -c 0 "$build/bin/avm-map" -q "$@" -o "$out/cpu-$name" >/dev/null
     perFrame "$work/cpu-$name"
   }
-  for i in 1 2 3; do
+  for i in 1 2 3 4 5; do
     read -r c f <<<"$(pinned continued --continue "$1" -r "$2")"
     cont+=("$c") contRebuild+=("$f")
     read -r c f <<<"$(pinned fresh -c "$ini" -r "$2")"
@@ -110,7 +110,7 @@ cpuPair() {
       -v no="$(json "$work/cpu-one-run" frames)" -v f="$(json "$work/cpu-fresh" frames)" \
       'BEGIN { print (o * no - b * nb) / f }')")
   done
-  median() { printf '%s\n' "$@" | sort -g | sed -n 2p; }
+  median() { printf '%s\n' "$@" | sort -g | sed -n 3p; }
   cpuCells=$(printf '%.1f / %.1f | %s | %.1f / %.1f' "$(median "${cont[@]}")" "$(median "${fresh[@]}")" \
     "$([ ${#oneRun[@]} = 0 ] && echo - || printf '%.1f' "$(median "${oneRun[@]}")")" \
     "$(median "${contRebuild[@]}")" "$(median "${freshRebuild[@]}")")
