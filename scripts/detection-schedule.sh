@@ -21,6 +21,7 @@ out=output/detection-schedule  # relative to the root, as the printed commands a
 
 source "$root/scripts/prepare.sh"
 avm_prepare "$build" -DCMAKE_BUILD_TYPE=Release avm-map avm-eval
+madeBy=$(avm_made_by detection-schedule.sh)  # before the runs: their machine and its load
 rawlogs=(datasets/bonn_crowd_sub300.rawlog)
 if whole=$(avm_whole_sequence "$build"); then rawlogs+=("${whole#"$root/"}"); fi
 bin=${build#"$root/"}/bin
@@ -37,22 +38,11 @@ run() {
   "${cmd[@]}" >/dev/null
 }
 # number RUN KEY [OBJECT]: the number KEY of RUN's stats.json (in OBJECT).
-number() {
-  local json
-  json=$(tr -d '\n ' <"$out/$1/stats.json")
-  [ $# -lt 3 ] || json=$(sed -nE "s/.*\"$3\":\{([^}]*)\}.*/\1/p" <<<"$json")
-  sed -nE "s/.*\"$2\":([-0-9.eE+]+).*/\1/p" <<<"$json" | head -1
-}
+number() { avm_stat "$out/$1" "${@:2}"; }
 # detectorCpu RUN: the detector's CPU time a frame [ms]: a run's on its thread, times the runs, over the frames.
 detectorCpu() {
   awk -v f="$(number "$1" frames)" -v n="$(number "$1" runs detection)" -v m="$(number "$1" mean_ms detection_cpu)" \
     'BEGIN { printf "%.3f\n", m * n / f }'
-}
-# middle: the median of the numbers on stdin, one a line (an odd count).
-middle() {
-  local values
-  mapfile -t values < <(sort -g)
-  echo "${values[$((${#values[@]} / 2))]}"
 }
 # row SEQUENCE RUN REFERENCE: the table's row of RUN; its CPU times the
 # medians of its three runs where it has them.
@@ -67,9 +57,9 @@ row() {
     walkIns=$(awk '/^walk-ins/ {gsub(",", ""); printf "%s of %s | %s / %s", $4, $2, $12, $14}' "$out/$2/walk-ins.txt")
     repeats+=("$2-2" "$2-3")
   fi
-  cpu=$(for r in "${repeats[@]}"; do number "$r" cpu_ms_per_frame; done | middle)
-  runCpu=$(for r in "${repeats[@]}"; do number "$r" mean_ms detection_cpu; done | middle)
-  detector=$(for r in "${repeats[@]}"; do detectorCpu "$r"; done | middle)
+  cpu=$(for r in "${repeats[@]}"; do number "$r" cpu_ms_per_frame; done | avm_median)
+  runCpu=$(for r in "${repeats[@]}"; do number "$r" mean_ms detection_cpu; done | avm_median)
+  detector=$(for r in "${repeats[@]}"; do detectorCpu "$r"; done | avm_median)
   awk -v s="$1" -v r="$2" -v by="$startedBy" -v w="$walkIns" -v n="$(number "$2" runs detection)" -v d="$detector" \
     -v dm="$runCpu" -v t="$cpu" -v ate="$(number "$2" odometry_ate_rmse_m)" 'BEGIN {
       printf "| %s | %s | %d | %s | %.1f (%.1f a run) | %.1f | %s | %.4f |\n", s, r, n, by, d, dm, t, w, ate
@@ -109,7 +99,7 @@ tmp=$(mktemp "$root/doc/.detection-schedule.XXXX")
 {
   echo "# When the detector runs: every third frame, or where the view changed"
   echo
-  echo "Made by \`scripts/detection-schedule.sh\` on $(date -u '+%Y-%m-%d %H:%M UTC'): $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //'), $(nproc) cores, load average before the runs $(cut -d' ' -f1-3 /proc/loadavg). Release build."
+  echo "$madeBy"
   echo
   echo "\`every-third\` is \`ini/default.ini\` (\`detection_schedule = fixed\`, \`detect_every_n = 3\`); \`on-change\` is \`ini/detect-on-change.ini\` (\`detection_schedule = on_change\`: at most every third frame, where the depth moved on 1 % of the image or a tenth of it is newly in view since the detector's last frame, else every sixth; doc/detection.md); \`every-frame\` is the default with \`detect_every_n = 1\`, the reference of the walk-ins. All of avm-map on the first core."
   echo

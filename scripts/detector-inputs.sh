@@ -10,6 +10,7 @@ doc=$root/doc/detector-inputs.md
 
 source "$root/scripts/prepare.sh"
 avm_prepare "$build" -DCMAKE_BUILD_TYPE=Release avm-detect
+madeBy=$(avm_made_by detector-inputs.sh)  # before the runs: their machine and its load
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -17,7 +18,7 @@ tmp=$(mktemp "$root/doc/.detector-inputs.XXXX")
 {
   echo "# Detector input size: persons found and time"
   echo
-  echo "Made by \`scripts/detector-inputs.sh\` on $(date -u '+%Y-%m-%d %H:%M UTC'): $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //'), $(nproc) cores, load average before the runs $(cut -d' ' -f1-3 /proc/loadavg). Release build."
+  echo "$madeBy"
   echo
   echo "YOLOX-Nano on the 300 colour frames of \`datasets/bonn_crowd_sub300.rawlog\`, \`ini/detect.ini\` with only the input size changed. The 640x480 frame is letterboxed: scaled by min(width/640, height/480), the rest padded. Persons nearer than the depth range (6 m) are at least ~60 px tall at 256x192."
   echo

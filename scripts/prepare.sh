@@ -54,3 +54,26 @@ avm_required_whole_sequence() {
     { echo "$2: the whole rgbd_bonn_crowd is not in datasets/ (scripts/get-data.sh --whole-sequence)" >&2; return 1; }
   echo "${whole#"$root/"}"
 }
+
+# avm_stat RUN_DIR KEY [OBJECT]: the first number named KEY in RUN_DIR/stats.json
+# (within the object named OBJECT, one without nested objects, when given).
+avm_stat() {
+  local json
+  json=$(tr -d '\n ' <"$1/stats.json")
+  [ $# -lt 3 ] || json=$(sed -nE "s/.*\"$3\":\{([^}]*)\}.*/\1/p" <<<"$json")
+  sed -nE "s/.*\"$2\":([-0-9.eE+]+).*/\1/p" <<<"$json" | head -1
+}
+
+# avm_median: the median of the numbers on stdin, one a line (an odd count).
+avm_median() {
+  local values
+  mapfile -t values < <(sort -g)
+  echo "${values[$((${#values[@]} / 2))]}"
+}
+
+# avm_made_by SCRIPT_NAME: a doc's first line, "Made by `scripts/SCRIPT_NAME`
+# on DATE: MACHINE, load average ...": called before the runs, whose load it
+# reports.
+avm_made_by() {
+  echo "Made by \`scripts/$1\` on $(date -u '+%Y-%m-%d %H:%M UTC'): $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //'), $(nproc) cores, load average before the runs $(cut -d' ' -f1-3 /proc/loadavg). Release build."
+}
