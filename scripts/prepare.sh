@@ -7,6 +7,9 @@
 # The rawlog holds the frames as a camera gives them (colour inside, no gzip:
 # ~460 MB): replaying it decodes nothing, where PNG colour and gzip cost ~15 ms
 # of CPU a frame, half a frame period at 30 Hz (doc/performance.md).
+# Below it, what the measuring scripts share: the whole sequence's rawlog
+# (avm_whole_sequence), a number of a run's stats.json (avm_stat), a median
+# (avm_median), a doc's first line naming the machine (avm_made_by).
 avm_prepare() {
   local build=$1 options=$2
   shift 2
