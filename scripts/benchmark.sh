@@ -218,6 +218,8 @@ tmp=$(mktemp "$root/doc/.performance.XXXX")
   (cd "$root" && "${odometry_cmd[@]}") | grep -vE '^-+ avm odometry stages|^loop|^  (measured|tracked) ?:' | sed -n '/^frames /,$p'
   echo "\`\`\`"
   echo
+  echo "What each of the odometry's cost settings (features, refinement rounds, pyramid levels, the window ...) buys in CPU and costs in ATE on six sequences: [odometry-costs.md](odometry-costs.md) (\`scripts/odometry-costs.sh\`)."
+  echo
   echo "## Long run: the sequence 10 times in one process (3000 frames), ground-truth poses"
   echo
   echo "Peak memory after each replay is in \`output/benchmark/long-run/stats.json\` (\`peak_memory_mb_per_replay\`):"
