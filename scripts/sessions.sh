@@ -57,7 +57,6 @@ cut() {
   echo "$out/$name.rawlog"
 }
 
-json() { sed -n "s/.*\"$2\": \([0-9.e+-]*\).*/\1/p" "$1/stats.json" | head -1; }
 ate() { "$build/bin/avm-eval" "$1" "$gt" | awk '/^ATE/ {print $3}'; }
 commands=()
 run() { commands+=("build/bin/avm-map -q $*"); "$build/bin/avm-map" -q "$@" >/dev/null; }
@@ -67,9 +66,9 @@ run() { commands+=("build/bin/avm-map -q $*"); "$build/bin/avm-map" -q "$@" >/de
 # and the rebuild's, as "frames rebuild".
 perFrame() {
   local frames rebuild
-  frames=$(json "$1" frames)
-  rebuild=$(json "$1" cpu_seconds)  # map_rebuild's, the only one of that name
-  awk -v c="$(json "$1" cpu_ms_per_frame)" -v f="$frames" -v r="${rebuild:-0}" \
+  frames=$(avm_stat "$1" frames)
+  rebuild=$(avm_stat "$1" cpu_seconds)  # map_rebuild's, the only one of that name
+  awk -v c="$(avm_stat "$1" cpu_ms_per_frame)" -v f="$frames" -v r="${rebuild:-0}" \
     'BEGIN { printf "%f %f", c - 1e3 * r / f, 1e3 * r / f }'
 }
 
@@ -106,8 +105,8 @@ cpuPair() {
     [ -n "${3:-}" ] || continue
     read -r b _ <<<"$(pinned before -c "$ini" -r "$3")"
     read -r o _ <<<"$(pinned one-run -c "$ini" -r "$4")"
-    oneRun+=("$(awk -v b="$b" -v nb="$(json "$work/cpu-before" frames)" -v o="$o" \
-      -v no="$(json "$work/cpu-one-run" frames)" -v f="$(json "$work/cpu-fresh" frames)" \
+    oneRun+=("$(awk -v b="$b" -v nb="$(avm_stat "$work/cpu-before" frames)" -v o="$o" \
+      -v no="$(avm_stat "$work/cpu-one-run" frames)" -v f="$(avm_stat "$work/cpu-fresh" frames)" \
       'BEGIN { print (o * no - b * nb) / f }')")
   done
   median() { printf '%s\n' "$@" | sort -g | sed -n 3p; }
@@ -135,10 +134,10 @@ runChain() {
       lastPrevious=$prev lastRawlog=$rawlog
       local frames unplaced
       frames=$(echo "$c" | awk -F: '{print $2 - $1 + 1}')
-      unplaced=$(json "$dir" unplaced_frames)
+      unplaced=$(avm_stat "$dir" unplaced_frames)
       placed+=("$(awk -v f="$frames" -v u="$unplaced" 'BEGIN { printf "%d / %d (%.1f %%)", f - u, f, 100 * (f - u) / f }')")
     fi
-    loops=$((loops + $(json "$dir" odometry_loops_closed)))
+    loops=$((loops + $(avm_stat "$dir" odometry_loops_closed)))
     first=0
     prev=$out/$poses-$name
   done
