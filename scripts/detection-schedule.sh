@@ -21,7 +21,7 @@ out=output/detection-schedule  # relative to the root, as the printed commands a
 
 source "$root/scripts/prepare.sh"
 avm_prepare "$build" -DCMAKE_BUILD_TYPE=Release avm-map avm-eval
-madeBy=$(avm_made_by detection-schedule.sh)  # before the runs: their machine and its load
+madeBy=$(avm_made_by)  # before the runs: their machine and its load
 rawlogs=(datasets/bonn_crowd_sub300.rawlog)
 if whole=$(avm_whole_sequence "$build"); then rawlogs+=("${whole#"$root/"}"); fi
 bin=${build#"$root/"}/bin

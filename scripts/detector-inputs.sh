@@ -10,7 +10,7 @@ doc=$root/doc/detector-inputs.md
 
 source "$root/scripts/prepare.sh"
 avm_prepare "$build" -DCMAKE_BUILD_TYPE=Release avm-detect
-madeBy=$(avm_made_by detector-inputs.sh)  # before the runs: their machine and its load
+madeBy=$(avm_made_by)  # before the runs: their machine and its load
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT

@@ -20,7 +20,7 @@ out=output/odometry-costs  # relative to the root, as the printed commands are
 
 source "$root/scripts/prepare.sh"
 avm_prepare "$build" -DCMAKE_BUILD_TYPE=Release avm-map avm-eval
-madeBy=$(avm_made_by odometry-costs.sh)  # before the runs: their machine and its load
+madeBy=$(avm_made_by)  # before the runs: their machine and its load
 rawlog=datasets/bonn_crowd_sub300.rawlog
 if whole=$(avm_whole_sequence "$build"); then rawlog=${whole#"$root/"}; fi
 bin=${build#"$root/"}/bin

@@ -74,9 +74,9 @@ avm_median() {
   echo "${values[$((${#values[@]} / 2))]}"
 }
 
-# avm_made_by SCRIPT_NAME: a doc's first line, "Made by `scripts/SCRIPT_NAME`
-# on DATE: MACHINE, load average ...": called before the runs, whose load it
-# reports.
+# avm_made_by: a doc's first line, "Made by `scripts/SCRIPT` on DATE:
+# MACHINE, load average ...", SCRIPT the one running: called before the runs,
+# whose load it reports.
 avm_made_by() {
-  echo "Made by \`scripts/$1\` on $(date -u '+%Y-%m-%d %H:%M UTC'): $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //'), $(nproc) cores, load average before the runs $(cut -d' ' -f1-3 /proc/loadavg). Release build."
+  echo "Made by \`scripts/$(basename "$0")\` on $(date -u '+%Y-%m-%d %H:%M UTC'): $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //'), $(nproc) cores, load average before the runs $(cut -d' ' -f1-3 /proc/loadavg). Release build."
 }
