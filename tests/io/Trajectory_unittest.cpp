@@ -58,3 +58,14 @@ TEST(Trajectory, BadLinesNameFileAndLine)
 	check("1 nan 0 0 0 0 0 1\n", "t.txt:1: non-finite");
 	check("1 0 0 0 0 0 0 3\n", "t.txt:1: quaternion is not of unit norm");
 }
+
+// Sessions that overlap in time each write a pose for the frames they share.
+TEST(Trajectory, TwoPosesOfOneInstantAreRead)
+{
+	const auto file = test::scratchDir("trajectory-same-time") / "t.txt";
+	std::ofstream(file) << "1 0 0 0 0 0 0 1\n1 0.5 0 0 0 0 0 1\n2 1 0 0 0 0 0 1\n";
+	const auto t = io::readTumTrajectory(file);
+	ASSERT_EQ(t.size(), 3u);
+	EXPECT_EQ(t[0].timestamp, t[1].timestamp);
+	EXPECT_DOUBLE_EQ(t[1].pose.x(), 0.5);
+}

@@ -196,6 +196,45 @@ TEST(Sessions, AChainOfThreeHoldsEveryEarlierSessionFixed)
 	EXPECT_GT(linesOf(io::RunFolder(dir / "third").detections()), linesOf(io::RunFolder(dir / "second").detections()));
 }
 
+// Sessions cut from one recording may be mapped in any order: a run of
+// frames 100-199 continuing one of frames 200-299 is placed in it, and the
+// trajectory of both lists every pose in time order, a TUM file that any tool
+// reads, with the earlier run's poses as they were.
+TEST(Sessions, ASessionRecordedBeforeTheOneItContinuesComesFirstInTheTrajectory)
+{
+	const auto dir = test::scratchDir("sessions-earlier-recording");
+	{
+		io::useImagesFolderOf(part(3));
+		mrpt::config::CConfigFileMemory ini(pipeline::readSessionRun(kFirst).ini);
+		pipeline::MappingPipeline(ini, AVM_SOURCE_DIR).run(part(3), dir / "later");
+	}
+	const auto s = continueRun(dir / "later", part(2), dir / "both");
+	ASSERT_TRUE(s.continuation);
+	EXPECT_LE(s.continuation->unplacedFrames, 5u);
+
+	const auto later = io::readTumTrajectory(io::RunFolder(dir / "later").trajectory());
+	const auto both = io::readTumTrajectory(io::RunFolder(dir / "both").trajectory());
+	ASSERT_EQ(both.size(), later.size() + s.frames);
+	for (std::size_t i = 1; i < both.size(); ++i) ASSERT_LT(both[i - 1].timestamp, both[i].timestamp) << "pose " << i;
+	EXPECT_LT(both[s.frames - 1].timestamp, later.front().timestamp) << "this run's poses come first";
+	for (std::size_t i = 0; i < later.size(); ++i)
+		ASSERT_EQ(both[s.frames + i].pose.asString(), later[i].pose.asString())
+			<< "pose " << i << " of the later recording moved";
+	EXPECT_LT(ateOf(dir / "both"), 0.03) << "the two sessions under one alignment";
+
+	// trajectory_status.txt follows trajectory.txt line by line.
+	std::ifstream status(io::RunFolder(dir / "both").trajectoryStatus());
+	std::string line;
+	std::getline(status, line);  // its header
+	for (const auto& pose : both)
+	{
+		double t = 0;
+		int tracked = -1;
+		ASSERT_TRUE(status >> t >> tracked);
+		EXPECT_NEAR(t, pose.timestamp, 1e-6);
+	}
+}
+
 TEST(Sessions, ABadEarlierRunIsNamedInOneLineAndNothingIsWritten)
 {
 	const auto dir = test::scratchDir("sessions-bad");

@@ -63,7 +63,9 @@ Trajectory readTumTrajectory(const fs::path& file)
 			Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
 			if (std::abs(q.norm() - 1.0) > 1e-2)
 				detail::failAt(file, lineNo, "quaternion is not of unit norm (" + std::to_string(q.norm()) + ")");
-			if (!out.empty() && v[0] <= out.back().timestamp) detail::failAt(file, lineNo, "timestamps out of order");
+			// Equal times are two estimates of one instant: sessions cut from one
+			// recording that overlap each place the frames they share.
+			if (!out.empty() && v[0] < out.back().timestamp) detail::failAt(file, lineNo, "timestamps out of order");
 			out.push_back({v[0], poseOf({v[1], v[2], v[3]}, q.normalized())});
 		});
 	return out;

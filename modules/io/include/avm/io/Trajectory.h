@@ -20,8 +20,8 @@ using Trajectory = std::vector<TimedPose>;
 
 /** Reads a TUM trajectory. Comments (#) and blank lines are skipped. Throws
  *  std::runtime_error naming the file and line on a malformed line, a
- *  non-finite value, a quaternion far from unit norm, or timestamps that do
- *  not increase. */
+ *  non-finite value, a quaternion far from unit norm, or a timestamp before
+ *  the one above it (equal ones are two estimates of one instant). */
 Trajectory readTumTrajectory(const std::filesystem::path& file);
 
 /** Writes a TUM trajectory atomically, with a header comment line. */
