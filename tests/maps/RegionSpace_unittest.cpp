@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <random>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -75,6 +76,43 @@ TEST(SurfaceSketch, SameEntriesSameBytesWhateverTheHistory)
 	EXPECT_EQ(bytesOf(restored), bytesOf(grown));
 	EXPECT_EQ(bytesOf(pruned), bytesOf(grown));
 	EXPECT_EQ(grown.memoryBytes(), 400u * 16u) << "a low key and its 64 bits an entry";
+}
+
+// A frame updates the sketch around its camera only: every low voxel of the
+// range and no other, wherever the others lie (beyond the range on one axis,
+// on two, or at the ends of the key space).
+TEST(SurfaceSketch, UpdatesReachTheLowVoxelsOfTheRangeAndNoOthers)
+{
+	SurfaceSketch sketch(4);
+	std::vector<std::uint64_t> keys;
+	for (unsigned x = 0; x < 12; x++)
+		for (unsigned y = 0; y < 12; y++)
+			for (unsigned z = 0; z < 12; z++)
+				keys.push_back(packKey(octomap::OcTreeKey(kKeyOffset - 6 + x, kKeyOffset - 6 + y, kKeyOffset - 6 + z)));
+	keys.push_back(packKey(octomap::OcTreeKey(0, 0, 0)));
+	keys.push_back(packKey(octomap::OcTreeKey(kKeyEnd - 1, kKeyEnd - 1, kKeyEnd - 1)));
+	keys.push_back(packKey(octomap::OcTreeKey(kKeyOffset, 0, kKeyOffset)));
+	keys.push_back(packKey(octomap::OcTreeKey(kKeyOffset, kKeyOffset, kKeyEnd - 1)));
+	for (const auto k : keys) sketch.set(k, 1);
+	const auto range = KeyRange::around({0.13, -0.27, 0.23}, 0.5, 1 / 0.2);
+	std::set<std::uint64_t> visited;
+	sketch.updateBitsWithin(range,
+		[&](std::uint64_t lowKey, std::uint64_t bits)
+		{
+			EXPECT_TRUE(visited.insert(lowKey).second) << "visited twice";
+			return bits + 1;
+		});
+	std::size_t inside = 0;
+	for (const auto k : keys)
+	{
+		const bool in = range.contains(unpackKey(k));
+		inside += in;
+		EXPECT_EQ(visited.count(k), in ? 1u : 0u)
+			<< unpackKey(k)[0] << " " << unpackKey(k)[1] << " " << unpackKey(k)[2];
+		EXPECT_EQ(sketch.take(k), in ? 2u : 1u);
+	}
+	EXPECT_EQ(inside, 6u * 6u * 6u) << "the range: 6 low voxels an axis";
+	EXPECT_EQ(visited.size(), inside);
 }
 
 namespace

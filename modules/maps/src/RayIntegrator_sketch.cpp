@@ -53,11 +53,17 @@ void RayIntegrator::forgetSketchSeenThrough(const mrpt::obs::CObservation3DRange
 		for (int i = 0; i < 3; ++i) w[i] = (o[i] + 0.5) * highEdge - 0.5 * highEdge * ratio;
 		offsets[bit] = sensor.inverseRotate(w);
 	}
-	m_targets.sketch->updateBits(
+	// Only a low voxel whose centre is within reach of the sensor can lose
+	// bits (the test below): the range holds every such voxel, a low voxel
+	// more on each side for the rounding of its bounds.
+	const double lowEdge = highEdge * ratio;
+	const auto inReach = KeyRange::around(mrpt::math::TPoint3D(sensorPose.x(), sensorPose.y(), sensorPose.z()),
+		maxRange + lowHalfDiagonal + lowEdge, 1.0 / lowEdge);
+	m_targets.sketch->updateBitsWithin(inReach,
 		[&](std::uint64_t lowKey, std::uint64_t bits)
 		{
 			if (bits == 0) return bits;
-			const auto lowCentre = sensor.inverseCompose(centreOf(lowKey, highEdge * ratio));
+			const auto lowCentre = sensor.inverseCompose(centreOf(lowKey, lowEdge));
 			if (lowCentre.x <= -lowHalfDiagonal || lowCentre.norm() > maxRange + lowHalfDiagonal) return bits;
 			if (outsideTheImage(lowCentre)) return bits;
 			for (std::uint64_t rest = bits; rest != 0; rest &= rest - 1)

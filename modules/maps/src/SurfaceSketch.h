@@ -17,6 +17,8 @@
 #include <optional>
 #include <vector>
 
+#include "OcTreeKeys.h"
+
 namespace avm::detail
 {
 class SurfaceSketch
@@ -56,13 +58,28 @@ class SurfaceSketch
 		return {bit / (m_ratio * m_ratio), (bit / m_ratio) % m_ratio, bit % m_ratio};
 	}
 
-	/** Replaces each low voxel's bits by `update(lowKey, bits)`. A low voxel
-	 *  left with no bits is kept: its surface has gone, which is not the same
-	 *  as never having been seen. */
+	/** Replaces the bits of each low voxel of `lowKeys` by `update(lowKey,
+	 *  bits)`; the others are not visited. A low voxel left with no bits is
+	 *  kept: its surface has gone, which is not the same as never having been
+	 *  seen. What a frame can change lies around the camera: visiting only
+	 *  there keeps a frame's cost that of the space in reach, however much of
+	 *  a building the sessions before it mapped. */
 	template <typename Update>
-	void updateBits(Update&& update)
+	void updateBitsWithin(const KeyRange& lowKeys, Update&& update)
 	{
-		for (auto& e : m_entries) e.bits = update(e.lowKey, e.bits);
+		if (lowKeys.empty()) return;
+		// Packed keys sort as (x, y, z) triples: the range's entries of one x
+		// lie between its (x, lowest y, lowest z) and (x, highest y, highest z).
+		for (unsigned x = lowKeys.lo[0]; x < lowKeys.hi[0]; ++x)
+		{
+			const std::uint64_t last = avm::packKey(x, lowKeys.hi[1] - 1, lowKeys.hi[2] - 1);
+			for (auto it = find(avm::packKey(x, lowKeys.lo[1], lowKeys.lo[2]));
+				 it != m_entries.end() && it->lowKey <= last; ++it)
+			{
+				const unsigned z = unpackAxis(it->lowKey, 2);
+				if (z >= lowKeys.lo[2] && z < lowKeys.hi[2]) it->bits = update(it->lowKey, it->bits);
+			}
+		}
 	}
 
 	/** Forgets the low voxels for which `keep(lowKey, bits)` is false. */
