@@ -8,8 +8,8 @@
 # closed, the CPU a frame of the last session beside a fresh run of the same
 # frames (without, and apart, the map rebuild that a closed loop makes at the
 # end), and the session's size and load time; and the same space mapped
-# over two sessions at ground-truth poses against one run of the whole
-# sequence (IoU of the occupied space, avm-eval --maps). Writes
+# over sessions at ground-truth poses against one run of the same frames in
+# the same order (IoU of the occupied space, avm-eval --maps). Writes
 # doc/sessions-results.md whole, with the commands.
 #
 # Usage: scripts/sessions.sh [--out FILE] [INI]
@@ -17,7 +17,7 @@
 #        scripts/sessions.sh --chain FIRST:LAST FIRST:LAST [...] [--gt] [INI]
 #          one chain of cuts of the whole (trimmed) sequence, printed
 #          (--gt: at ground-truth poses, every cut with its ground truth,
-#          compared with one run of the whole sequence)
+#          compared with one run of the same frames in the same order)
 # Needs the whole sequence in datasets/ (scripts/get-data.sh --whole-sequence).
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -170,15 +170,28 @@ chainRow() {
     "$(awk -v b="$(stat -c %s "$last/session.bin")" 'BEGIN { printf "%.1f", b / 1e6 }')" "${load:-?}"
 }
 
-# spaceRow CUT...: the chain at ground-truth poses against one run of the whole sequence.
+# spaceRow CUT...: the chain at ground-truth poses against one run of the
+# same frames in the same order: the whole sequence for cuts of it in order,
+# else the cuts' rawlogs one after the other (a rawlog is a stream of
+# observations: concatenated, they are one).
 spaceRow() {
-  local name
+  local name reference lastCut=${*: -1} of
   name=$(IFS=+; echo "$*" | sed 's/:/-/g')
-  run -c "$ini" -p gt -r "$whole" -o "$out/gt-whole"
+  if contiguous "$@" && [ "${lastCut#*:}" = "$(($(avm_stat "$work/gt-whole" frames) - 1))" ]; then
+    reference=gt-whole of="the whole sequence"
+  else
+    reference=gt-one-run-$name of="the cuts in this order"
+    local parts=()
+    for c in "$@"; do parts+=("$(cut "$c" gt)"); done
+    commands+=("cat ${parts[*]} > $out/frames-$name-gt.rawlog")
+    cat "${parts[@]}" >"$work/frames-$name-gt.rawlog"
+    run -c "$ini" -p gt -r "$out/frames-$name-gt.rawlog" -o "$out/$reference"
+  fi
   runChain gt "$@"
-  "$build/bin/avm-eval" --maps "$out/gt-whole" "$out/gt-$name" | awk -v n="$*" '
+  commands+=("build/bin/avm-eval --maps $out/$reference $out/gt-$name")
+  "$build/bin/avm-eval" --maps "$work/$reference" "$work/gt-$name" | awk -v n="$*" -v of="$of" '
     /^occupied/ {s = $3 " / " $5 ", IoU " $NF} /^low/ {l = $NF} /^high/ {h = $NF}
-    END {printf "| %s | %s | %s | %s |\n", n, s, l, h}'
+    END {printf "| %s | %s | %s | %s | %s |\n", n, of, s, l, h}'
 }
 
 tableHead() {
@@ -186,12 +199,19 @@ tableHead() {
   echo "|---|---|---|---|---|---|---|---|"
 }
 spaceHead() {
-  echo "| sessions at ground-truth poses | occupied voxels (0.05 m): whole run / sessions, IoU | low tree IoU | high tree IoU |"
-  echo "|---|---|---|---|"
+  echo "| sessions at ground-truth poses | one run of | occupied voxels (0.05 m): one run / sessions, IoU | low tree IoU | high tree IoU |"
+  echo "|---|---|---|---|---|"
 }
 
 if [ ${#chain[@]} -gt 0 ]; then
-  if [ "$groundTruth" = 1 ]; then spaceHead; spaceRow "${chain[@]}"; else tableHead; chainRow "${chain[@]}"; fi
+  if [ "$groundTruth" = 1 ]; then
+    run -c "$ini" -p gt -r "$whole" -o "$out/gt-whole"
+    spaceHead
+    spaceRow "${chain[@]}"
+  else
+    tableHead
+    chainRow "${chain[@]}"
+  fi
   exit 0
 fi
 
@@ -201,9 +221,12 @@ tmp=$(mktemp)
   chainRow 0:462 463:925
   chainRow 0:462 600:925
   chainRow 0:308 309:617 618:925
+  chainRow 463:925 0:462
   echo
+  run -c "$ini" -p gt -r "$whole" -o "$out/gt-whole"
   spaceHead
   spaceRow 0:462 463:925
+  spaceRow 463:925 0:462
 } >"$tmp"
 # Without --continue: the second half run on its own lives in a world of its own.
 run -c "$ini" -r "$(cut 463:925)" -o "$out/vo-alone-463-925"
@@ -232,7 +255,6 @@ alone=$(ate "$work/vo-0-462-and-alone.txt")
   echo
   echo '```sh'
   printf '%s\n' "${commands[@]}"
-  echo "build/bin/avm-eval --maps $out/gt-whole $out/gt-0-462+463-925"
   echo '```'
 } >"$doc.tmp"
 mv "$doc.tmp" "$doc"
