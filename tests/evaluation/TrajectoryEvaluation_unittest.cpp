@@ -1,11 +1,13 @@
 #include <gtest/gtest.h>
 #include <mrpt/core/bits_math.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <iterator>
 #include <fstream>
+#include <utility>
 
 #include "TestData.h"
 #include "avm/evaluation/TrajectoryEvaluation.h"
@@ -96,6 +98,35 @@ TEST(TrajectoryEvaluation, KnownDriftGivesItsRateAsRpe)
 	EXPECT_NEAR(b.rpeRotation.median, turn, 1e-6);
 	EXPECT_NEAR(b.rpeRotation.max, turn, 1e-6);
 	EXPECT_LT(b.ate.max, 1e-9);  // positions are exact: rotation does not enter the ATE
+}
+
+// Sessions mapped in another order than they were recorded: an estimate and
+// a ground truth whose halves come the later first are judged as in time order.
+TEST(TrajectoryEvaluation, TheOrderOfThePosesDoesNotMatter)
+{
+	const auto gt = bonnGroundTruth();
+	io::Trajectory estimate = gt;
+	for (std::size_t i = 0; i < estimate.size(); ++i)
+		estimate[i].pose =
+			CPose3D(0.002 * std::sin(0.7 * double(i)), 0.001 * i / 100.0, 0, 0.001 * std::cos(0.3 * double(i)), 0, 0) +
+			estimate[i].pose;
+	const auto laterFirst = [](io::Trajectory t)
+	{
+		std::rotate(t.begin(), t.begin() + static_cast<std::ptrdiff_t>(t.size() / 2), t.end());
+		return t;
+	};
+	const auto inOrder = evaluation::evaluateTrajectory(estimate, gt, {});
+	for (const auto& [est, truth] : {std::pair{laterFirst(estimate), gt}, std::pair{estimate, laterFirst(gt)},
+			 std::pair{laterFirst(estimate), laterFirst(gt)}})
+	{
+		const auto e = evaluation::evaluateTrajectory(est, truth, {});
+		EXPECT_EQ(e.matchedPairs, gt.size());
+		EXPECT_DOUBLE_EQ(e.ate.rmse, inOrder.ate.rmse);
+		EXPECT_DOUBLE_EQ(e.rpeTranslation.rmse, inOrder.rpeTranslation.rmse);
+		EXPECT_DOUBLE_EQ(e.frameToFrame.rmse, inOrder.frameToFrame.rmse);
+		EXPECT_DOUBLE_EQ(e.acceleration.rmse, inOrder.acceleration.rmse);
+	}
+	EXPECT_GT(inOrder.ate.rmse, 1e-4) << "the estimate is not the ground truth";
 }
 
 TEST(TrajectoryEvaluation, AteOfAKnownOffsetAndStatistics)

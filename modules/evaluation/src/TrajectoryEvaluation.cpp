@@ -143,10 +143,11 @@ TrajectoryErrors evaluateTrajectory(
 	const std::size_t first = std::min(options.firstFrame, estimate.size());
 	const std::size_t last =
 		options.maxFrames == 0 ? estimate.size() : std::min(estimate.size(), first + options.maxFrames);
-	const io::Trajectory range(estimate.begin() + first, estimate.begin() + last);
+	const auto range = io::inTimeOrder(io::Trajectory(estimate.begin() + first, estimate.begin() + last));
 	out.evaluatedPoses = range.size();
 
-	const auto pairs = associateByTimestamp(range, groundTruth, options.maxTimeDifference);
+	const auto truth = io::inTimeOrder(groundTruth);
+	const auto pairs = associateByTimestamp(range, truth, options.maxTimeDifference);
 	out.matchedPairs = pairs.size();
 	if (pairs.size() < 3)
 		throw std::runtime_error(
@@ -160,9 +161,9 @@ TrajectoryErrors evaluateTrajectory(
 	for (const auto& [i, j] : pairs)
 	{
 		matchedEstimate.push_back(range[i]);
-		matchedTruth.push_back(groundTruth[j]);
+		matchedTruth.push_back(truth[j]);
 		est.push_back(range[i].pose.translation());
-		gt.push_back(groundTruth[j].pose.translation());
+		gt.push_back(truth[j].pose.translation());
 	}
 	out.alignment = alignRigid(est, gt);
 	std::vector<double> ate;

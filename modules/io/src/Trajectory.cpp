@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <numeric>
 #include <sstream>
 #include <stdexcept>
 
@@ -41,6 +42,23 @@ mrpt::poses::CPose3D poseOf(const Eigen::Vector3d& t, const Eigen::Quaterniond& 
 		mrpt::poses::CPose3DQuat(t.x(), t.y(), t.z(), mrpt::math::CQuaternionDouble(q.w(), q.x(), q.y(), q.z())));
 }
 }  // namespace
+
+std::vector<std::size_t> timeOrder(const Trajectory& poses)
+{
+	std::vector<std::size_t> order(poses.size());
+	std::iota(order.begin(), order.end(), std::size_t{0});
+	std::stable_sort(order.begin(), order.end(),
+		[&](std::size_t a, std::size_t b) { return poses[a].timestamp < poses[b].timestamp; });
+	return order;
+}
+
+Trajectory inTimeOrder(const Trajectory& poses)
+{
+	Trajectory out;
+	out.reserve(poses.size());
+	for (const auto i : timeOrder(poses)) out.push_back(poses[i]);
+	return out;
+}
 
 Trajectory readTumTrajectory(const fs::path& file)
 {

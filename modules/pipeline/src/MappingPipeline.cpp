@@ -326,14 +326,17 @@ RunSummary MappingPipeline::Impl::summarise(
 	summary.odometryCpu = stages.odometryCpu.summary();
 	summary.detectionCpu = stages.detectionCpu.summary();
 	summary.persons = maps->mapByClass<CAdaptiveOctoMap>()->confirmedPersons().size();
-	// Of all the sessions' poses, under one alignment; a continued session
-	// whose rawlog has no ground truth has none of its own to be judged by.
-	const auto& gt = processor.groundTruth();
+	// Of all the sessions' poses, under one alignment, when this run's poses
+	// have ground truth: a continued session whose rawlog has none has none
+	// of its own to be judged by (the sessions may have been recorded in any
+	// order, so by the poses' times, not their places in the trajectory).
+	const auto gt = io::inTimeOrder(processor.groundTruth());
 	const std::size_t firstPose = summary.continuation ? summary.continuation->posesBefore : 0;
-	const bool judged =
-		gt.size() >= 3 && firstPose < trajectory.size() && gt.back().timestamp >= trajectory[firstPose].timestamp;
+	const io::Trajectory thisRun(trajectory.begin() + std::min(firstPose, trajectory.size()), trajectory.end());
+	const evaluation::TEvaluationOptions matching;
+	const bool judged = evaluation::associateByTimestamp(thisRun, gt, matching.maxTimeDifference).size() >= 3;
 	if (options.poseSource == PoseSource::VisualOdometry && judged)
-		summary.ateRmse = evaluation::evaluateTrajectory(trajectory, gt, {}).ate.rmse;
+		summary.ateRmse = evaluation::evaluateTrajectory(trajectory, gt, matching).ate.rmse;
 	return summary;
 }
 

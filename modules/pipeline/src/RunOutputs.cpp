@@ -4,7 +4,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
-#include <numeric>
 #include <sstream>
 #include <stdexcept>
 
@@ -220,21 +219,6 @@ std::string statsJson(const RunSummary& summary, const RunRecord& record, const 
 	return json.str();
 }
 
-/** The indices of the run's poses in time order, as a TUM file lists them.
- *  A session may continue one recorded after it (sessions cut from one
- *  recording, mapped in any order): its poses then come before the earlier
- *  sessions' in the file. Stable, so a session's poses keep the order they
- *  were mapped in, and those at a time another session also saw follow that
- *  session's. */
-std::vector<std::size_t> timeOrder(const io::Trajectory& poses)
-{
-	std::vector<std::size_t> order(poses.size());
-	std::iota(order.begin(), order.end(), std::size_t{0});
-	std::stable_sort(order.begin(), order.end(),
-		[&](std::size_t a, std::size_t b) { return poses[a].timestamp < poses[b].timestamp; });
-	return order;
-}
-
 /** One line per pose of trajectory.txt, in its order: its timestamp and
  *  whether the odometry tracked it (1) or bridged it by its motion model (0). */
 std::string trajectoryStatusText(const RunRecord& record, const std::vector<std::size_t>& order)
@@ -272,11 +256,10 @@ void writeRunOutputs(const fs::path& outDir, const RunSummary& summary, const Ru
 	const io::RunFolder run(outDir);
 	const TreeStats trees{map.lowResolutionStats(), map.highResolutionStats()};
 	map.saveMetricMapRepresentationToFile(run.mapPrefix());
-	const auto order = timeOrder(record.trajectory);
-	io::Trajectory inTime;
-	inTime.reserve(order.size());
-	for (const auto i : order) inTime.push_back(record.trajectory[i]);
-	io::writeTumTrajectory(run.trajectory(), inTime,
+	// A TUM file lists its poses in time order, which sessions mapped in
+	// another order than they were recorded do not have.
+	const auto order = io::timeOrder(record.trajectory);
+	io::writeTumTrajectory(run.trajectory(), io::inTimeOrder(record.trajectory),
 		"avm-map camera trajectory (" + toString(record.options->poseSource) + "), optical frame, TUM format");
 	writeText(run.trajectoryStatus(), trajectoryStatusText(record, order));
 	writeText(run.detections(), detectionsText(record.personDetections));

@@ -64,7 +64,8 @@ struct TrajectoryErrors
 };
 
 /** Index pairs (estimate, ground truth): each estimated pose with the
- *  ground-truth pose nearest in time, if within maxTimeDifference. */
+ *  ground-truth pose nearest in time, if within maxTimeDifference. The
+ *  ground truth in time order (io::inTimeOrder). */
 std::vector<std::pair<std::size_t, std::size_t>> associateByTimestamp(
 	const io::Trajectory& estimate, const io::Trajectory& groundTruth, double maxTimeDifference);
 
@@ -90,8 +91,11 @@ std::vector<double> cameraAcceleration(const io::Trajectory& poses);
 /** Statistics of a list of errors (all zero for an empty list). */
 ErrorStatistics statisticsOf(std::vector<double> errors);
 
-/** ATE, RPE and accelerations of `estimate` against `groundTruth`. Throws std::runtime_error
- *  when fewer than 3 poses can be matched (nothing meaningful to align). */
+/** ATE, RPE and accelerations of `estimate` against `groundTruth`, either in
+ *  any order (sessions mapped in another order than they were recorded): both
+ *  are taken in time order, the estimate's frame range (firstFrame,
+ *  maxFrames) in its own order first. Throws std::runtime_error when fewer
+ *  than 3 poses can be matched (nothing meaningful to align). */
 TrajectoryErrors evaluateTrajectory(
 	const io::Trajectory& estimate, const io::Trajectory& groundTruth, const TEvaluationOptions& options);
 

@@ -4,6 +4,7 @@
 
 #include <mrpt/poses/CPose3D.h>
 
+#include <cstddef>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -17,6 +18,14 @@ struct TimedPose
 	mrpt::poses::CPose3D pose;
 };
 using Trajectory = std::vector<TimedPose>;
+
+/** The indices of `poses` in time order. Stable: poses of one instant (two
+ *  sessions that saw the same frames) keep their order. A run's poses are in
+ *  time order already; those of sessions mapped in another order than they
+ *  were recorded are not. */
+std::vector<std::size_t> timeOrder(const Trajectory& poses);
+/** `poses` in time order (timeOrder). */
+Trajectory inTimeOrder(const Trajectory& poses);
 
 /** Reads a TUM trajectory. Comments (#) and blank lines are skipped. Throws
  *  std::runtime_error naming the file and line on a malformed line, a
