@@ -23,6 +23,18 @@
 using namespace avm;
 using namespace avm::detail;
 
+namespace
+{
+/** The sketch as serializeTo writes it. */
+std::string bytesOf(const SurfaceSketch& sketch)
+{
+	mrpt::io::CMemoryStream buf;
+	auto arch = mrpt::serialization::archiveFrom(buf);
+	sketch.serializeTo(arch);
+	return std::string(static_cast<const char*>(buf.getRawBufferData()), buf.getTotalBytesCount());
+}
+}  // namespace
+
 TEST(SurfaceSketch, BitsNameTheHighVoxelsOfTheirLowVoxel)
 {
 	SurfaceSketch sketch(4);
@@ -61,13 +73,6 @@ TEST(SurfaceSketch, SameEntriesSameBytesWhateverTheHistory)
 	for (unsigned i = 0; i < 600; i++) grown.take(packKey(octomap::OcTreeKey(kKeyOffset + i, kKeyOffset, kKeyOffset)));
 	SurfaceSketch pruned = grown;
 	pruned.prune([](std::uint64_t, std::uint64_t) { return true; });
-	const auto bytesOf = [](const SurfaceSketch& s)
-	{
-		mrpt::io::CMemoryStream buf;
-		auto arch = mrpt::serialization::archiveFrom(buf);
-		s.serializeTo(arch);
-		return std::string(static_cast<const char*>(buf.getRawBufferData()), buf.getTotalBytesCount());
-	};
 	SurfaceSketch restored;
 	test::copyBySerialization(grown, restored);
 	ASSERT_EQ(restored.size(), 400u);
@@ -76,6 +81,35 @@ TEST(SurfaceSketch, SameEntriesSameBytesWhateverTheHistory)
 	EXPECT_EQ(bytesOf(restored), bytesOf(grown));
 	EXPECT_EQ(bytesOf(pruned), bytesOf(grown));
 	EXPECT_EQ(grown.memoryBytes(), 400u * 16u) << "a low key and its 64 bits an entry";
+}
+
+// A scan's marks at once give the sketch that the same marks one at a time
+// give: low voxels it held gain their bits, new ones join in key order.
+TEST(SurfaceSketch, AScansMarksAtOnceAreTheMarksOneAtATime)
+{
+	const octomap::OcTree high(0.05);
+	std::mt19937 rng(5);
+	std::uniform_real_distribution<double> coord(-1.5, 1.5);
+	SurfaceSketch atOnce(4), oneByOne(4);
+	for (int i = 0; i < 200; i++)
+	{
+		const auto k = packKey(high.coordToKey(coord(rng), coord(rng), coord(rng)));
+		atOnce.markHighVoxel(k);
+		oneByOne.markHighVoxel(k);
+	}
+	std::vector<std::uint64_t> surface, seen;
+	for (int i = 0; i < 3000; i++) surface.push_back(packKey(high.coordToKey(coord(rng), coord(rng), coord(rng))));
+	for (int i = 0; i < 300; i++)
+		seen.push_back(atOnce.lowKeyOf(packKey(high.coordToKey(coord(rng), coord(rng), 2 + coord(rng)))));
+	const auto sizeBefore = atOnce.size();
+	atOnce.markScan(surface, seen);
+	for (const auto k : surface) oneByOne.markHighVoxel(k);
+	for (const auto k : seen) oneByOne.markLowVoxel(k);
+	EXPECT_GT(atOnce.size(), sizeBefore + 100) << "the scan brought new low voxels";
+	EXPECT_EQ(bytesOf(atOnce), bytesOf(oneByOne));
+	SurfaceSketch restored;
+	test::copyBySerialization(atOnce, restored);
+	EXPECT_EQ(restored.size(), atOnce.size()) << "read back: the entries are in key order";
 }
 
 // A frame updates the sketch around its camera only: every low voxel of the

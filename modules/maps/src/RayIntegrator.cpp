@@ -239,6 +239,9 @@ void RayIntegrator::finish()
 		}
 	}
 	if (m_targets.sketch)
+	{
+		m_sketchSurface.clear();
+		m_sketchSeen.clear();
 		for (const auto k : m_ends.sketch.keys())
 		{
 			// The low tree takes an endpoint within range by its low voxel's
@@ -248,10 +251,12 @@ void RayIntegrator::finish()
 			// region as a solid block.
 			const auto lowKey = m_targets.sketch->lowKeyOf(k);
 			if ((centreOf(k, m_sketchGrid.resolution) - m_origin).norm() <= m_targets.outsideMaxRange)
-				m_targets.sketch->markHighVoxel(k);
+				m_sketchSurface.push_back(k);
 			else if ((centreOf(lowKey, m_outsideGrid.resolution) - m_origin).norm() <= m_targets.outsideMaxRange)
-				m_targets.sketch->markLowVoxel(lowKey);
+				m_sketchSeen.push_back(lowKey);
 		}
+		m_targets.sketch->markScan(m_sketchSurface, m_sketchSeen);
+	}
 	applyUpdates(*m_targets.outside, m_outsideGrid, m_outsideFree, m_outsideOccupied, m_ends.freeOnlyOutside, false);
 	if (m_hasRegions)
 		applyUpdates(*m_targets.inside, m_insideGrid, m_insideFree, m_insideOccupied, m_ends.freeOnlyInside, true);

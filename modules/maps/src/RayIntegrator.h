@@ -84,5 +84,7 @@ class RayIntegrator
 	BoxKeySet m_insideFree, m_insideOccupied;
 	BatchUpdate m_batch;
 	std::vector<std::pair<double, double>> m_intervals;
+	/** The scan's marks for the sketch (SurfaceSketch::markScan). */
+	std::vector<std::uint64_t> m_sketchSurface, m_sketchSeen;
 };
 }  // namespace avm::detail

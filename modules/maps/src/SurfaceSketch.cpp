@@ -1,5 +1,7 @@
 #include "SurfaceSketch.h"
 
+#include <algorithm>
+#include <iterator>
 #include <stdexcept>
 
 #include "OcTreeKeys.h"
@@ -36,9 +38,34 @@ std::uint64_t& SurfaceSketch::entryOf(std::uint64_t lowKey)
 	return it->bits;
 }
 
-void SurfaceSketch::markHighVoxel(std::uint64_t highKey)
+void SurfaceSketch::markScan(
+	const std::vector<std::uint64_t>& surfaceHighKeys, const std::vector<std::uint64_t>& seenLowKeys)
 {
-	entryOf(lowKeyOf(highKey)) |= std::uint64_t(1) << bitOf(highKey);
+	const auto byKey = [](const Entry& a, const Entry& b) { return a.lowKey < b.lowKey; };
+	std::vector<Entry> fresh;
+	const auto mark = [&](std::uint64_t lowKey, std::uint64_t bits)
+	{
+		if (const auto it = find(lowKey); it != m_entries.end() && it->lowKey == lowKey)
+			it->bits |= bits;
+		else
+			fresh.push_back({lowKey, bits});
+	};
+	for (const auto h : surfaceHighKeys) mark(lowKeyOf(h), std::uint64_t(1) << bitOf(h));
+	for (const auto l : seenLowKeys) mark(l, 0);
+	if (fresh.empty()) return;
+	// A new low voxel is marked once for each of its high voxels: one entry
+	// with all their bits.
+	std::sort(fresh.begin(), fresh.end(), byKey);
+	auto last = fresh.begin();
+	for (auto it = std::next(fresh.begin()); it != fresh.end(); ++it)
+		if (it->lowKey == last->lowKey)
+			last->bits |= it->bits;
+		else
+			*++last = *it;
+	fresh.erase(std::next(last), fresh.end());
+	const auto before = static_cast<std::ptrdiff_t>(m_entries.size());
+	m_entries.insert(m_entries.end(), fresh.begin(), fresh.end());
+	std::inplace_merge(m_entries.begin(), m_entries.begin() + before, m_entries.end(), byKey);
 }
 
 std::optional<std::uint64_t> SurfaceSketch::take(std::uint64_t lowKey)

@@ -31,10 +31,14 @@ class SurfaceSketch
 	bool usable() const { return m_ratio >= 2 && m_ratio * m_ratio * m_ratio <= 64; }
 	unsigned ratio() const { return m_ratio; }
 
-	/** The high voxel (packed high-tree key, KeySet.h) held surface. */
-	void markHighVoxel(std::uint64_t highKey);
-	/** The low voxel was seen, with no surface in it that the sketch keeps. */
-	void markLowVoxel(std::uint64_t lowKey) { entryOf(lowKey); }
+	/** What a scan saw: the high voxels (packed high-tree keys, KeySet.h)
+	 *  that held surface, and the low voxels seen with no surface in them that
+	 *  the sketch keeps. Low voxels new to the sketch join its sorted entries
+	 *  in one merge a scan: one at a time, each moved every entry after it,
+	 *  a cost that grew with the map. */
+	void markScan(const std::vector<std::uint64_t>& surfaceHighKeys, const std::vector<std::uint64_t>& seenLowKeys);
+	void markHighVoxel(std::uint64_t highKey) { markScan({highKey}, {}); }
+	void markLowVoxel(std::uint64_t lowKey) { markScan({}, {lowKey}); }
 	/** The low voxel's bits (in bitAtOffset's order), forgotten by the
 	 *  sketch; nothing when the sketch never saw the low voxel (no bits: the
 	 *  surfaces it saw have all been seen through since). */
