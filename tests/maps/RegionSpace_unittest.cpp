@@ -52,8 +52,8 @@ TEST(SurfaceSketch, BitsNameTheHighVoxelsOfTheirLowVoxel)
 		ASSERT_EQ(sketch.highKeyOf(sketch.lowKeyOf(h), sketch.bitOf(h)), h);
 	}
 	const auto h = packKey(high.coordToKey(-0.01, 0.01, 0.19));
-	sketch.markHighVoxel(h);
-	sketch.markHighVoxel(h);
+	sketch.markScan({h}, {});
+	sketch.markScan({h}, {});
 	EXPECT_EQ(sketch.size(), 1u);
 	const auto lowKey = sketch.lowKeyOf(h);
 	sketch.prune([&](std::uint64_t k, std::uint64_t) { return k == lowKey; });
@@ -94,8 +94,8 @@ TEST(SurfaceSketch, AScansMarksAtOnceAreTheMarksOneAtATime)
 	for (int i = 0; i < 200; i++)
 	{
 		const auto k = packKey(high.coordToKey(coord(rng), coord(rng), coord(rng)));
-		atOnce.markHighVoxel(k);
-		oneByOne.markHighVoxel(k);
+		atOnce.markScan({k}, {});
+		oneByOne.markScan({k}, {});
 	}
 	std::vector<std::uint64_t> surface, seen;
 	for (int i = 0; i < 3000; i++) surface.push_back(packKey(high.coordToKey(coord(rng), coord(rng), coord(rng))));
@@ -103,8 +103,8 @@ TEST(SurfaceSketch, AScansMarksAtOnceAreTheMarksOneAtATime)
 		seen.push_back(atOnce.lowKeyOf(packKey(high.coordToKey(coord(rng), coord(rng), 2 + coord(rng)))));
 	const auto sizeBefore = atOnce.size();
 	atOnce.markScan(surface, seen);
-	for (const auto k : surface) oneByOne.markHighVoxel(k);
-	for (const auto k : seen) oneByOne.markLowVoxel(k);
+	for (const auto k : surface) oneByOne.markScan({k}, {});
+	for (const auto k : seen) oneByOne.markScan({}, {k});
 	EXPECT_GT(atOnce.size(), sizeBefore + 100) << "the scan brought new low voxels";
 	EXPECT_EQ(bytesOf(atOnce), bytesOf(oneByOne));
 	SurfaceSketch restored;
@@ -291,7 +291,7 @@ TEST(RegionSpace, ASketchedSurfaceEntersTheHighTreeAsSeenOnce)
 	const auto lowOctKey = low.coordToKey(0.1, 0.1, 0.1);
 	for (int i = 0; i < 10; i++) low.updateNode(lowOctKey, true);  // seen often: clamped occupied
 	const auto surfaceKey = high.coordToKey(0.125, 0.025, 0.075);
-	sketch.markHighVoxel(packKey(surfaceKey));
+	sketch.markScan({packKey(surfaceKey)}, {});
 	refineIntoHighTree(low, high, packKey(lowOctKey), &sketch);
 
 	EXPECT_EQ(low.search(lowOctKey), nullptr) << "the low voxel left the low tree";
@@ -320,7 +320,7 @@ TEST(RegionSpace, AFreeLowVoxelGivesBackItsSketchedSurfaceAndFreeSpace)
 	const auto lowOctKey = low.coordToKey(0.1, 0.1, 0.1);
 	for (int i = 0; i < 10; i++) low.updateNode(lowOctKey, false);
 	const auto surfaceKey = high.coordToKey(0.125, 0.025, 0.075);
-	sketch.markHighVoxel(packKey(surfaceKey));
+	sketch.markScan({packKey(surfaceKey)}, {});
 	refineIntoHighTree(low, high, packKey(lowOctKey), &sketch);
 
 	std::size_t occupied = 0, free = 0;
@@ -344,7 +344,7 @@ TEST(RegionSpace, ALowVoxelWhoseSurfaceWasSeenThroughGivesBackNoSurface)
 	SurfaceSketch sketch(4);
 	const auto lowOctKey = low.coordToKey(0.1, 0.1, 0.1);
 	for (int i = 0; i < 10; i++) low.updateNode(lowOctKey, true);
-	sketch.markLowVoxel(packKey(lowOctKey));
+	sketch.markScan({}, {packKey(lowOctKey)});
 	refineIntoHighTree(low, high, packKey(lowOctKey), &sketch);
 	EXPECT_EQ(high.size(), 0u);
 	EXPECT_EQ(low.search(lowOctKey), nullptr);

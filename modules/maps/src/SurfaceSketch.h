@@ -37,8 +37,6 @@ class SurfaceSketch
 	 *  in one merge a scan: one at a time, each moved every entry after it,
 	 *  a cost that grew with the map. */
 	void markScan(const std::vector<std::uint64_t>& surfaceHighKeys, const std::vector<std::uint64_t>& seenLowKeys);
-	void markHighVoxel(std::uint64_t highKey) { markScan({highKey}, {}); }
-	void markLowVoxel(std::uint64_t lowKey) { markScan({}, {lowKey}); }
 	/** The low voxel's bits (in bitAtOffset's order), forgotten by the
 	 *  sketch; nothing when the sketch never saw the low voxel (no bits: the
 	 *  surfaces it saw have all been seen through since). */

@@ -219,17 +219,17 @@ std::string statsJson(const RunSummary& summary, const RunRecord& record, const 
 	return json.str();
 }
 
-/** One line per pose of trajectory.txt, in its order: its timestamp and
- *  whether the odometry tracked it (1) or bridged it by its motion model (0). */
-std::string trajectoryStatusText(const RunRecord& record, const std::vector<std::size_t>& order)
+/** One line per pose of trajectory.txt: its timestamp and whether the
+ *  odometry tracked it (1) or bridged it by its motion model (0). */
+std::string trajectoryStatusText(const io::Trajectory& poses, const std::vector<bool>& tracked)
 {
 	std::string text =
 		"# avm-map: per pose of trajectory.txt, timestamp and tracked (1) or bridged by the motion model after a "
 		"tracking loss (0)\n";
 	char line[64];
-	for (const auto i : order)
+	for (std::size_t i = 0; i < poses.size(); ++i)
 	{
-		std::snprintf(line, sizeof(line), "%.6f %d\n", record.trajectory[i].timestamp, int(record.trackedPoses.at(i)));
+		std::snprintf(line, sizeof(line), "%.6f %d\n", poses[i].timestamp, int(tracked.at(i)));
 		text += line;
 	}
 	return text;
@@ -258,10 +258,16 @@ void writeRunOutputs(const fs::path& outDir, const RunSummary& summary, const Ru
 	map.saveMetricMapRepresentationToFile(run.mapPrefix());
 	// A TUM file lists its poses in time order, which sessions mapped in
 	// another order than they were recorded do not have.
-	const auto order = io::timeOrder(record.trajectory);
-	io::writeTumTrajectory(run.trajectory(), io::inTimeOrder(record.trajectory),
+	io::Trajectory poses;
+	std::vector<bool> tracked;
+	for (const auto i : io::timeOrder(record.trajectory))
+	{
+		poses.push_back(record.trajectory[i]);
+		tracked.push_back(record.trackedPoses.at(i));
+	}
+	io::writeTumTrajectory(run.trajectory(), poses,
 		"avm-map camera trajectory (" + toString(record.options->poseSource) + "), optical frame, TUM format");
-	writeText(run.trajectoryStatus(), trajectoryStatusText(record, order));
+	writeText(run.trajectoryStatus(), trajectoryStatusText(poses, tracked));
 	writeText(run.detections(), detectionsText(record.personDetections));
 	const auto persons = map.confirmedPersons();
 	writeText(run.persons(), persons::personsCsvText(persons));
