@@ -85,13 +85,8 @@ FrameFeatures FeatureFrontend::extract(const cv::Mat& grey, const cv::Mat& depth
 	const cv::Mat people = personMask(depth, excluded);
 	cv::Mat mask = depth > 0;
 	mask.setTo(0, people);
-	// Described with the detection: ORB builds and blurs its image pyramid
-	// once, where describing the kept features apart would build it again.
-	// A feature's descriptor depends only on the pyramid and the feature, so
-	// the kept rows are the descriptors describing them alone would give.
 	std::vector<cv::KeyPoint> detected;
-	cv::Mat described;
-	m_orb->detectAndCompute(grey, mask, detected, described);
+	m_orb->detect(grey, detected, mask);
 	if (masked)
 	{
 		masked->clear();
@@ -130,13 +125,14 @@ FrameFeatures FeatureFrontend::extract(const cv::Mat& grey, const cv::Mat& depth
 	// one), which the matching's tie-breaks and the landmark ids follow.
 	std::stable_sort(kept.begin(), kept.end(),
 		[&](int a, int b) { return detected[std::size_t(a)].octave < detected[std::size_t(b)].octave; });
-	f.descriptors.create(int(kept.size()), described.cols, described.type());
 	f.keypoints.reserve(kept.size());
-	for (std::size_t k = 0; k < kept.size(); ++k)
-	{
-		described.row(kept[k]).copyTo(f.descriptors.row(int(k)));
-		f.keypoints.push_back(detected[std::size_t(kept[k])]);
-	}
+	for (int k : kept) f.keypoints.push_back(detected[std::size_t(k)]);
+	// Only the kept features are described: ORB builds its pyramid a second
+	// time for that, which costs less than describing the candidates the
+	// bucketing drops (half of them). A descriptor depends only on the pyramid,
+	// which the same image gives again, and on its feature, so the rows are
+	// those a description with the detection would give.
+	m_orb->compute(grey, f.keypoints, f.descriptors);
 	f.points.reserve(f.keypoints.size());
 	for (const auto& kp : f.keypoints)
 	{
