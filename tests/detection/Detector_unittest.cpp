@@ -199,3 +199,28 @@ TEST(YoloxDetector, InstancesOnTwoThreadsMatchSerialResults)
 	for (std::size_t i = 0; i < gotBus.size(); ++i) EXPECT_EQ(gotBus[i].box, expectedBus[i].box);
 	for (std::size_t i = 0; i < gotPerson.size(); ++i) EXPECT_EQ(gotPerson[i].box, expectedPerson[i].box);
 }
+
+TEST(Detector, TheSimplifiedGraphFindsTheSameObjects)
+{
+	auto simplified = test::yoloxOptions(), asExported = test::yoloxOptions();
+	simplified.classes = asExported.classes = "person, bus";
+	asExported.simplify_graph = false;
+	const auto a = createDetector(simplified), b = createDetector(asExported);
+	EXPECT_NE(a->description().find("space-to-depth"), std::string::npos) << a->description();
+	EXPECT_EQ(b->description().find("space-to-depth"), std::string::npos) << b->description();
+	for (const char* name : {"person.jpg", "bus.jpg"})
+	{
+		const auto found = a->detect(image(name)), expected = b->detect(image(name));
+		ASSERT_EQ(found.size(), expected.size()) << name;
+		ASSERT_FALSE(found.empty()) << name;
+		for (std::size_t i = 0; i < found.size(); ++i)
+		{
+			EXPECT_EQ(found[i].className, expected[i].className) << name;
+			EXPECT_NEAR(found[i].score, expected[i].score, 1e-4) << name;
+			EXPECT_NEAR(found[i].box.x, expected[i].box.x, 0.01) << name;
+			EXPECT_NEAR(found[i].box.y, expected[i].box.y, 0.01) << name;
+			EXPECT_NEAR(found[i].box.width, expected[i].box.width, 0.01) << name;
+			EXPECT_NEAR(found[i].box.height, expected[i].box.height, 0.01) << name;
+		}
+	}
+}

@@ -28,7 +28,7 @@ TEST(TDetectorOptions, SaveAndLoadRoundTripWithTheSameKeys)
 	EXPECT_EQ(b.input_width, 640);
 	std::vector<std::string> keys;
 	cfg.getAllKeys("detection", keys);
-	EXPECT_EQ(keys.size(), 9u);
+	EXPECT_EQ(keys.size(), 10u);
 }
 
 TEST(TDetectorOptions, BadValuesNameSectionAndKey)

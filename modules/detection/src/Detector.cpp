@@ -11,6 +11,7 @@
 
 #include "avm/detection/CocoClasses.h"
 #include "avm/detection/OutputDecoders.h"
+#include "DnnGraph.h"
 
 namespace avm::detection
 {
@@ -58,9 +59,14 @@ class DnnDetector : public DetectorBase
 									 ": model file not found (run scripts/get-data.sh to fetch the default model, "
 									 "or set [detection] model; model = \"\" uses the HOG people detector)");
 		if (!fs::is_regular_file(m_file)) throw std::runtime_error(m_file.string() + ": model path is not a file");
+		detail::DnnGraph graph;
+		graph.onnx = readFile(m_file);
+		if (o.simplify_graph) graph = detail::rewriteForDnn(std::move(graph.onnx));
+		m_inputSpaceToDepth = graph.inputSpaceToDepth;
+		m_graphSummary = graph.summary();
 		try
 		{
-			m_net = cv::dnn::readNetFromONNX(m_file.string());
+			m_net = cv::dnn::readNetFromONNX(graph.onnx.data(), graph.onnx.size());
 		}
 		catch (const cv::Exception& e)
 		{
@@ -75,7 +81,7 @@ class DnnDetector : public DetectorBase
 	std::vector<Detection> detect(const cv::Mat& bgr) override
 	{
 		Letterbox lb;
-		const cv::Mat blob = makeInputBlob(bgr, m_layout, m_input, lb);
+		const cv::Mat blob = networkInput(makeInputBlob(bgr, m_layout, m_input, lb));
 		std::lock_guard<std::mutex> lock(m_netMutex);
 		m_net.setInput(blob);
 		const cv::Mat out = m_net.forward();
@@ -87,11 +93,26 @@ class DnnDetector : public DetectorBase
 		std::ostringstream s;
 		s << "ONNX " << toString(m_layout) << " model " << m_file.string() << " (cv::dnn, input " << m_input.width
 		  << "x" << m_input.height << ", classes: " << m_classNames << ", score >= " << m_params.scoreThreshold
-		  << ", NMS IoU " << m_params.nmsThreshold << ")";
+		  << ", NMS IoU " << m_params.nmsThreshold << (m_graphSummary.empty() ? "" : ", " + m_graphSummary) << ")";
 		return s.str();
 	}
 
    private:
+	static std::string readFile(const fs::path& file)
+	{
+		std::ifstream in(file, std::ios::binary);
+		std::ostringstream bytes;
+		bytes << in.rdbuf();
+		if (!in) throw std::runtime_error(file.string() + ": cannot read the model file");
+		return bytes.str();
+	}
+
+	/** The blob as the network's first layer takes it. */
+	cv::Mat networkInput(const cv::Mat& blob) const
+	{
+		return m_inputSpaceToDepth ? m_inputSpaceToDepth->apply(blob) : blob;
+	}
+
 	/** Runs the network once on a grey input: the output shape tells the
 	 *  layout, and a model that loads but cannot run fails here, at start-up. */
 	void resolveLayout(OutputLayout wanted)
@@ -102,7 +123,7 @@ class DnnDetector : public DetectorBase
 		cv::Mat out;
 		try
 		{
-			m_net.setInput(makeInputBlob(probe, probeLayout, m_input, lb));
+			m_net.setInput(networkInput(makeInputBlob(probe, probeLayout, m_input, lb)));
 			out = m_net.forward();
 		}
 		catch (const cv::Exception& e)
@@ -136,6 +157,8 @@ class DnnDetector : public DetectorBase
 	std::string m_classNames;
 	DecodeParams m_params;
 	OutputLayout m_layout = OutputLayout::Yolox;
+	std::optional<detail::SpaceToDepth> m_inputSpaceToDepth;
+	std::string m_graphSummary;
 	cv::dnn::Net m_net;
 	std::mutex m_netMutex;
 };

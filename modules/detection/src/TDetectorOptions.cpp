@@ -71,7 +71,10 @@ io::IniKeys<TDetectorOptions> TDetectorOptions::iniKeys()
 		.number("threads", &O::threads, "", "OpenCV threads for the whole run; 0 = OpenCV default",
 			{[](int v) { return v >= 0; }, "must be >= 0 (0 = OpenCV default)"})
 		.number("hog_hit_threshold", &O::hog_hit_threshold, "", "HOG only: SVM margin a window needs",
-			{[](double v) { return std::isfinite(v); }, "must be finite"});
+			{[](double v) { return std::isfinite(v); }, "must be finite"})
+		.number("simplify_graph", &O::simplify_graph, "",
+			"run the model's input space-to-depth (Focus) on the input blob and its Sigmoid-Mul pairs as Swish "
+			"layers: the same network, faster in cv::dnn");
 	return keys;
 }
 
