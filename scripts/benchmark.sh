@@ -171,7 +171,7 @@ tmp=$(mktemp "$root/doc/.performance.XXXX")
   fi
   echo "## Where a frame's CPU goes, on one core and on two"
   echo
-  echo "\`ini/default.ini\`, every thread of avm-map on the first core (\`taskset -c 0\`) or on both. CPU time a frame by stage: the odometry on the loop's thread (\`stages.odometry_cpu\`), the detector on its thread (\`stages.detection_cpu\`: a run's CPU time times the runs, over the frames; it runs on every third frame), the map stage on its thread (\`stages.map_cpu\`), and the rest (reading frames, the loop's person and region bookkeeping, checkpoints, handing frames between threads): the run's CPU time less the three. \`whole-one-core-on-change\` runs the detector where the view changed instead of on every third frame (\`detection_schedule = on_change\`; its runs, the persons it finds and its ATE on six sequences: [detection-schedule.md](detection-schedule.md)). Targets of a small computer's single core: at most 16 ms a frame (60 fps), the odometry at most 7 ms."
+  echo "\`ini/default.ini\`, every thread of avm-map on the first core (\`taskset -c 0\`) or on both. CPU time a frame by stage: the odometry on the loop's thread (\`stages.odometry_cpu\`), the detector on its thread (\`stages.detection_cpu\`: a run's CPU time times the runs, over the frames; it runs on every third frame), the map stage on its thread (\`stages.map_cpu\`), and the rest (reading frames, the loop's person and region bookkeeping, checkpoints, handing frames between threads): the run's CPU time less the three. \`whole-one-core-on-change\` runs the detector where the view changed instead of on every third frame (\`detection_schedule = on_change\`; its runs, the persons it finds and its ATE on six sequences: [detection-schedule.md](detection-schedule.md)); \`whole-one-core-exported-graph\` runs the detector's model with its graph as exported, without the rewrite of [detection.md](detection.md) (\`simplify_graph = false\`). Targets of a small computer's single core: at most 16 ms a frame (60 fps), the odometry at most 7 ms."
   echo
   echo "\`\`\`"
   cpu_runs=("${defaults[0]}:2" sub300-one-core:1)
@@ -181,7 +181,10 @@ tmp=$(mktemp "$root/doc/.performance.XXXX")
     map_command whole-one-core-on-change --rawlog datasets/rgbd_bonn_crowd.rawlog \
       --set pipeline:detection_schedule=on_change && cmd=(taskset -c 0 "${cmd[@]}") && echo "${cmd[*]}" &&
       (cd "$root" && "${cmd[@]}" >/dev/null)
-    cpu_runs+=(whole-one-core-1:1 whole-two-cores:2 whole-one-core-on-change:1)
+    map_command whole-one-core-exported-graph --rawlog datasets/rgbd_bonn_crowd.rawlog \
+      --set detection:simplify_graph=false && cmd=(taskset -c 0 "${cmd[@]}") && echo "${cmd[*]}" &&
+      (cd "$root" && "${cmd[@]}" >/dev/null)
+    cpu_runs+=(whole-one-core-1:1 whole-two-cores:2 whole-one-core-on-change:1 whole-one-core-exported-graph:1)
   fi
   echo "\`\`\`"
   echo
