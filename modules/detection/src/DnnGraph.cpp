@@ -15,8 +15,10 @@ namespace avm::detection::detail
 namespace
 {
 // --- protobuf's wire format, as much of it as an ONNX graph needs ---------
-// A message is a list of fields; a rewrite replaces or drops fields and
-// writes the list again, every field it does not touch byte for byte.
+// A message is a list of fields viewing the file's bytes (a model's weights
+// are most of them: nothing is copied but the graph written anew); a rewrite
+// drops fields or writes new ones, and every field it does not touch is
+// written back byte for byte.
 
 struct WireError : std::runtime_error
 {
@@ -26,8 +28,8 @@ struct WireError : std::runtime_error
 struct Field
 {
 	std::uint32_t number = 0;
-	int wireType = 0;   //!< 0 varint, 1 fixed 64 bits, 2 length-delimited, 5 fixed 32 bits
-	std::string value;  //!< a varint's bytes as encoded, a fixed field's bytes, or the payload
+	int wireType = 0;        //!< 0 varint, 1 fixed 64 bits, 2 length-delimited, 5 fixed 32 bits
+	std::string_view value;  //!< a varint's bytes as encoded, a fixed field's bytes, or the payload
 };
 using Message = std::vector<Field>;
 
@@ -52,6 +54,7 @@ void writeVarint(std::string& out, std::uint64_t value)
 	out.push_back(char(value));
 }
 
+/** The fields of a message; they view `bytes`, which must outlive them. */
 Message parse(std::string_view bytes)
 {
 	Message message;
@@ -81,32 +84,33 @@ Message parse(std::string_view bytes)
 				throw WireError("unsupported wire type");
 		}
 		if (length > bytes.size() - begin) throw WireError("truncated field");
-		f.value.assign(bytes.substr(begin, length));
+		f.value = bytes.substr(begin, length);
 		at = begin + length;
-		message.push_back(std::move(f));
+		message.push_back(f);
 	}
 	return message;
 }
 
-std::string serialise(const Message& message)
+/** A field as written in a message. */
+std::string encoded(const Field& f)
 {
 	std::string out;
-	for (const auto& f : message)
-	{
-		writeVarint(out, (std::uint64_t(f.number) << 3) | std::uint64_t(f.wireType));
-		if (f.wireType == kLengthDelimited) writeVarint(out, f.value.size());
-		out += f.value;
-	}
+	writeVarint(out, (std::uint64_t(f.number) << 3) | std::uint64_t(f.wireType));
+	if (f.wireType == kLengthDelimited) writeVarint(out, f.value.size());
+	out += f.value;
 	return out;
 }
 
-Field bytesField(std::uint32_t number, std::string value) { return {number, kLengthDelimited, std::move(value)}; }
-
-Field varintField(std::uint32_t number, std::uint64_t value)
+std::string bytesField(std::uint32_t number, std::string_view payload)
 {
-	Field f{number, kVarint, {}};
-	writeVarint(f.value, value);
-	return f;
+	return encoded({number, kLengthDelimited, payload});
+}
+
+std::string varintField(std::uint32_t number, std::uint64_t value)
+{
+	std::string bytes;
+	writeVarint(bytes, value);
+	return encoded({number, kVarint, bytes});
 }
 
 std::int64_t varintOf(const Field& f)
@@ -119,7 +123,7 @@ std::vector<std::string> stringsOf(const Message& m, std::uint32_t number)
 {
 	std::vector<std::string> out;
 	for (const auto& f : m)
-		if (f.number == number && f.wireType == kLengthDelimited) out.push_back(f.value);
+		if (f.number == number && f.wireType == kLengthDelimited) out.emplace_back(f.value);
 	return out;
 }
 
@@ -277,7 +281,7 @@ std::optional<StrideTwoSlice> strideTwoSlice(const Graph& g, const Node& n)
 
 /** The graph input's value info with the channels of a 2x2 space-to-depth:
  *  N x 4C x H/2 x W/2, under the name of the Concat's output. */
-std::optional<std::string> spaceToDepthInput(const std::string& valueInfo, const std::string& name)
+std::optional<std::string> spaceToDepthInput(std::string_view valueInfo, const std::string& name)
 {
 	const Message info = parse(valueInfo);
 	const Field* type = firstOf(info, value_info::type);
@@ -300,13 +304,12 @@ std::optional<std::string> spaceToDepthInput(const std::string& valueInfo, const
 	}
 	if (dims.size() != 4 || dims[2] % 2 != 0 || dims[3] % 2 != 0) return std::nullopt;
 	const std::int64_t folded[4] = {dims[0], 4 * dims[1], dims[2] / 2, dims[3] / 2};
-	Message newShape;
+	std::string shapeBytes;
 	for (const auto d : folded)
-		newShape.push_back(
-			bytesField(type_proto::dim, serialise({varintField(type_proto::dimValue, std::uint64_t(d))})));
-	const Message newTensorType{*elemType, bytesField(type_proto::shape, serialise(newShape))};
-	const Message newType{bytesField(type_proto::tensorType, serialise(newTensorType))};
-	return serialise({bytesField(value_info::name, name), bytesField(value_info::type, serialise(newType))});
+		shapeBytes += bytesField(type_proto::dim, varintField(type_proto::dimValue, std::uint64_t(d)));
+	const std::string tensorTypeBytes = encoded(*elemType) + bytesField(type_proto::shape, shapeBytes);
+	return bytesField(value_info::name, name) +
+		   bytesField(value_info::type, bytesField(type_proto::tensorType, tensorTypeBytes));
 }
 
 /** Nodes to drop, nodes and fields to replace: the rewrite of one graph. */
@@ -402,13 +405,13 @@ int fuseSwish(const Graph& g, Edits& edits)
 			if (p == g.producer.end() || g.usesOf(s) != 1) continue;
 			const Node& sigmoid = g.nodes[p->second];
 			if (sigmoid.opType != "Sigmoid" || sigmoid.inputs.size() != 1 || sigmoid.inputs[0] != x) continue;
-			Message swish{bytesField(node::input, x)};
+			std::string swish = bytesField(node::input, x);
 			for (const auto& f : mul.message)
 				if (f.number == node::opType)
-					swish.push_back(bytesField(node::opType, "Swish"));
+					swish += bytesField(node::opType, "Swish");
 				else if (f.number != node::input)
-					swish.push_back(f);
-			edits.replacedFields[mul.field] = serialise(swish);
+					swish += encoded(f);
+			edits.replacedFields[mul.field] = swish;
 			edits.droppedNodes.insert(p->second);
 			++fused;
 			break;
@@ -444,7 +447,8 @@ std::string DnnGraph::summary() const
 	std::string s;
 	if (inputSpaceToDepth) s = "input space-to-depth before the network";
 	if (swishActivations > 0)
-		s += (s.empty() ? "" : ", ") + std::to_string(swishActivations) + " Sigmoid-Mul pairs as Swish";
+		s += (s.empty() ? "" : ", ") + std::to_string(swishActivations) +
+			 (swishActivations == 1 ? " Sigmoid-Mul pair" : " Sigmoid-Mul pairs") + " as Swish";
 	return s;
 }
 
@@ -473,17 +477,18 @@ DnnGraph rewriteForDnn(std::string onnx)
 		}
 		std::set<std::size_t> droppedFields;
 		for (const auto i : edits.droppedNodes) droppedFields.insert(g.nodes[i].field);
-		Message graphFields;
+		std::string graphBytes;
 		for (std::size_t i = 0; i < g.fields.size(); ++i)
 		{
 			if (droppedFields.count(i)) continue;
 			const auto replaced = edits.replacedFields.find(i);
-			graphFields.push_back(replaced == edits.replacedFields.end()
-									  ? g.fields[i]
-									  : bytesField(g.fields[i].number, replaced->second));
+			graphBytes += replaced == edits.replacedFields.end() ? encoded(g.fields[i])
+																 : bytesField(g.fields[i].number, replaced->second);
 		}
-		modelFields[*graphField].value = serialise(graphFields);
-		out.onnx = serialise(modelFields);
+		std::string rewritten;
+		for (std::size_t i = 0; i < modelFields.size(); ++i)
+			rewritten += i == *graphField ? bytesField(model::graph, graphBytes) : encoded(modelFields[i]);
+		out.onnx = std::move(rewritten);
 	}
 	catch (const WireError&)
 	{
