@@ -84,8 +84,8 @@ int main(int argc, char** argv)
 			}
 			if (!argOut.isSet()) throw std::runtime_error("--rawlog needs --out OUT.rawlog (or --bench)");
 			avm::io::ProgressBar bar(argQuiet.getValue());
-			const auto summary = labelRawlog(*detector, opt, argRawlog.getValue(), argOut.getValue(),
-				argEvery.getValue(), [&bar](double fraction) { bar.show(fraction); });
+			const auto summary = labelRawlog(*detector, argRawlog.getValue(), argOut.getValue(), argEvery.getValue(),
+				[&bar](double fraction) { bar.show(fraction); });
 			std::cout << summaryText(summary);
 			return 0;
 		});

@@ -19,7 +19,7 @@ TEST(RawlogLabels, PersonLabelsSurviveARawlogRoundTripWithTheSameImages)
 	const auto out = dir / "labelled.rawlog";
 	const auto o = test::yoloxOptions();
 	const auto det = createDetector(o);
-	const auto s = labelRawlog(*det, o, test::bonnRawlog(), out, 50);
+	const auto s = labelRawlog(*det, test::bonnRawlog(), out, 50);
 	EXPECT_EQ(s.frames, 300u);
 	EXPECT_EQ(s.detectedFrames, 6u);
 	EXPECT_TRUE(s.skipped.empty());
@@ -91,7 +91,7 @@ TEST(RawlogLabels, TruncatedInputIsAnErrorAndLeavesNoOutput)
 	const auto det = createDetector(o);
 	try
 	{
-		labelRawlog(*det, o, cut, dir / "out.rawlog");
+		labelRawlog(*det, cut, dir / "out.rawlog");
 		FAIL() << "truncated rawlog accepted";
 	}
 	catch (const std::runtime_error& e)
@@ -107,6 +107,6 @@ TEST(RawlogLabels, MissingInputAndOutputOverInputAreRefused)
 	const auto dir = test::scratchDir("det-bad-args");
 	const auto o = test::yoloxOptions();
 	const auto det = createDetector(o);
-	EXPECT_THROW(labelRawlog(*det, o, dir / "none.rawlog", dir / "out.rawlog"), std::runtime_error);
-	EXPECT_THROW(labelRawlog(*det, o, test::bonnRawlog(), test::bonnRawlog()), std::runtime_error);
+	EXPECT_THROW(labelRawlog(*det, dir / "none.rawlog", dir / "out.rawlog"), std::runtime_error);
+	EXPECT_THROW(labelRawlog(*det, test::bonnRawlog(), test::bonnRawlog()), std::runtime_error);
 }

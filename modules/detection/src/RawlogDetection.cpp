@@ -61,8 +61,8 @@ std::vector<CObservation3DRangeScan*> rgbdObservations(mrpt::serialization::CSer
 class LabellingPass
 {
    public:
-	LabellingPass(DetectorBase& d, const TDetectorOptions& o, std::size_t every, LabelRawlogSummary& s)
-		: m_detector(d), m_options(o), m_every(every), m_summary(s)
+	LabellingPass(DetectorBase& d, std::size_t every, LabelRawlogSummary& s)
+		: m_detector(d), m_every(every), m_summary(s)
 	{
 	}
 
@@ -108,7 +108,6 @@ class LabellingPass
 
    private:
 	DetectorBase& m_detector;
-	const TDetectorOptions& m_options;
 	std::size_t m_every;
 	LabelRawlogSummary& m_summary;
 	std::ostringstream m_lines;
@@ -125,8 +124,8 @@ std::string formatDetection(const Detection& d)
 	return s;
 }
 
-LabelRawlogSummary labelRawlog(DetectorBase& detector, const TDetectorOptions& options, const fs::path& in,
-	const fs::path& out, std::size_t every, const std::function<void(double)>& progress)
+LabelRawlogSummary labelRawlog(DetectorBase& detector, const fs::path& in, const fs::path& out, std::size_t every,
+	const std::function<void(double)>& progress)
 {
 	if (every == 0) throw std::invalid_argument("detection interval must be >= 1 frame");
 	// A first pass finds a missing or damaged input before anything is
@@ -145,7 +144,7 @@ LabelRawlogSummary labelRawlog(DetectorBase& detector, const TDetectorOptions& o
 	const bool linked = fs::is_directory(inImages) && linkImagesFolder(inImages, outImages);
 	if (fs::is_directory(inImages)) summary.imagesDir = outImages;
 
-	LabellingPass pass(detector, options, every, summary);
+	LabellingPass pass(detector, every, summary);
 	try
 	{
 		io::writeFileAtomically(out,

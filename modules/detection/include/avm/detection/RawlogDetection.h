@@ -9,7 +9,6 @@
 #include <vector>
 
 #include "avm/detection/Detection.h"
-#include "avm/detection/TDetectorOptions.h"
 
 namespace avm::detection
 {
@@ -37,7 +36,7 @@ struct LabelRawlogSummary
  *  after every frame. The input's external images are read from MRPT's
  *  process-wide images folder, which the program points at the input's
  *  (io::useImagesFolderOf). */
-LabelRawlogSummary labelRawlog(DetectorBase& detector, const TDetectorOptions& options, const std::filesystem::path& in,
+LabelRawlogSummary labelRawlog(DetectorBase& detector, const std::filesystem::path& in,
 	const std::filesystem::path& out, std::size_t every = 1, const std::function<void(double)>& progress = {});
 
 /** One detection as text: `class score x y w h` (box in pixels, 1 decimal). */
