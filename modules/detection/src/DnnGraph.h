@@ -1,9 +1,9 @@
-// A YOLO-family ONNX graph rewritten into the same network in the form
-// cv::dnn 4.6 runs fastest. Two patterns of these models cost far more there
+// A YOLO-family ONNX graph rewritten into the same network in a form
+// cv::dnn 4.6 runs faster. Two patterns of these models cost far more there
 // than their arithmetic:
 // - the input space-to-depth ("Focus" of YOLOX and YOLOv5 v1-v5): eight
-//   strided Slice layers and a Concat, about an eighth of YOLOX-Nano's time,
-//   where a loop over the input blob does the same copy;
+//   strided Slice layers and a Concat, which take OpenCV 4.6 far longer than
+//   the copy they make, where a loop over the input blob does that copy;
 // - SiLU exported as Sigmoid and Mul: two layers and two passes over memory
 //   per activation, where OpenCV's Swish layer computes x / (1 + exp(-x))
 //   inside the convolution before it (the float results differ in the last

@@ -47,8 +47,8 @@ struct TDetectorOptions : public io::CIniKeyOptions<TDetectorOptions>
 	double hog_hit_threshold = 0.0;  //!< HOG only: SVM margin a window needs to count
 	/** The model's input space-to-depth (YOLOX and YOLOv5's Focus) done on
 	 *  the blob before the network, and SiLU's Sigmoid-Mul pairs as Swish
-	 *  layers that OpenCV fuses into the convolutions: the same network in the
-	 *  form cv::dnn 4.6 runs fastest (src/DnnGraph.h). */
+	 *  layers that OpenCV fuses into the convolutions: the same network in a
+	 *  form cv::dnn 4.6 runs faster (src/DnnGraph.h). */
 	bool simplify_graph = true;
 
 	/** Every key: name, member, unit, description, check. */
