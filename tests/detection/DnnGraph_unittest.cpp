@@ -1,11 +1,14 @@
-// The rewritten YOLOX-Nano graph against the model as exported: the same
-// network (outputs on real images), without the layers the rewrite removes.
+// The rewritten graph against the model as exported (YOLOX-Nano and a small
+// graph with its patterns): the same network, without the layers the rewrite
+// removes; a pattern that does not match exactly is left as it is.
 #include <gtest/gtest.h>
 #include <mrpt/io/vector_loadsave.h>
 
 #include <opencv2/dnn.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include <cstdint>
+#include <cstring>
 #include <map>
 
 #include "DnnGraph.h"
@@ -27,6 +30,109 @@ cv::dnn::Net load(const std::string& onnx)
 	net.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
 	net.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
 	return net;
+}
+
+/** A small ONNX model written field by field (onnx.proto's numbers), with
+ *  the patterns of a YOLOX export: a 2x2 space-to-depth of a 1x3x4x4 input
+ *  (four chains Slice(rows) -> Slice(columns), concatenated on the channels
+ *  in `order`), then SiLU as Sigmoid and Mul. */
+class TinyModel
+{
+   public:
+	using Offset = std::pair<int, int>;                         // row, column in each 2x2 block
+	std::vector<Offset> order{{0, 0}, {1, 0}, {0, 1}, {1, 1}};  // YOLOX's
+	bool inputReadElsewhere = false;                            // a Sigmoid of the input is a second output
+	bool sigmoidIsAnOutput = false;                             // the SiLU's sigmoid is an output too
+
+	std::string bytes() const
+	{
+		std::string nodes;
+		std::vector<std::string> patches;
+		for (const auto& [row, col] : order)
+		{
+			const std::string rows = "rows" + std::to_string(row) + std::to_string(col),
+							  patch = "patch" + std::to_string(row) + std::to_string(col);
+			nodes += field(1, node("Slice", {"images", row ? "one" : "zero", "end", "axis2", "two"}, rows));
+			nodes += field(1, node("Slice", {rows, col ? "one" : "zero", "end", "axis3", "two"}, patch));
+			patches.push_back(patch);
+		}
+		const std::string axis = field(1, "axis") + number(3, 1) + number(20, 2);  // INT attribute
+		nodes += field(1, node("Concat", patches, "focus", field(5, axis)));
+		nodes += field(1, node("Sigmoid", {"focus"}, "sigmoid"));
+		nodes += field(1, node("Mul", {"focus", "sigmoid"}, "silu"));
+		std::string outputs = field(12, valueInfo("silu", {1, 12, 2, 2}));
+		if (inputReadElsewhere)
+		{
+			nodes += field(1, node("Sigmoid", {"images"}, "inputSigmoid"));
+			outputs += field(12, valueInfo("inputSigmoid", {1, 3, 4, 4}));
+		}
+		if (sigmoidIsAnOutput) outputs += field(12, valueInfo("sigmoid", {1, 12, 2, 2}));
+		std::string initializers;
+		for (const auto& [name, value] : std::vector<std::pair<std::string, std::int64_t>>{
+				 {"zero", 0}, {"one", 1}, {"end", INT64_MAX}, {"two", 2}, {"axis2", 2}, {"axis3", 3}})
+		{
+			std::string raw(sizeof value, '\0');
+			std::memcpy(raw.data(), &value, sizeof value);
+			initializers += field(5, number(1, 1) + number(2, 7) + field(8, name) + field(9, raw));
+		}
+		const std::string graph =
+			nodes + field(2, "tiny") + initializers + field(11, valueInfo("images", {1, 3, 4, 4})) + outputs;
+		return number(1, 8) + field(7, graph) + field(8, number(2, 13));  // IR 8, opset 13
+	}
+
+   private:
+	static std::string varint(std::uint64_t v)
+	{
+		std::string out;
+		for (; v >= 0x80; v >>= 7) out.push_back(char((v & 0x7f) | 0x80));
+		out.push_back(char(v));
+		return out;
+	}
+	static std::string number(std::uint32_t field, std::uint64_t v) { return varint(field << 3) + varint(v); }
+	static std::string field(std::uint32_t field, const std::string& payload)
+	{
+		return varint((field << 3) | 2) + varint(payload.size()) + payload;
+	}
+	static std::string node(const std::string& op, const std::vector<std::string>& inputs, const std::string& output,
+		const std::string& attributes = "")
+	{
+		std::string n;
+		for (const auto& in : inputs) n += field(1, in);
+		return n + field(2, output) + field(3, output + "_node") + field(4, op) + attributes;
+	}
+	static std::string valueInfo(const std::string& name, const std::vector<int>& dims)
+	{
+		std::string shape;
+		for (const int d : dims) shape += field(1, number(1, std::uint64_t(d)));
+		return field(1, name) + field(2, field(1, number(1, 1) + field(2, shape)));  // float tensor
+	}
+};
+
+/** The model's outputs on a 1x3x4x4 ramp, through the rewrite when `rewritten`. */
+std::vector<cv::Mat> outputsOf(const std::string& onnx, bool rewritten)
+{
+	const int shape[4] = {1, 3, 4, 4};
+	cv::Mat input(4, shape, CV_32F);
+	for (int i = 0; i < 48; ++i) input.ptr<float>()[i] = float(i) - 20.f;
+	const auto graph = rewriteForDnn(onnx);
+	cv::dnn::Net net = load(rewritten ? graph.onnx : onnx);
+	net.setInput(rewritten && graph.inputSpaceToDepth ? graph.inputSpaceToDepth->apply(input) : input);
+	std::vector<cv::Mat> outputs;
+	net.forward(outputs, net.getUnconnectedOutLayersNames());
+	return outputs;
+}
+
+/** Each output of the rewritten model is the model's as exported, and not zeros. */
+void expectSameOutputs(const std::string& onnx)
+{
+	const auto expected = outputsOf(onnx, false), found = outputsOf(onnx, true);
+	ASSERT_EQ(found.size(), expected.size());
+	for (std::size_t i = 0; i < found.size(); ++i)
+	{
+		ASSERT_EQ(found[i].size, expected[i].size) << "output " << i;
+		EXPECT_LT(cv::norm(found[i], expected[i], cv::NORM_INF), 1e-5) << "output " << i;
+		EXPECT_GT(cv::norm(expected[i], cv::NORM_INF), 0.5) << "output " << i;
+	}
 }
 
 /** Layers by type once the network has run (OpenCV fuses layers then). */
@@ -111,4 +217,49 @@ TEST(DnnGraph, BytesThatAreNoModelComeBackAsTheyAre)
 		EXPECT_EQ(graph.swishActivations, 0);
 		EXPECT_EQ(graph.summary(), "");
 	}
+}
+
+TEST(DnnGraph, ASmallExportsPatternsAreRewrittenInItsOwnGroupOrder)
+{
+	for (const auto& order : {std::vector<TinyModel::Offset>{{0, 0}, {1, 0}, {0, 1}, {1, 1}},
+			 std::vector<TinyModel::Offset>{{1, 1}, {0, 0}, {0, 1}, {1, 0}}})
+	{
+		TinyModel model;
+		model.order = order;
+		const std::string onnx = model.bytes();
+		const auto graph = rewriteForDnn(onnx);
+		ASSERT_TRUE(graph.inputSpaceToDepth);
+		std::vector<TinyModel::Offset> groups;
+		for (const auto& g : graph.inputSpaceToDepth->groups) groups.emplace_back(g.row, g.col);
+		EXPECT_EQ(groups, order);
+		EXPECT_EQ(graph.swishActivations, 1);
+		expectSameOutputs(onnx);
+	}
+}
+
+TEST(DnnGraph, APatternThatDoesNotMatchExactlyIsLeftAsItIs)
+{
+	// The input is read by another layer too: its space-to-depth stays in the graph.
+	TinyModel inputShared;
+	inputShared.inputReadElsewhere = true;
+	auto graph = rewriteForDnn(inputShared.bytes());
+	EXPECT_FALSE(graph.inputSpaceToDepth);
+	EXPECT_EQ(graph.swishActivations, 1);
+	expectSameOutputs(inputShared.bytes());
+
+	// The sigmoid is also an output of the graph: the Mul cannot take it over.
+	TinyModel sigmoidOut;
+	sigmoidOut.sigmoidIsAnOutput = true;
+	graph = rewriteForDnn(sigmoidOut.bytes());
+	EXPECT_TRUE(graph.inputSpaceToDepth);
+	EXPECT_EQ(graph.swishActivations, 0);
+	expectSameOutputs(sigmoidOut.bytes());
+
+	// Both: nothing to rewrite, the bytes come back as they are.
+	TinyModel neither;
+	neither.inputReadElsewhere = neither.sigmoidIsAnOutput = true;
+	graph = rewriteForDnn(neither.bytes());
+	EXPECT_EQ(graph.onnx, neither.bytes());
+	EXPECT_FALSE(graph.inputSpaceToDepth);
+	EXPECT_EQ(graph.swishActivations, 0);
 }
