@@ -16,6 +16,7 @@
 
 using avm::detection::detail::rewriteForDnn;
 using avm::detection::detail::SpaceToDepth;
+using avm::detection::detail::swapLastAxes;
 
 namespace
 {
@@ -41,8 +42,12 @@ class TinyModel
    public:
 	using Offset = std::pair<int, int>;                         // row, column in each 2x2 block
 	std::vector<Offset> order{{0, 0}, {1, 0}, {0, 1}, {1, 1}};  // YOLOX's
-	bool inputReadElsewhere = false;                            // a Sigmoid of the input is a second output
-	bool sigmoidIsAnOutput = false;                             // the SiLU's sigmoid is an output too
+	// A Sigmoid of the input is a second output.
+	bool inputReadElsewhere = false;
+	// The SiLU's sigmoid is an output too.
+	bool sigmoidIsAnOutput = false;
+	// The SiLU reshaped to 1x12x4 and transposed to 1x4x12 is the output.
+	bool transposedOutput = false;
 
 	std::string bytes() const
 	{
@@ -61,6 +66,14 @@ class TinyModel
 		nodes += field(1, node("Sigmoid", {"focus"}, "sigmoid"));
 		nodes += field(1, node("Mul", {"focus", "sigmoid"}, "silu"));
 		std::string outputs = field(12, valueInfo("silu", {1, 12, 2, 2}));
+		if (transposedOutput)
+		{
+			nodes += field(1, node("Reshape", {"silu", "shape"}, "flat"));
+			// An INTS attribute.
+			const std::string perm = field(1, "perm") + number(8, 0) + number(8, 2) + number(8, 1) + number(20, 7);
+			nodes += field(1, node("Transpose", {"flat"}, "out", field(5, perm)));
+			outputs = field(12, valueInfo("out", {1, 4, 12}));
+		}
 		if (inputReadElsewhere)
 		{
 			nodes += field(1, node("Sigmoid", {"images"}, "inputSigmoid"));
@@ -68,12 +81,13 @@ class TinyModel
 		}
 		if (sigmoidIsAnOutput) outputs += field(12, valueInfo("sigmoid", {1, 12, 2, 2}));
 		std::string initializers;
-		for (const auto& [name, value] : std::vector<std::pair<std::string, std::int64_t>>{
-				 {"zero", 0}, {"one", 1}, {"end", INT64_MAX}, {"two", 2}, {"axis2", 2}, {"axis3", 3}})
+		for (const auto& [name, values] :
+			std::vector<std::pair<std::string, std::vector<std::int64_t>>>{{"zero", {0}}, {"one", {1}},
+				{"end", {INT64_MAX}}, {"two", {2}}, {"axis2", {2}}, {"axis3", {3}}, {"shape", {1, 12, 4}}})
 		{
-			std::string raw(sizeof value, '\0');
-			std::memcpy(raw.data(), &value, sizeof value);
-			initializers += field(5, number(1, 1) + number(2, 7) + field(8, name) + field(9, raw));
+			std::string raw(values.size() * sizeof(std::int64_t), '\0');
+			std::memcpy(raw.data(), values.data(), raw.size());
+			initializers += field(5, number(1, values.size()) + number(2, 7) + field(8, name) + field(9, raw));
 		}
 		const std::string graph =
 			nodes + field(2, "tiny") + initializers + field(11, valueInfo("images", {1, 3, 4, 4})) + outputs;
@@ -119,6 +133,8 @@ std::vector<cv::Mat> outputsOf(const std::string& onnx, bool rewritten)
 	net.setInput(rewritten && graph.inputSpaceToDepth ? graph.inputSpaceToDepth->apply(input) : input);
 	std::vector<cv::Mat> outputs;
 	net.forward(outputs, net.getUnconnectedOutLayersNames());
+	if (rewritten && graph.outputTransposed)
+		for (auto& out : outputs) out = swapLastAxes(out);
 	return outputs;
 }
 
@@ -156,6 +172,7 @@ TEST(DnnGraph, YoloxNanoGivesTheSameOutputsWithoutItsFocusSlicesAndSigmoidMulPai
 	for (const auto& g : graph.inputSpaceToDepth->groups) groups.emplace_back(g.row, g.col);
 	EXPECT_EQ(groups, expected);
 	EXPECT_GT(graph.swishActivations, 0);
+	EXPECT_TRUE(graph.outputTransposed);
 	EXPECT_LT(graph.onnx.size(), original.size());
 
 	cv::dnn::Net before = load(original), after = load(graph.onnx);
@@ -167,7 +184,7 @@ TEST(DnnGraph, YoloxNanoGivesTheSameOutputsWithoutItsFocusSlicesAndSigmoidMulPai
 		before.setInput(blob);
 		const cv::Mat expectedOut = before.forward().clone();
 		after.setInput(graph.inputSpaceToDepth->apply(blob));
-		const cv::Mat out = after.forward();
+		const cv::Mat out = swapLastAxes(after.forward());
 		ASSERT_EQ(out.size, expectedOut.size);
 		// Swish computes x / (1 + e^-x) where the export multiplies x by the
 		// sigmoid: the last bits of the floats differ, nothing more.
@@ -180,6 +197,8 @@ TEST(DnnGraph, YoloxNanoGivesTheSameOutputsWithoutItsFocusSlicesAndSigmoidMulPai
 	EXPECT_EQ(typesAfter["Swish"], graph.swishActivations);
 	EXPECT_EQ(typesBefore["Sigmoid"] - typesAfter["Sigmoid"], graph.swishActivations);
 	EXPECT_EQ(typesBefore["Convolution"], typesAfter["Convolution"]);
+	EXPECT_EQ(typesBefore["Permute"], 1);
+	EXPECT_EQ(typesAfter["Permute"], 0);
 }
 
 TEST(DnnGraph, SpaceToDepthTakesEachGroupsPixels)
@@ -215,6 +234,7 @@ TEST(DnnGraph, BytesThatAreNoModelComeBackAsTheyAre)
 		EXPECT_EQ(graph.onnx, bytes);
 		EXPECT_FALSE(graph.inputSpaceToDepth);
 		EXPECT_EQ(graph.swishActivations, 0);
+		EXPECT_FALSE(graph.outputTransposed);
 		EXPECT_EQ(graph.summary(), "");
 	}
 }
@@ -233,8 +253,31 @@ TEST(DnnGraph, ASmallExportsPatternsAreRewrittenInItsOwnGroupOrder)
 		for (const auto& g : graph.inputSpaceToDepth->groups) groups.emplace_back(g.row, g.col);
 		EXPECT_EQ(groups, order);
 		EXPECT_EQ(graph.swishActivations, 1);
+		EXPECT_FALSE(graph.outputTransposed);
 		expectSameOutputs(onnx);
 	}
+	TinyModel transposed;
+	transposed.transposedOutput = true;
+	const auto graph = rewriteForDnn(transposed.bytes());
+	EXPECT_TRUE(graph.inputSpaceToDepth);
+	EXPECT_EQ(graph.swishActivations, 1);
+	EXPECT_TRUE(graph.outputTransposed);
+	expectSameOutputs(transposed.bytes());
+}
+
+TEST(DnnGraph, SwapLastAxesIsATransposeOfEachPlane)
+{
+	const int shape[3] = {2, 3, 5};
+	cv::Mat blob(3, shape, CV_32F);
+	for (int i = 0; i < 30; ++i) blob.ptr<float>()[i] = float(i);
+	const cv::Mat out = swapLastAxes(blob);
+	ASSERT_EQ(out.dims, 3);
+	EXPECT_EQ(out.size[0], 2);
+	EXPECT_EQ(out.size[1], 5);
+	EXPECT_EQ(out.size[2], 3);
+	for (int p = 0; p < 2; ++p)
+		for (int r = 0; r < 3; ++r)
+			for (int c = 0; c < 5; ++c) EXPECT_EQ(out.ptr<float>(p, c)[r], blob.ptr<float>(p, r)[c]);
 }
 
 TEST(DnnGraph, APatternThatDoesNotMatchExactlyIsLeftAsItIs)

@@ -1,6 +1,6 @@
 // Any bytes as an ONNX model file for the detector's graph rewrite: the
 // rewritten graph, or the bytes back as they are; never a crash. The seed
-// (corpus/dnn_graph/focus_silu.onnx) is a small graph with both patterns: a
+// (corpus/dnn_graph/focus_silu.onnx) is a small graph with two of its patterns: a
 // 2x2 space-to-depth of the input followed by SiLU as Sigmoid and Mul.
 #include <cstdint>
 #include <set>
@@ -14,7 +14,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 {
 	const std::string bytes(reinterpret_cast<const char*>(data), size);
 	const auto graph = rewriteForDnn(bytes);
-	const bool rewritten = graph.inputSpaceToDepth || graph.swishActivations > 0;
+	const bool rewritten = graph.inputSpaceToDepth || graph.swishActivations > 0 || graph.outputTransposed;
 	if (!rewritten && graph.onnx != bytes) __builtin_trap();  // changed without a rewrite
 	if (rewritten == graph.summary().empty()) __builtin_trap();
 	if (graph.inputSpaceToDepth)

@@ -63,6 +63,7 @@ class DnnDetector : public DetectorBase
 		graph.onnx = readFile(m_file);
 		if (o.simplify_graph) graph = detail::rewriteForDnn(std::move(graph.onnx));
 		m_inputSpaceToDepth = graph.inputSpaceToDepth;
+		m_outputTransposed = graph.outputTransposed;
 		m_graphSummary = graph.summary();
 		try
 		{
@@ -81,11 +82,9 @@ class DnnDetector : public DetectorBase
 	std::vector<Detection> detect(const cv::Mat& bgr) override
 	{
 		Letterbox lb;
-		const cv::Mat blob = networkInput(makeInputBlob(bgr, m_layout, m_input, lb));
+		const cv::Mat blob = makeInputBlob(bgr, m_layout, m_input, lb);
 		std::lock_guard<std::mutex> lock(m_netMutex);
-		m_net.setInput(blob);
-		const cv::Mat out = m_net.forward();
-		return decodeOutput(m_layout, out, lb, m_params);
+		return decodeOutput(m_layout, run(blob), lb, m_params);
 	}
 
 	std::string description() const override
@@ -107,10 +106,12 @@ class DnnDetector : public DetectorBase
 		return bytes.str();
 	}
 
-	/** The blob as the network's first layer takes it. */
-	cv::Mat networkInput(const cv::Mat& blob) const
+	/** The network on an input blob, its output as the model as exported gives it. */
+	cv::Mat run(const cv::Mat& blob)
 	{
-		return m_inputSpaceToDepth ? m_inputSpaceToDepth->apply(blob) : blob;
+		m_net.setInput(m_inputSpaceToDepth ? m_inputSpaceToDepth->apply(blob) : blob);
+		const cv::Mat out = m_net.forward();
+		return m_outputTransposed ? detail::swapLastAxes(out) : out;
 	}
 
 	/** Runs the network once on a grey input: the output shape tells the
@@ -123,8 +124,7 @@ class DnnDetector : public DetectorBase
 		cv::Mat out;
 		try
 		{
-			m_net.setInput(networkInput(makeInputBlob(probe, probeLayout, m_input, lb)));
-			out = m_net.forward();
+			out = run(makeInputBlob(probe, probeLayout, m_input, lb));
 		}
 		catch (const cv::Exception& e)
 		{
@@ -158,6 +158,7 @@ class DnnDetector : public DetectorBase
 	DecodeParams m_params;
 	OutputLayout m_layout = OutputLayout::Yolox;
 	std::optional<detail::SpaceToDepth> m_inputSpaceToDepth;
+	bool m_outputTransposed = false;
 	std::string m_graphSummary;
 	cv::dnn::Net m_net;
 	std::mutex m_netMutex;

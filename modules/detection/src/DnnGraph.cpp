@@ -149,7 +149,7 @@ constexpr std::uint32_t input = 1, output = 2, opType = 4, attribute = 5;
 }
 namespace attribute
 {
-constexpr std::uint32_t name = 1, i = 3;
+constexpr std::uint32_t name = 1, i = 3, ints = 8;
 }
 namespace tensor
 {
@@ -279,38 +279,47 @@ std::optional<StrideTwoSlice> strideTwoSlice(const Graph& g, const Node& n)
 	return StrideTwoSlice{int(a), int(*start)};
 }
 
-/** The graph input's value info with the channels of a 2x2 space-to-depth:
- *  N x 4C x H/2 x W/2, under the name of the Concat's output. */
-std::optional<std::string> spaceToDepthInput(std::string_view valueInfo, const std::string& name)
+/** A tensor's value info: its element type and its dimensions, all known. */
+struct TensorInfo
 {
-	const Message info = parse(valueInfo);
-	const Field* type = firstOf(info, value_info::type);
-	if (!type) return std::nullopt;
-	const Message typeProto = parse(type->value);
-	const Field* tensorType = firstOf(typeProto, type_proto::tensorType);
-	if (!tensorType) return std::nullopt;
-	const Message tt = parse(tensorType->value);
-	const Field* elemType = firstOf(tt, type_proto::elemType);
-	const Field* shape = firstOf(tt, type_proto::shape);
-	if (!elemType || !shape) return std::nullopt;
+	std::string elemType;  //!< the field as encoded
 	std::vector<std::int64_t> dims;
-	for (const auto& d : parse(shape->value))
+
+	static std::optional<TensorInfo> of(std::string_view valueInfo)
 	{
-		if (d.number != type_proto::dim) continue;
-		const Message dim = parse(d.value);
-		const Field* value = firstOf(dim, type_proto::dimValue);
-		if (!value) return std::nullopt;  // a named (dynamic) dimension: left as it is
-		dims.push_back(varintOf(*value));
+		const Message info = parse(valueInfo);
+		const Field* type = firstOf(info, value_info::type);
+		if (!type) return std::nullopt;
+		const Message typeProto = parse(type->value);
+		const Field* tensorType = firstOf(typeProto, type_proto::tensorType);
+		if (!tensorType) return std::nullopt;
+		const Message tt = parse(tensorType->value);
+		const Field* elemType = firstOf(tt, type_proto::elemType);
+		const Field* shape = firstOf(tt, type_proto::shape);
+		if (!elemType || !shape) return std::nullopt;
+		TensorInfo out{encoded(*elemType), {}};
+		for (const auto& d : parse(shape->value))
+		{
+			if (d.number != type_proto::dim) continue;
+			const Message dim = parse(d.value);
+			const Field* value = firstOf(dim, type_proto::dimValue);
+			if (!value) return std::nullopt;  // a named (dynamic) dimension: left as it is
+			out.dims.push_back(varintOf(*value));
+		}
+		return out;
 	}
-	if (dims.size() != 4 || dims[2] % 2 != 0 || dims[3] % 2 != 0) return std::nullopt;
-	const std::int64_t folded[4] = {dims[0], 4 * dims[1], dims[2] / 2, dims[3] / 2};
-	std::string shapeBytes;
-	for (const auto d : folded)
-		shapeBytes += bytesField(type_proto::dim, varintField(type_proto::dimValue, std::uint64_t(d)));
-	const std::string tensorTypeBytes = encoded(*elemType) + bytesField(type_proto::shape, shapeBytes);
-	return bytesField(value_info::name, name) +
-		   bytesField(value_info::type, bytesField(type_proto::tensorType, tensorTypeBytes));
-}
+
+	/** The value info of a tensor `name` of this type. */
+	std::string valueInfo(const std::string& name) const
+	{
+		std::string shapeBytes;
+		for (const auto d : dims)
+			shapeBytes += bytesField(type_proto::dim, varintField(type_proto::dimValue, std::uint64_t(d)));
+		const std::string tensorTypeBytes = elemType + bytesField(type_proto::shape, shapeBytes);
+		return bytesField(value_info::name, name) +
+			   bytesField(value_info::type, bytesField(type_proto::tensorType, tensorTypeBytes));
+	}
+};
 
 /** Nodes to drop, nodes and fields to replace: the rewrite of one graph. */
 struct Edits
@@ -384,12 +393,68 @@ std::optional<SpaceToDepth> foldInputSpaceToDepth(const Graph& g, Edits& edits)
 		const auto sa = strideTwoSlice(g, a), sb = strideTwoSlice(g, b);
 		s.groups.push_back({sa->axis == 2 ? sa->start : sb->start, sa->axis == 3 ? sa->start : sb->start});
 	}
-	const auto newInput = spaceToDepthInput(g.fields[*inputField].value, c.outputs[0]);
-	if (!newInput) return std::nullopt;
-	edits.replacedFields[*inputField] = *newInput;
+	// The graph's input is now the Concat's output: N x 4C x H/2 x W/2.
+	auto info = TensorInfo::of(g.fields[*inputField].value);
+	if (!info || info->dims.size() != 4 || info->dims[2] % 2 != 0 || info->dims[3] % 2 != 0) return std::nullopt;
+	auto& d = info->dims;
+	d = {d[0], 4 * d[1], d[2] / 2, d[3] / 2};
+	edits.replacedFields[*inputField] = info->valueInfo(c.outputs[0]);
 	for (const auto i : chainNodes) edits.droppedNodes.insert(i);
 	edits.droppedNodes.insert(*concat);
 	return s;
+}
+
+/** The integers of a node's attribute `name` (an INTS attribute). */
+std::optional<std::vector<std::int64_t>> intsAttribute(const Node& n, const std::string& name)
+{
+	for (const auto& f : n.message)
+	{
+		if (f.number != node::attribute) continue;
+		const Message attr = parse(f.value);
+		const auto names = stringsOf(attr, attribute::name);
+		if (names.empty() || names.front() != name) continue;
+		std::vector<std::int64_t> values;
+		for (const auto& v : attr)
+		{
+			if (v.number != attribute::ints) continue;
+			if (v.wireType == kVarint)
+				values.push_back(varintOf(v));
+			else  // packed
+				for (std::size_t at = 0; at < v.value.size();)
+					values.push_back(static_cast<std::int64_t>(readVarint(v.value, at)));
+		}
+		return values;
+	}
+	return std::nullopt;
+}
+
+/** The graph's only output made by Transpose(x, perm = [0, 2, 1]) that
+ *  nothing else reads: the graph ends at x instead. */
+bool dropOutputTranspose(const Graph& g, Edits& edits)
+{
+	std::optional<std::size_t> outputField;
+	for (std::size_t i = 0; i < g.fields.size(); ++i)
+		if (g.fields[i].number == graph::output && g.fields[i].wireType == kLengthDelimited)
+		{
+			if (outputField) return false;  // more than one output
+			outputField = i;
+		}
+	if (!outputField) return false;
+	const auto name = stringsOf(parse(g.fields[*outputField].value), value_info::name);
+	if (name.size() != 1 || g.usesOf(name.front()) != 1) return false;
+	const auto p = g.producer.find(name.front());
+	if (p == g.producer.end()) return false;
+	const Node& t = g.nodes[p->second];
+	if (t.opType != "Transpose" || t.inputs.size() != 1 || t.outputs.size() != 1 || g.usesOf(t.inputs[0]) != 1 ||
+		!g.producer.count(t.inputs[0]))
+		return false;
+	if (intsAttribute(t, "perm") != std::vector<std::int64_t>{0, 2, 1}) return false;
+	auto info = TensorInfo::of(g.fields[*outputField].value);
+	if (!info || info->dims.size() != 3) return false;
+	std::swap(info->dims[1], info->dims[2]);
+	edits.replacedFields[*outputField] = info->valueInfo(t.inputs[0]);
+	edits.droppedNodes.insert(p->second);
+	return true;
 }
 
 /** Each Mul(x, Sigmoid(x)) whose sigmoid nothing else reads, as Swish(x). */
@@ -442,13 +507,31 @@ cv::Mat SpaceToDepth::apply(const cv::Mat& blob) const
 	return out;
 }
 
+cv::Mat swapLastAxes(const cv::Mat& output)
+{
+	CV_Assert(output.dims == 3 && output.type() == CV_32F && output.isContinuous());
+	const int planes = output.size[0], rows = output.size[1], cols = output.size[2];
+	const int shape[3] = {planes, cols, rows};
+	cv::Mat out(3, shape, CV_32F);
+	for (int p = 0; p < planes; ++p)
+	{
+		const cv::Mat from(rows, cols, CV_32F, const_cast<float*>(output.ptr<float>(p)));
+		cv::Mat to(cols, rows, CV_32F, out.ptr<float>(p));
+		cv::transpose(from, to);
+	}
+	return out;
+}
+
 std::string DnnGraph::summary() const
 {
-	std::string s;
-	if (inputSpaceToDepth) s = "input space-to-depth before the network";
+	std::vector<std::string> parts;
+	if (inputSpaceToDepth) parts.push_back("input space-to-depth before the network");
 	if (swishActivations > 0)
-		s += (s.empty() ? "" : ", ") + std::to_string(swishActivations) +
-			 (swishActivations == 1 ? " Sigmoid-Mul pair" : " Sigmoid-Mul pairs") + " as Swish";
+		parts.push_back(std::to_string(swishActivations) +
+						(swishActivations == 1 ? " Sigmoid-Mul pair" : " Sigmoid-Mul pairs") + " as Swish");
+	if (outputTransposed) parts.push_back("output transposed after it");
+	std::string s;
+	for (const auto& part : parts) s += (s.empty() ? "" : ", ") + part;
 	return s;
 }
 
@@ -470,6 +553,7 @@ DnnGraph rewriteForDnn(std::string onnx)
 		Edits edits;
 		out.inputSpaceToDepth = foldInputSpaceToDepth(g, edits);
 		out.swishActivations = fuseSwish(g, edits);
+		out.outputTransposed = dropOutputTranspose(g, edits);
 		if (edits.replacedFields.empty() && edits.droppedNodes.empty())
 		{
 			out.onnx = std::move(onnx);

@@ -1,5 +1,5 @@
 // A YOLO-family ONNX graph rewritten into the same network in a form
-// cv::dnn 4.6 runs faster. Two patterns of these models cost far more there
+// cv::dnn 4.6 runs faster. Three patterns of these models cost far more there
 // than their arithmetic:
 // - the input space-to-depth ("Focus" of YOLOX and YOLOv5 v1-v5): eight
 //   strided Slice layers and a Concat, which take OpenCV 4.6 far longer than
@@ -7,7 +7,9 @@
 // - SiLU exported as Sigmoid and Mul: two layers and two passes over memory
 //   per activation, where OpenCV's Swish layer computes x / (1 + exp(-x))
 //   inside the convolution before it (the float results differ in the last
-//   bits only).
+//   bits only);
+// - the output's last Transpose (YOLOX's 1x85xN to 1xNx85): OpenCV's Permute
+//   layer, where cv::transpose makes the same copy in a fraction of the time.
 #pragma once
 
 #include <opencv2/core/mat.hpp>
@@ -39,10 +41,16 @@ struct DnnGraph
 	 *  caller applies it to the blob before setInput. */
 	std::optional<SpaceToDepth> inputSpaceToDepth;
 	int swishActivations = 0;  //!< Sigmoid and Mul pairs now one Swish layer
+	/** Set when the graph now ends before its output's Transpose (perm 0, 2,
+	 *  1): the caller applies swapLastAxes to what the network gives. */
+	bool outputTransposed = false;
 
 	/** What changed, for the detector's description ("" when nothing). */
 	std::string summary() const;
 };
+
+/** A 3-d CV_32F blob A x B x C as A x C x B (the Transpose perm 0, 2, 1). */
+cv::Mat swapLastAxes(const cv::Mat& output);
 
 /** The rewritten graph of an ONNX file's bytes. Anything unexpected (a graph
  *  these patterns do not match exactly, bytes that are not a protobuf) leaves
