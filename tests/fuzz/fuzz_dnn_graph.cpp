@@ -1,6 +1,6 @@
 // Any bytes as an ONNX model file for the detector's graph rewrite: the
 // rewritten graph, or the bytes back as they are; never a crash. The seed
-// (corpus/dnn_graph/focus_silu.onnx) is a small graph with two of its patterns: a
+// (corpus/dnn_graph/focus_silu.seed) is a small graph with two of its patterns: a
 // 2x2 space-to-depth of the input followed by SiLU as Sigmoid and Mul.
 #include <cstdint>
 #include <set>
