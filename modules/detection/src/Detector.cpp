@@ -1,10 +1,10 @@
 #include "avm/detection/Detector.h"
 
+#include <mrpt/io/vector_loadsave.h>
 #include <opencv2/dnn.hpp>
 #include <opencv2/objdetect.hpp>
 
 #include <algorithm>
-#include <fstream>
 #include <mutex>
 #include <sstream>
 #include <stdexcept>
@@ -60,7 +60,14 @@ class DnnDetector : public DetectorBase
 									 "or set [detection] model; model = \"\" uses the HOG people detector)");
 		if (!fs::is_regular_file(m_file)) throw std::runtime_error(m_file.string() + ": model path is not a file");
 		detail::DnnGraph graph;
-		graph.onnx = readFile(m_file);
+		try
+		{
+			graph.onnx = mrpt::io::file_get_contents(m_file.string());
+		}
+		catch (const std::exception&)
+		{
+			throw std::runtime_error(m_file.string() + ": cannot read the model file");
+		}
 		if (o.simplify_graph) graph = detail::rewriteForDnn(std::move(graph.onnx));
 		m_inputSpaceToDepth = graph.inputSpaceToDepth;
 		m_outputTransposed = graph.outputTransposed;
@@ -97,15 +104,6 @@ class DnnDetector : public DetectorBase
 	}
 
    private:
-	static std::string readFile(const fs::path& file)
-	{
-		std::ifstream in(file, std::ios::binary);
-		std::ostringstream bytes;
-		bytes << in.rdbuf();
-		if (!in) throw std::runtime_error(file.string() + ": cannot read the model file");
-		return bytes.str();
-	}
-
 	/** The network on an input blob, its output as the model as exported gives it. */
 	cv::Mat run(const cv::Mat& blob)
 	{
