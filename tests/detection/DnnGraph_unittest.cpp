@@ -12,6 +12,7 @@
 #include <map>
 
 #include "DnnGraph.h"
+#include "SwishLayer.h"
 #include "TestData.h"
 
 using avm::detection::detail::rewriteForDnn;
@@ -194,7 +195,7 @@ TEST(DnnGraph, YoloxNanoGivesTheSameOutputsWithoutItsFocusSlicesAndSigmoidMulPai
 	auto typesBefore = layerTypes(before), typesAfter = layerTypes(after);
 	EXPECT_EQ(typesBefore["Slice"], 8);
 	EXPECT_EQ(typesAfter["Slice"], 0);
-	EXPECT_EQ(typesAfter["Swish"], graph.swishActivations);
+	EXPECT_EQ(typesAfter[avm::detection::detail::kSwishLayerType], graph.swishActivations);
 	EXPECT_EQ(typesBefore["Sigmoid"] - typesAfter["Sigmoid"], graph.swishActivations);
 	EXPECT_EQ(typesBefore["Convolution"], typesAfter["Convolution"]);
 	EXPECT_EQ(typesBefore["Permute"], 1);

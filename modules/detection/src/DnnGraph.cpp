@@ -10,6 +10,8 @@
 #include <stdexcept>
 #include <string_view>
 
+#include "SwishLayer.h"
+
 namespace avm::detection::detail
 {
 namespace
@@ -457,7 +459,7 @@ bool dropOutputTranspose(const Graph& g, Edits& edits)
 	return true;
 }
 
-/** Each Mul(x, Sigmoid(x)) whose sigmoid nothing else reads, as Swish(x). */
+/** Each Mul(x, Sigmoid(x)) whose sigmoid nothing else reads, as our Swish(x) layer. */
 int fuseSwish(const Graph& g, Edits& edits)
 {
 	int fused = 0;
@@ -473,7 +475,7 @@ int fuseSwish(const Graph& g, Edits& edits)
 			std::string swish = bytesField(node::input, x);
 			for (const auto& f : mul.message)
 				if (f.number == node::opType)
-					swish += bytesField(node::opType, "Swish");
+					swish += bytesField(node::opType, kSwishLayerType);
 				else if (f.number != node::input)
 					swish += encoded(f);
 			edits.replacedFields[mul.field] = swish;
@@ -553,6 +555,7 @@ DnnGraph rewriteForDnn(std::string onnx)
 		Edits edits;
 		out.inputSpaceToDepth = foldInputSpaceToDepth(g, edits);
 		out.swishActivations = fuseSwish(g, edits);
+		if (out.swishActivations > 0) registerSwishLayer();
 		out.outputTransposed = dropOutputTranspose(g, edits);
 		if (edits.replacedFields.empty() && edits.droppedNodes.empty())
 		{

@@ -5,9 +5,9 @@
 //   strided Slice layers and a Concat, which take OpenCV 4.6 far longer than
 //   the copy they make, where a loop over the input blob does that copy;
 // - SiLU exported as Sigmoid and Mul: two layers and two passes over memory
-//   per activation, where OpenCV's Swish layer computes x / (1 + exp(-x))
-//   inside the convolution before it (the float results differ in the last
-//   bits only);
+//   per activation, where a Swish layer (SwishLayer.h) computes
+//   x / (1 + exp(-x)) inside the convolution before it (the float results
+//   differ in the last bits only);
 // - the output's last Transpose (YOLOX's 1x85xN to 1xNx85): OpenCV's Permute
 //   layer, where cv::transpose makes the same copy in a fraction of the time.
 #pragma once
@@ -40,7 +40,7 @@ struct DnnGraph
 	/** Set when the graph now starts after its input's space-to-depth: the
 	 *  caller applies it to the blob before setInput. */
 	std::optional<SpaceToDepth> inputSpaceToDepth;
-	int swishActivations = 0;  //!< Sigmoid and Mul pairs now one Swish layer
+	int swishActivations = 0;  //!< Sigmoid and Mul pairs now one Swish layer (kSwishLayerType)
 	/** Set when the graph now ends before its output's Transpose (perm 0, 2,
 	 *  1): the caller applies swapLastAxes to what the network gives. */
 	bool outputTransposed = false;
@@ -54,6 +54,7 @@ cv::Mat swapLastAxes(const cv::Mat& output);
 
 /** The rewritten graph of an ONNX file's bytes. Anything unexpected (a graph
  *  these patterns do not match exactly, bytes that are not a protobuf) leaves
- *  that part as it is, so that cv::dnn reports a broken file as it would. */
+ *  that part as it is, so that cv::dnn reports a broken file as it would.
+ *  Registers the Swish layer with cv::dnn when the graph uses it. */
 DnnGraph rewriteForDnn(std::string onnx);
 }  // namespace avm::detection::detail
