@@ -58,6 +58,21 @@ TEST(SwishLayer, EveryLengthAndInPlace)
 	}
 }
 
+// OpenCV hands a fused activation slices whose bounds follow its threads: a
+// value computed alone, at the end of a slice or inside one must be the same.
+TEST(SwishLayer, AValueDoesNotDependOnTheSliceItIsIn)
+{
+	std::vector<float> x(37);
+	for (std::size_t i = 0; i < x.size(); ++i) x[i] = 0.61f * static_cast<float>(i) - 11.f;
+	const auto whole = swishOf(x);
+	for (std::size_t i = 0; i < x.size(); ++i)
+	{
+		float alone = 0;
+		swish(&x[i], &alone, 1);
+		EXPECT_EQ(alone, whole[i]) << "x = " << x[i];
+	}
+}
+
 TEST(SwishLayer, NotANumberAndInfinity)
 {
 	const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();

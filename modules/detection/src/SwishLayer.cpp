@@ -4,6 +4,7 @@
 #include <opencv2/dnn/all_layers.hpp>
 #include <opencv2/dnn/layer.details.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <mutex>
 #include <vector>
@@ -40,21 +41,28 @@ __attribute__((target("avx2,fma"))) __m256 expOfNonPositive(__m256 x)
 	return _mm256_andnot_ps(underflows, _mm256_mul_ps(er, _mm256_castsi256_ps(twoToN)));
 }
 
-/** x / (1 + e^-x) as x / (1 + e^-|x|) for x >= 0 and x e^x / (1 + e^x)
- *  below: e^-|x| neither overflows nor loses the tiny values of large
- *  negative x. */
+/** x / (1 + e^-x) of eight floats, as x / (1 + e^-|x|) for x >= 0 and
+ *  x e^x / (1 + e^x) below: e^-|x| cannot overflow, so a large negative x
+ *  gives zero, not x over infinity. */
+__attribute__((target("avx2,fma"))) __m256 swish8(__m256 x)
+{
+	const __m256 e = expOfNonPositive(_mm256_or_ps(x, _mm256_set1_ps(-0.f)));
+	const __m256 numerator = _mm256_blendv_ps(x, _mm256_mul_ps(x, e), x);
+	return _mm256_div_ps(numerator, _mm256_add_ps(_mm256_set1_ps(1.f), e));
+}
+
+/** The floats past the last whole eight go through swish8 too: OpenCV hands
+ *  the layer slices whose bounds follow its threads, and a value must not
+ *  depend on where a slice ends. */
 __attribute__((target("avx2,fma"))) void swishAvx2(const float* src, float* dst, int n)
 {
-	const __m256 one = _mm256_set1_ps(1.f), signBit = _mm256_set1_ps(-0.f);
 	int i = 0;
-	for (; i + 8 <= n; i += 8)
-	{
-		const __m256 x = _mm256_loadu_ps(src + i);
-		const __m256 e = expOfNonPositive(_mm256_or_ps(x, signBit));
-		const __m256 numerator = _mm256_blendv_ps(x, _mm256_mul_ps(x, e), x);
-		_mm256_storeu_ps(dst + i, _mm256_div_ps(numerator, _mm256_add_ps(one, e)));
-	}
-	for (; i < n; ++i) dst[i] = swishOf(src[i]);
+	for (; i + 8 <= n; i += 8) _mm256_storeu_ps(dst + i, swish8(_mm256_loadu_ps(src + i)));
+	if (i == n) return;
+	alignas(32) float rest[8] = {};
+	std::copy(src + i, src + n, rest);
+	_mm256_store_ps(rest, swish8(_mm256_load_ps(rest)));
+	std::copy(rest, rest + (n - i), dst + i);
 }
 
 bool hasAvx2()
