@@ -2,9 +2,9 @@
 // own Swish layer calls libm's expf and divides one float at a time; in
 // YOLOX-Nano that loop took about a third of the network's time at 256x192.
 // This layer computes eight floats at a time where the CPU has AVX2 and FMA
-// (a Cephes-style exp, within a few units in the last place of expf), and as
-// OpenCV does elsewhere. OpenCV fuses it into the convolution before it, as
-// its own.
+// (a Cephes-style exp: within a millionth of the exact value), one at a time
+// as OpenCV does on other CPUs. OpenCV fuses it into the convolution before
+// it, as its own.
 #pragma once
 
 namespace avm::detection::detail
