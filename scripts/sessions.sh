@@ -170,6 +170,15 @@ chainRow() {
     "$(awk -v b="$(stat -c %s "$last/session.bin")" 'BEGIN { printf "%.1f", b / 1e6 }')" "${load:-?}"
 }
 
+# accuracyRow CUT...: the chain at the odometry's poses, placement and ATE
+# only (no CPU runs): more cuts than the costed ones, at other places of
+# the sequence, in and out of order, with and without gaps.
+accuracyRow() {
+  runChain vo "$@"
+  printf '| %s | %s | %s | %s |\n' "$*" "$(printf '%s; ' "${placed[@]}" | sed 's/; $//')" \
+    "$(ate "$last/trajectory.txt")" "$loops"
+}
+
 # spaceRow CUT...: the chain at ground-truth poses against one run of the
 # same frames in the same order: the whole sequence for cuts of it in order,
 # else the cuts' rawlogs one after the other (a rawlog is a stream of
@@ -198,6 +207,10 @@ tableHead() {
   echo "| sessions (frames of the whole sequence) | placed, each continuation | ATE, all sessions [m] | loops closed | CPU a frame, last session, one core: continued / fresh [ms] | the same frames within one run of all [ms] | its map rebuild after a loop, a frame: continued / fresh [ms] | session.bin, load |"
   echo "|---|---|---|---|---|---|---|---|"
 }
+accuracyHead() {
+  echo "| more sessions (frames of the whole sequence) | placed, each continuation | ATE, all sessions [m] | loops closed |"
+  echo "|---|---|---|---|"
+}
 spaceHead() {
   echo "| sessions at ground-truth poses | one run of | occupied voxels (0.05 m): one run / sessions, IoU | low tree IoU | high tree IoU |"
   echo "|---|---|---|---|---|"
@@ -223,6 +236,13 @@ tmp=$(mktemp)
   chainRow 0:308 309:617 618:925
   chainRow 463:925 0:462
   echo
+  accuracyHead
+  for c in "0:199 200:925" "0:299 300:925" "0:699 700:925" "0:800 801:925" "100:500 501:925" "0:399 500:925" \
+    "0:462 250:700" "0:150 151:450 451:925" "0:462 463:700 701:925" "300:925 0:299" "463:925 100:400" "600:925 0:400"; do
+    # shellcheck disable=SC2086  # the cuts, one word each
+    accuracyRow $c
+  done
+  echo
   run -c "$ini" -p gt -r "$whole" -o "$out/gt-whole"
   spaceHead
   spaceRow 0:462 463:925
@@ -244,12 +264,16 @@ alone=$(ate "$work/vo-0-462-and-alone.txt")
   echo "one SE(3) alignment (\`avm-eval\`). Within one run: the CPU of a run of frames 0 to the last session's"
   echo "last less that of a run of the frames before the last session's, over its frames (- where the cuts leave frames out)."
   echo
-  sed -n '1,/^$/p' "$tmp" | sed '/^$/d'
+  awk 'BEGIN { RS = "" } NR == 1' "$tmp"
+  echo
+  echo "The same on more cuts, placement and ATE only:"
+  echo
+  awk 'BEGIN { RS = "" } NR == 2' "$tmp"
   echo
   echo "Without \`--continue\`, the second half run alone lives in a world of its own: with the first half's"
   echo "trajectory under one alignment, ATE $alone m."
   echo
-  sed -n '/^$/,$p' "$tmp" | sed '/^$/d'
+  awk 'BEGIN { RS = "" } NR == 3' "$tmp"
   echo
   echo "Commands (from the repository's root, in this order):"
   echo
