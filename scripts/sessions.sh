@@ -7,7 +7,8 @@
 # ATE of all the sessions' poses together under one alignment, the loops
 # closed, the CPU a frame of the last session beside a fresh run of the same
 # frames (without, and apart, the map rebuild that a closed loop makes at the
-# end), and the session's size and load time; and the same space mapped
+# end), and the session's size and load time; on twelve more chains, the
+# placement and the ATE alone; and the same space mapped
 # over sessions at ground-truth poses against one run of the same frames in
 # the same order (IoU of the occupied space, avm-eval --maps). Writes
 # doc/sessions-results.md whole, with the commands.
@@ -153,6 +154,9 @@ contiguous() {
   done
 }
 
+# placedCell: each continuation's placed frames, for a table cell.
+placedCell() { printf '%s; ' "${placed[@]}" | sed 's/; $//'; }
+
 # chainRow CUT...: the chain at the odometry's poses, its table row.
 chainRow() {
   runChain vo "$@"
@@ -165,7 +169,7 @@ chainRow() {
   local lastFirst=${lastCut%:*} lastLast=${lastCut#*:}
   if contiguous "$@"; then oneRun=("$(cut "0:$((lastFirst - 1))" gt)" "$(cut "0:$lastLast" gt)"); fi
   cpuPair "$lastPrevious" "$lastRawlog" "${oneRun[@]}"
-  printf '| %s | %s | %s | %s | %s | %.1f MB, %s s |\n' "$*" "$(printf '%s; ' "${placed[@]}" | sed 's/; $//')" \
+  printf '| %s | %s | %s | %s | %s | %.1f MB, %s s |\n' "$*" "$(placedCell)" \
     "$(ate "$last/trajectory.txt")" "$loops" "$cpuCells" \
     "$(awk -v b="$(stat -c %s "$last/session.bin")" 'BEGIN { printf "%.1f", b / 1e6 }')" "${load:-?}"
 }
@@ -175,7 +179,7 @@ chainRow() {
 # the sequence, in and out of order, with and without gaps.
 accuracyRow() {
   runChain vo "$@"
-  printf '| %s | %s | %s | %s |\n' "$*" "$(printf '%s; ' "${placed[@]}" | sed 's/; $//')" \
+  printf '| %s | %s | %s | %s |\n' "$*" "$(placedCell)" \
     "$(ate "$last/trajectory.txt")" "$loops"
 }
 
