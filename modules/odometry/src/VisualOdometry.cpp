@@ -41,7 +41,7 @@ FrameImages detail::imagesOf(const mrpt::obs::CObservation3DRangeScan& obs)
 }
 
 VisualOdometry::Impl::Impl(const TOdometryOptions& o, const mrpt::poses::CPose3D& initial)
-	: options(validated(o)), frontend(options), backend(options), T_cw(toIsometry(initial).inverse())
+	: options(validated(o)), frontend(options, stageTimer), backend(options), T_cw(toIsometry(initial).inverse())
 {
 	if (!io::isFinite(initial)) throw std::invalid_argument("VisualOdometry: the initial pose is not finite");
 }

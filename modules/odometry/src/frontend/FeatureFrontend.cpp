@@ -43,8 +43,9 @@ std::optional<float> personBackgroundDepth(const cv::Mat& depth, const cv::Rect&
 }
 }  // namespace
 
-FeatureFrontend::FeatureFrontend(const TOdometryOptions& options)
+FeatureFrontend::FeatureFrontend(const TOdometryOptions& options, mrpt::system::CTimeLogger& stageTimer)
 	: m_options(options),
+	  m_stageTimer(stageTimer),
 	  m_orb(cv::ORB::create(2 * options.num_features, static_cast<float>(options.pyramid_scale), options.pyramid_levels,
 		  19, 0, 2, cv::ORB::HARRIS_SCORE, 31, options.fast_threshold))
 {
@@ -86,7 +87,10 @@ FrameFeatures FeatureFrontend::extract(const cv::Mat& grey, const cv::Mat& depth
 	cv::Mat mask = depth > 0;
 	mask.setTo(0, people);
 	std::vector<cv::KeyPoint> detected;
-	m_orb->detect(grey, detected, mask);
+	{
+		mrpt::system::CTimeLoggerEntry t(m_stageTimer, "1.1 ORB detection");
+		m_orb->detect(grey, detected, mask);
+	}
 	if (masked)
 	{
 		masked->clear();
@@ -132,7 +136,10 @@ FrameFeatures FeatureFrontend::extract(const cv::Mat& grey, const cv::Mat& depth
 	// bucketing drops (half of them). A descriptor depends only on the pyramid,
 	// which the same image gives again, and on its feature, so the rows are
 	// those a description with the detection would give.
-	m_orb->compute(grey, f.keypoints, f.descriptors);
+	{
+		mrpt::system::CTimeLoggerEntry t(m_stageTimer, "1.2 ORB description");
+		m_orb->compute(grey, f.keypoints, f.descriptors);
+	}
 	f.points.reserve(f.keypoints.size());
 	for (const auto& kp : f.keypoints)
 	{

@@ -3,6 +3,7 @@
 // the initial pose by PnP RANSAC.
 #pragma once
 
+#include <mrpt/system/CTimeLogger.h>
 #include <opencv2/features2d.hpp>
 
 #include <optional>
@@ -19,7 +20,9 @@ using LandmarkMap = std::unordered_map<int, Landmark>;
 class FeatureFrontend
 {
    public:
-	explicit FeatureFrontend(const TOdometryOptions& options);
+	/** ORB's own share of the features stage (detection, description) is
+	 *  timed in `stageTimer`, beside the stages of its owner. */
+	FeatureFrontend(const TOdometryOptions& options, mrpt::system::CTimeLogger& stageTimer);
 
 	/** Features of a grey image with their depth (metres, CV_32F). Pixels in
 	 *  `excluded` boxes, without depth, or on a depth edge give none. With
@@ -55,6 +58,7 @@ class FeatureFrontend
 	cv::Mat personMask(const cv::Mat& depth, const std::vector<cv::Rect>& boxes) const;
 
 	const TOdometryOptions& m_options;
+	mrpt::system::CTimeLogger& m_stageTimer;
 	cv::Ptr<cv::ORB> m_orb;
 };
 /** The frame's feature as an observation of `landmark`. */
