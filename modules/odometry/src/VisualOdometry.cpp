@@ -41,7 +41,7 @@ FrameImages detail::imagesOf(const mrpt::obs::CObservation3DRangeScan& obs)
 }
 
 VisualOdometry::Impl::Impl(const TOdometryOptions& o, const mrpt::poses::CPose3D& initial)
-	: options(validated(o)), frontend(options, stageTimer), backend(options), T_cw(toIsometry(initial).inverse())
+	: options(validated(o)), frontend(options), backend(options), T_cw(toIsometry(initial).inverse())
 {
 	if (!io::isFinite(initial)) throw std::invalid_argument("VisualOdometry: the initial pose is not finite");
 }
@@ -54,8 +54,8 @@ OdometryEstimate VisualOdometry::Impl::process(
 	const auto f = [&]
 	{
 		mrpt::system::CTimeLoggerEntry t(stageTimer, "1 features");
-		return frontend.extract(
-			grey, depth, K, options.mask_people ? boxes : std::vector<cv::Rect>{}, reportFeatures ? &masked : nullptr);
+		return frontend.extract(grey, depth, K, options.mask_people ? boxes : std::vector<cv::Rect>{},
+			reportFeatures ? &masked : nullptr, &stageTimer);
 	}();
 	const std::size_t bridged = std::size_t(lostFrames);
 	auto e = session.placing ? place(f) : track(f);

@@ -72,8 +72,6 @@ struct VisualOdometry::Impl
 	static constexpr std::size_t kDeviationHistory = 30;
 
 	TOdometryOptions options;
-	/** Before the front end, which times ORB's share of its stage in it. */
-	mrpt::system::CTimeLogger stageTimer{true, "avm odometry stages"};
 	FeatureFrontend frontend;
 	CeresBackend backend;
 	Eigen::Isometry3d T_cw;  //!< latest pose (world -> camera)
@@ -123,6 +121,7 @@ struct VisualOdometry::Impl
 		 *  the window the place is tracked, not a loop to measure again. */
 		std::map<int, int> joined;
 	} session;
+	mrpt::system::CTimeLogger stageTimer{true, "avm odometry stages"};
 	bool reportFeatures = false;
 
 	OdometryEstimate process(const mrpt::obs::CObservation3DRangeScan& obs, const std::vector<cv::Rect>& boxes);

@@ -43,9 +43,8 @@ std::optional<float> personBackgroundDepth(const cv::Mat& depth, const cv::Rect&
 }
 }  // namespace
 
-FeatureFrontend::FeatureFrontend(const TOdometryOptions& options, mrpt::system::CTimeLogger& stageTimer)
+FeatureFrontend::FeatureFrontend(const TOdometryOptions& options)
 	: m_options(options),
-	  m_stageTimer(stageTimer),
 	  m_orb(cv::ORB::create(2 * options.num_features, static_cast<float>(options.pyramid_scale), options.pyramid_levels,
 		  19, 0, 2, cv::ORB::HARRIS_SCORE, 31, options.fast_threshold))
 {
@@ -76,7 +75,8 @@ cv::Mat FeatureFrontend::personMask(const cv::Mat& depth, const std::vector<cv::
 }
 
 FrameFeatures FeatureFrontend::extract(const cv::Mat& grey, const cv::Mat& depth, const io::DepthCamera& K,
-	const std::vector<cv::Rect>& excluded, std::vector<cv::KeyPoint>* masked) const
+	const std::vector<cv::Rect>& excluded, std::vector<cv::KeyPoint>* masked,
+	mrpt::system::CTimeLogger* stageTimer) const
 {
 	const auto& o = m_options;
 	FrameFeatures f;
@@ -88,7 +88,8 @@ FrameFeatures FeatureFrontend::extract(const cv::Mat& grey, const cv::Mat& depth
 	mask.setTo(0, people);
 	std::vector<cv::KeyPoint> detected;
 	{
-		mrpt::system::CTimeLoggerEntry t(m_stageTimer, "1.1 ORB detection");
+		std::optional<mrpt::system::CTimeLoggerEntry> t;
+		if (stageTimer) t.emplace(*stageTimer, "1.1 ORB detection");
 		m_orb->detect(grey, detected, mask);
 	}
 	if (masked)
@@ -137,7 +138,8 @@ FrameFeatures FeatureFrontend::extract(const cv::Mat& grey, const cv::Mat& depth
 	// which the same image gives again, and on its feature, so the rows are
 	// those a description with the detection would give.
 	{
-		mrpt::system::CTimeLoggerEntry t(m_stageTimer, "1.2 ORB description");
+		std::optional<mrpt::system::CTimeLoggerEntry> t;
+		if (stageTimer) t.emplace(*stageTimer, "1.2 ORB description");
 		m_orb->compute(grey, f.keypoints, f.descriptors);
 	}
 	f.points.reserve(f.keypoints.size());

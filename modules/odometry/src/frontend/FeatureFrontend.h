@@ -20,17 +20,17 @@ using LandmarkMap = std::unordered_map<int, Landmark>;
 class FeatureFrontend
 {
    public:
-	/** ORB's own share of the features stage (detection, description) is
-	 *  timed in `stageTimer`, beside the stages of its owner. */
-	FeatureFrontend(const TOdometryOptions& options, mrpt::system::CTimeLogger& stageTimer);
+	explicit FeatureFrontend(const TOdometryOptions& options);
 
 	/** Features of a grey image with their depth (metres, CV_32F). Pixels in
 	 *  `excluded` boxes, without depth, or on a depth edge give none. With
 	 *  `masked`, also the keypoints the boxes took away: those ORB finds on
 	 *  the masked pixels with depth. That is for the live view only (a second
-	 *  detection on the same person mask); the features are the same either way. */
+	 *  detection on the same person mask); the features are the same either way.
+	 *  With `stageTimer`, ORB's own share (detection, description) is timed in it. */
 	FrameFeatures extract(const cv::Mat& grey, const cv::Mat& depth, const io::DepthCamera& K,
-		const std::vector<cv::Rect>& excluded, std::vector<cv::KeyPoint>* masked = nullptr) const;
+		const std::vector<cv::Rect>& excluded, std::vector<cv::KeyPoint>* masked = nullptr,
+		mrpt::system::CTimeLogger* stageTimer = nullptr) const;
 
 	/** Each landmark projected with T_cw, matched to the best feature within
 	 *  search_radius (distance and ratio tests; one landmark per feature). */
@@ -58,7 +58,6 @@ class FeatureFrontend
 	cv::Mat personMask(const cv::Mat& depth, const std::vector<cv::Rect>& boxes) const;
 
 	const TOdometryOptions& m_options;
-	mrpt::system::CTimeLogger& m_stageTimer;
 	cv::Ptr<cv::ORB> m_orb;
 };
 /** The frame's feature as an observation of `landmark`. */
