@@ -45,8 +45,8 @@ std::optional<float> personBackgroundDepth(const cv::Mat& depth, const cv::Rect&
 
 FeatureFrontend::FeatureFrontend(const TOdometryOptions& options)
 	: m_options(options),
-	  m_orb(cv::ORB::create(2 * options.num_features, static_cast<float>(options.pyramid_scale), options.pyramid_levels,
-		  19, 0, 2, cv::ORB::HARRIS_SCORE, 31, options.fast_threshold))
+	  m_orb(2 * options.num_features, static_cast<float>(options.pyramid_scale), options.pyramid_levels,
+		  options.fast_threshold)
 {
 }
 
@@ -87,15 +87,17 @@ FrameFeatures FeatureFrontend::extract(const cv::Mat& grey, const cv::Mat& depth
 	cv::Mat mask = depth > 0;
 	mask.setTo(0, people);
 	std::vector<cv::KeyPoint> detected;
+	OrbPyramid::Levels levels;
 	{
 		std::optional<mrpt::system::CTimeLoggerEntry> t;
 		if (stageTimer) t.emplace(*stageTimer, "1.1 ORB detection");
-		m_orb->detect(grey, detected, mask);
+		levels = m_orb.build(grey, mask);
+		detected = m_orb.detect(levels);
 	}
 	if (masked)
 	{
 		masked->clear();
-		if (!excluded.empty()) m_orb->detect(grey, *masked, people & (depth > 0));
+		if (!excluded.empty()) *masked = m_orb.detect(m_orb.withMask(levels, people & (depth > 0)));
 	}
 
 	// Bucketing: the strongest features of every grid cell first, so texture-rich
@@ -132,15 +134,13 @@ FrameFeatures FeatureFrontend::extract(const cv::Mat& grey, const cv::Mat& depth
 		[&](int a, int b) { return detected[std::size_t(a)].octave < detected[std::size_t(b)].octave; });
 	f.keypoints.reserve(kept.size());
 	for (int k : kept) f.keypoints.push_back(detected[std::size_t(k)]);
-	// Only the kept features are described: ORB builds its pyramid a second
-	// time for that, which costs less than describing the candidates the
-	// bucketing drops (half of them). A descriptor depends only on the pyramid,
-	// which the same image gives again, and on its feature, so the rows are
-	// those a description with the detection would give.
+	// Only the kept features are described (half the candidates): on the
+	// detection's pyramid, so the rows are those a description with the
+	// detection would give.
 	{
 		std::optional<mrpt::system::CTimeLoggerEntry> t;
 		if (stageTimer) t.emplace(*stageTimer, "1.2 ORB description");
-		m_orb->compute(grey, f.keypoints, f.descriptors);
+		f.descriptors = m_orb.describe(levels, f.keypoints);
 	}
 	f.points.reserve(f.keypoints.size());
 	for (const auto& kp : f.keypoints)

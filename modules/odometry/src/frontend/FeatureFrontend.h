@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "../Types.h"
+#include "OrbPyramid.h"
 #include "avm/odometry/TOdometryOptions.h"
 
 namespace avm::odometry::detail
@@ -58,7 +59,7 @@ class FeatureFrontend
 	cv::Mat personMask(const cv::Mat& depth, const std::vector<cv::Rect>& boxes) const;
 
 	const TOdometryOptions& m_options;
-	cv::Ptr<cv::ORB> m_orb;
+	OrbPyramid m_orb;
 };
 /** The frame's feature as an observation of `landmark`. */
 Observation observationOf(const FrameFeatures& f, int feature, int landmark);
