@@ -165,9 +165,13 @@ std::vector<Match> FeatureFrontend::matchByProjection(
 	std::vector<int> cellStart(std::size_t(cols * rows) + 1, 0);
 	for (const auto& kp : frame.keypoints) ++cellStart[std::size_t(cellOf(kp.pt)) + 1];
 	for (std::size_t c = 1; c < cellStart.size(); ++c) cellStart[c] += cellStart[c - 1];
+	// The pixel in double (the distance test's type) and the descriptor's
+	// address at hand: the inner loop converted and looked them up at every
+	// candidate.
 	struct CellFeature
 	{
-		float x, y;
+		double x, y;
+		const std::uint8_t* descriptor;
 		int index;
 	};
 	std::vector<CellFeature> cellFeatures(frame.keypoints.size());
@@ -176,7 +180,7 @@ std::vector<Match> FeatureFrontend::matchByProjection(
 		for (int i = 0; i < int(frame.keypoints.size()); ++i)
 		{
 			const auto& p = frame.keypoints[i].pt;
-			cellFeatures[std::size_t(next[std::size_t(cellOf(p))]++)] = {p.x, p.y, i};
+			cellFeatures[std::size_t(next[std::size_t(cellOf(p))]++)] = {p.x, p.y, frame.descriptorData(i), i};
 		}
 	}
 
@@ -209,7 +213,7 @@ std::vector<Match> FeatureFrontend::matchByProjection(
 			{
 				const CellFeature& c = cellFeatures[std::size_t(k)];
 				if ((c.x - u) * (c.x - u) + (c.y - v) * (c.y - v) > r2) continue;
-				const int d = hamming(frame.descriptorData(c.index), lm.descriptor.data());
+				const int d = hamming(c.descriptor, lm.descriptor.data());
 				if (d < d1)
 				{
 					d2 = d1;
