@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <vector>
 
 namespace avm::odometry::detail
 {
@@ -106,15 +107,47 @@ const RotationTerms& rotationTermsOf(const double* aa)
 	return last;
 }
 
+/** The terms of each pose of the window this thread evaluates: Ceres orders
+ *  the window's residuals by point for the Schur complement, each at another
+ *  pose than the one before, and working the terms out for every residual
+ *  took a tenth of the adjustment's time. A pose's parameters lie at one address
+ *  through an evaluation (Ceres points them into its state vector); the terms
+ *  are checked against the angle-axis' bits there, so that a reused address
+ *  with other values, or a stale entry, never changes a number. */
+const RotationTerms& windowRotationTermsOf(const double* aa)
+{
+	struct Entry
+	{
+		const double* address;
+		RotationTerms terms;
+	};
+	constexpr std::size_t kPoses = 64;  // more than any window has
+	thread_local std::vector<Entry> entries;
+	thread_local std::size_t next = 0;
+	for (auto& e : entries)
+		if (e.address == aa)
+		{
+			if (std::memcmp(e.terms.angleAxis.data(), aa, sizeof(e.terms.angleAxis)) != 0) e.terms = RotationTerms(aa);
+			return e.terms;
+		}
+	if (entries.size() < kPoses)
+	{
+		entries.push_back({aa, RotationTerms(aa)});
+		return entries.back().terms;
+	}
+	Entry& e = entries[next];
+	next = (next + 1) % kPoses;
+	e = {aa, RotationTerms(aa)};
+	return e.terms;
+}
+
 class PosePointCost : public ceres::SizedCostFunction<3, 6, 3>
 {
    public:
 	explicit PosePointCost(const ReprojectionDepthCost& cost) : m_cost(cost) {}
 	bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override
 	{
-		// Ceres orders the window's residuals by point for the Schur
-		// complement, each at another pose than the one before: nothing to keep.
-		m_cost.evaluate(RotationTerms(parameters[0]), parameters[0], parameters[1], residuals,
+		m_cost.evaluate(windowRotationTermsOf(parameters[0]), parameters[0], parameters[1], residuals,
 			jacobians ? jacobians[0] : nullptr, jacobians ? jacobians[1] : nullptr);
 		return true;
 	}
