@@ -211,7 +211,7 @@ tmp=$(mktemp "$root/doc/.performance.XXXX")
     echo "| $r | $(stage "$r" map_cpu) | $(value_in "$r" single_high insert_mean_ms | awk '{printf "%.1f", $1}') | $(field "$r" map_cpu_speedup_vs_single_high | awk '{printf "%.1fx", $1}') |"
   done
   echo
-  echo "Inside the odometry: \`avm-odometry\` alone on the first core, on the whole sequence where it is there (else sub300), with the detector on every frame between its stages. One thread: a stage's wall time is its CPU time. MRPT's CTimeLogger table of its stages (1.1 and 1.2: OpenCV's ORB, detecting and describing, within 1; the rest of 1 is the person mask, the grid bucketing and the features' depth), and the odometry's own time a frame (all stages):"
+  echo "Inside the odometry: \`avm-odometry\` alone on the first core, on the whole sequence where it is there (else sub300), with the detector on every frame between its stages. One thread: a stage's wall time is its CPU time. MRPT's CTimeLogger table of its stages (1.1 and 1.2 within 1: ORB's detection, that is the pyramid, FAST and the Harris score, and the orientation and description of the features the bucketing keeps; the rest of 1 is the person mask, the grid bucketing and the features' depth), and the odometry's own time a frame (all stages):"
   echo
   echo "\`\`\`"
   odometry_input=datasets/bonn_crowd_sub300.rawlog
