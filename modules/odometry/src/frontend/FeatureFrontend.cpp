@@ -87,17 +87,17 @@ FrameFeatures FeatureFrontend::extract(const cv::Mat& grey, const cv::Mat& depth
 	cv::Mat mask = depth > 0;
 	mask.setTo(0, people);
 	std::vector<cv::KeyPoint> detected;
-	OrbPyramid::Levels levels;
+	OrbExtractor::Pyramid pyramid;
 	{
 		std::optional<mrpt::system::CTimeLoggerEntry> t;
 		if (stageTimer) t.emplace(*stageTimer, "1.1 ORB detection");
-		levels = m_orb.build(grey, mask);
-		detected = m_orb.detect(levels);
+		pyramid = m_orb.build(grey, mask);
+		detected = m_orb.detect(pyramid);
 	}
 	if (masked)
 	{
 		masked->clear();
-		if (!excluded.empty()) *masked = m_orb.detect(m_orb.withMask(levels, people & (depth > 0)));
+		if (!excluded.empty()) *masked = m_orb.detect(m_orb.withMask(pyramid, people & (depth > 0)));
 	}
 
 	// Bucketing: the strongest features of every grid cell first, so texture-rich
@@ -140,7 +140,7 @@ FrameFeatures FeatureFrontend::extract(const cv::Mat& grey, const cv::Mat& depth
 	{
 		std::optional<mrpt::system::CTimeLoggerEntry> t;
 		if (stageTimer) t.emplace(*stageTimer, "1.2 ORB description");
-		f.descriptors = m_orb.describe(levels, f.keypoints);
+		f.descriptors = m_orb.describe(pyramid, f.keypoints);
 	}
 	f.points.reserve(f.keypoints.size());
 	for (const auto& kp : f.keypoints)

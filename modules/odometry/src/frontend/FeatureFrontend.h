@@ -4,14 +4,13 @@
 #pragma once
 
 #include <mrpt/system/CTimeLogger.h>
-#include <opencv2/features2d.hpp>
 
 #include <optional>
 #include <unordered_map>
 #include <vector>
 
 #include "../Types.h"
-#include "OrbPyramid.h"
+#include "OrbExtractor.h"
 #include "avm/odometry/TOdometryOptions.h"
 
 namespace avm::odometry::detail
@@ -59,7 +58,7 @@ class FeatureFrontend
 	cv::Mat personMask(const cv::Mat& depth, const std::vector<cv::Rect>& boxes) const;
 
 	const TOdometryOptions& m_options;
-	OrbPyramid m_orb;
+	OrbExtractor m_orb;
 };
 /** The frame's feature as an observation of `landmark`. */
 Observation observationOf(const FrameFeatures& f, int feature, int landmark);

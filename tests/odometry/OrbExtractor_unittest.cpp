@@ -1,4 +1,4 @@
-// The front end's ORB on a pyramid built once a frame against cv::ORB itself,
+// The front end's ORB (detection and description on one pyramid) against cv::ORB itself,
 // on real frames of the Bonn sequence (people in view from frame ~70) with the
 // front end's kind of mask (pixels with depth, less a box): the same
 // keypoints, then the same orientations and descriptors for every other one
@@ -12,7 +12,7 @@
 #include "TestData.h"
 #include "avm/io/RawlogFrameReader.h"
 #include "avm/io/RgbdFrame.h"
-#include "frontend/OrbPyramid.h"
+#include "frontend/OrbExtractor.h"
 
 using namespace avm;
 
@@ -27,7 +27,10 @@ void expectSameKeypoints(
 		// Bit for bit: the front end's tie-breaks follow these numbers.
 		EXPECT_EQ(actual[i].pt, expected[i].pt) << i;
 		EXPECT_EQ(actual[i].response, expected[i].response) << i;
-		if (oriented) EXPECT_EQ(actual[i].angle, expected[i].angle) << i;
+		if (oriented)
+		{
+			EXPECT_EQ(actual[i].angle, expected[i].angle) << i;
+		}
 		EXPECT_EQ(actual[i].octave, expected[i].octave) << i;
 		EXPECT_EQ(actual[i].size, expected[i].size) << i;
 	}
@@ -42,9 +45,9 @@ void expectSameAsOpenCv(const cv::Mat& grey, const cv::Mat& mask)
 	orb->detect(grey, expected, mask);
 	ASSERT_GT(expected.size(), 1500u);
 
-	const odometry::detail::OrbPyramid pyramid(features, scale, levels, fastThreshold);
-	const auto levelImages = pyramid.build(grey, mask);
-	const auto detected = pyramid.detect(levelImages);
+	const odometry::detail::OrbExtractor extractor(features, scale, levels, fastThreshold);
+	const auto pyramid = extractor.build(grey, mask);
+	const auto detected = extractor.detect(pyramid);
 	expectSameKeypoints(detected, expected, false);
 
 	std::vector<cv::KeyPoint> kept, expectedKept;
@@ -55,14 +58,14 @@ void expectSameAsOpenCv(const cv::Mat& grey, const cv::Mat& mask)
 	}
 	cv::Mat expectedDescriptors;
 	orb->compute(grey, expectedKept, expectedDescriptors);
-	const cv::Mat descriptors = pyramid.describe(levelImages, kept);
+	const cv::Mat descriptors = extractor.describe(pyramid, kept);
 	expectSameKeypoints(kept, expectedKept, true);
 	ASSERT_EQ(descriptors.rows, int(kept.size()));
 	EXPECT_EQ(cv::norm(descriptors, expectedDescriptors, cv::NORM_HAMMING), 0);
 }
 }  // namespace
 
-TEST(OrbPyramid, GivesOpenCvsKeypointsAndDescriptorsOnRealFrames)
+TEST(OrbExtractor, GivesOpenCvsKeypointsAndDescriptorsOnRealFrames)
 {
 	io::RawlogFrameReader reader(test::bonnRawlog());
 	int checked = 0;

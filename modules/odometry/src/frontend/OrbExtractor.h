@@ -11,38 +11,55 @@
 
 #include <opencv2/features2d.hpp>
 
+#include <array>
+#include <cstdint>
 #include <vector>
 
 namespace avm::odometry::detail
 {
-class OrbPyramid
+class OrbExtractor
 {
    public:
 	/** The parameters of cv::ORB::create(features, scale, levels, 19, 0, 2,
 	 *  HARRIS_SCORE, 31, fastThreshold). */
-	OrbPyramid(int features, float scale, int levels, int fastThreshold);
+	OrbExtractor(int features, float scale, int levels, int fastThreshold);
 
-	/** A grey image's pyramid, and its mask's when there is one. */
-	struct Levels
+	/** A grey image's levels, and its mask's when there is one. */
+	struct Pyramid
 	{
 		std::vector<cv::Mat> images, masks;
 	};
-	Levels build(const cv::Mat& grey, const cv::Mat& mask) const;
+	Pyramid build(const cv::Mat& grey, const cv::Mat& mask) const;
 	/** The same images with another mask (or none, when it is empty). */
-	Levels withMask(const Levels& levels, const cv::Mat& mask) const;
+	Pyramid withMask(const Pyramid& pyramid, const cv::Mat& mask) const;
 
-	/** The keypoints cv::ORB::detect gives on the image and mask of `levels`,
+	/** The keypoints cv::ORB::detect gives on the image and mask of `pyramid`,
 	 *  in the full image's pixels, with their level in `octave`, but not
 	 *  oriented yet (`angle` -1). */
-	std::vector<cv::KeyPoint> detect(const Levels& levels) const;
+	std::vector<cv::KeyPoint> detect(const Pyramid& pyramid) const;
 
 	/** Orients keypoints of detect() (their `angle` as cv::ORB's) and returns
 	 *  the descriptors cv::ORB::compute gives them, one row each. They must be
 	 *  ordered by level, as ORB orders them. */
-	cv::Mat describe(const Levels& levels, std::vector<cv::KeyPoint>& keypoints) const;
+	cv::Mat describe(const Pyramid& pyramid, std::vector<cv::KeyPoint>& keypoints) const;
+
+	static constexpr int kPatchColumns = 32;
+	/** A row of ORB's circular patch, over the columns -16 .. 15 from its
+	 *  centre (two 16-byte loads of pixels): the column (u) where the row
+	 *  is inside the circle and the row's distance from the centre (v)
+	 *  there, zero outside it; the orientation's moments are these weights
+	 *  times the pixels. */
+	struct PatchRow
+	{
+		std::array<std::int16_t, kPatchColumns> column{}, row{};
+	};
 
    private:
 	cv::Size levelSize(const cv::Size& full, std::size_t level) const;
+
+	/** FAST's corners of a level (with ORB's threshold and non-maximum
+	 *  suppression) that the edge cull can keep. */
+	void fastCorners(const cv::Mat& image, std::vector<cv::KeyPoint>& corners) const;
 
 	/** ORB's orientation of a keypoint at a level's pixel (x, y). */
 	float orientation(const cv::Mat& image, int x, int y) const;
@@ -50,7 +67,7 @@ class OrbPyramid
 	std::vector<float> m_levelScale;   //!< a level's pixel in the full image's, as ORB computes it
 	std::vector<int> m_levelFeatures;  //!< a level's share of the features
 	int m_fastThreshold;
-	std::vector<int> m_patchRowEnd;  //!< the orientation's circular patch: its half-width at each row from the centre
+	std::vector<PatchRow> m_patchRows;  //!< rows 0 .. 15 from the centre (each stands for the row above too)
 	cv::Ptr<cv::ORB> m_describer;
 };
 }  // namespace avm::odometry::detail
