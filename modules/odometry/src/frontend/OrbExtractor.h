@@ -1,12 +1,12 @@
-// OpenCV's ORB, split where the front end needs it split. cv::ORB builds its
-// pyramid (of the image, and of the mask) in every call, and the front end
-// called it twice a frame, to detect the candidates and then to describe the
-// ones the bucketing keeps: the second pyramid was a third of ORB's resizing.
-// And its detection orients every candidate, though half of them are dropped
-// undescribed. Here the pyramid is built once, as ORB builds it; the detection
-// is ORB's (FAST, the Harris score, the same culls) without the orientation,
-// which describe() works out for the kept keypoints alone; ORB describes them
-// on their level. The keypoints and descriptors are cv::ORB's to the bit.
+// OpenCV's ORB, split where the front end needs it split. The front end
+// detects candidates, keeps half of them by a grid, and describes those:
+// cv::ORB would build its pyramid (of the image, and of the mask) for each of
+// the two calls, orient every candidate, and run FAST over the border its edge
+// cull then empties. Here the pyramid is built once, as ORB builds it; the
+// detection is ORB's (FAST, the Harris score, the same culls) without the
+// orientation, which describe() works out for the kept keypoints alone before
+// ORB describes them on their level. The keypoints and descriptors are
+// cv::ORB's to the bit (tests/odometry/OrbExtractor_unittest.cpp).
 #pragma once
 
 #include <opencv2/features2d.hpp>
