@@ -62,33 +62,6 @@ float harrisScore(const cv::Mat& image, int x, int y)
 	return ((float)a * b - (float)c * c - kHarrisK * ((float)a + b) * ((float)a + b)) * scale4;
 }
 
-/** ORB's circular patch, a table a row from its centre (OrbExtractor::
- *  PatchRow): its half-width at each row, made symmetric in rows and columns
- *  as ORB makes it. */
-std::vector<OrbExtractor::PatchRow> patchRows()
-{
-	constexpr int half = kPatchSize / 2;
-	std::vector<int> end(half + 2, 0);
-	const int vmax = cvFloor(half * std::sqrt(2.f) / 2 + 1);
-	const int vmin = cvCeil(half * std::sqrt(2.f) / 2);
-	for (int v = 0; v <= vmax; ++v) end[std::size_t(v)] = cvRound(std::sqrt(double(half) * half - v * v));
-	for (int v = half, v0 = 0; v >= vmin; --v)
-	{
-		while (end[std::size_t(v0)] == end[std::size_t(v0) + 1]) ++v0;
-		end[std::size_t(v)] = v0;
-		++v0;
-	}
-	std::vector<OrbExtractor::PatchRow> rows(half + 1);
-	for (int v = 0; v <= half; ++v)
-		for (int k = 0; k < kPatchColumns; ++k)
-			if (const int u = k - kPatchColumns / 2; std::abs(u) <= end[std::size_t(v)])
-			{
-				rows[std::size_t(v)].column[std::size_t(k)] = std::int16_t(u);
-				rows[std::size_t(v)].row[std::size_t(k)] = std::int16_t(v);
-			}
-	return rows;
-}
-
 #if defined(__SSE2__)
 /** The pixels p[-16 .. 15], one 16-bit lane each. */
 struct PixelLanes
@@ -122,6 +95,31 @@ int sumLanes(__m128i s)
 }
 #endif
 }  // namespace
+
+std::vector<OrbExtractor::PatchRow> OrbExtractor::patchRows()
+{
+	// Its half-width at each row, made symmetric in rows and columns as ORB makes it.
+	constexpr int half = kPatchSize / 2;
+	std::vector<int> end(half + 2, 0);
+	const int vmax = cvFloor(half * std::sqrt(2.f) / 2 + 1);
+	const int vmin = cvCeil(half * std::sqrt(2.f) / 2);
+	for (int v = 0; v <= vmax; ++v) end[std::size_t(v)] = cvRound(std::sqrt(double(half) * half - v * v));
+	for (int v = half, v0 = 0; v >= vmin; --v)
+	{
+		while (end[std::size_t(v0)] == end[std::size_t(v0) + 1]) ++v0;
+		end[std::size_t(v)] = v0;
+		++v0;
+	}
+	std::vector<PatchRow> rows(half + 1);
+	for (int v = 0; v <= half; ++v)
+		for (int k = 0; k < kPatchColumns; ++k)
+			if (const int u = k - kPatchColumns / 2; std::abs(u) <= end[std::size_t(v)])
+			{
+				rows[std::size_t(v)].column[std::size_t(k)] = std::int16_t(u);
+				rows[std::size_t(v)].row[std::size_t(k)] = std::int16_t(v);
+			}
+	return rows;
+}
 
 OrbExtractor::OrbExtractor(int features, float scale, int levels, int fastThreshold)
 	: m_fastThreshold(fastThreshold), m_patchRows(patchRows())
@@ -180,12 +178,10 @@ void OrbExtractor::fastCorners(const cv::Mat& image, std::vector<cv::KeyPoint>& 
 	// kEdgeThreshold - 4 on give the kept corners as the whole image does,
 	// in the same order, and FAST reads a tenth to a fifth fewer pixels.
 	constexpr int skipped = kEdgeThreshold - 4;
+	corners.clear();
+	// A level too small for a test there has no corner the cull keeps.
+	if (image.cols <= 2 * kEdgeThreshold || image.rows <= 2 * kEdgeThreshold) return;
 	const cv::Rect inner(skipped, skipped, image.cols - 2 * skipped, image.rows - 2 * skipped);
-	if (inner.width <= 2 * kEdgeThreshold || inner.height <= 2 * kEdgeThreshold)
-	{
-		cv::FAST(image, corners, m_fastThreshold, true, cv::FastFeatureDetector::TYPE_9_16);
-		return;
-	}
 	cv::FAST(image(inner), corners, m_fastThreshold, true, cv::FastFeatureDetector::TYPE_9_16);
 	for (auto& kp : corners) kp.pt += cv::Point2f(float(skipped), float(skipped));
 }

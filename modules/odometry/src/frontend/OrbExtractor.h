@@ -43,18 +43,22 @@ class OrbExtractor
 	 *  ordered by level, as ORB orders them. */
 	cv::Mat describe(const Pyramid& pyramid, std::vector<cv::KeyPoint>& keypoints) const;
 
+	/** The columns -16 .. 15 of ORB's circular patch round a keypoint: two
+	 *  16-byte loads of pixels. */
 	static constexpr int kPatchColumns = 32;
-	/** A row of ORB's circular patch, over the columns -16 .. 15 from its
-	 *  centre (two 16-byte loads of pixels): the column (u) where the row
-	 *  is inside the circle and the row's distance from the centre (v)
-	 *  there, zero outside it; the orientation's moments are these weights
-	 *  times the pixels. */
+
+   private:
+	/** A row of the patch over its kPatchColumns columns: the column (u)
+	 *  where the row is inside the circle and the row's distance from the
+	 *  centre (v) there, zero outside it; the orientation's moments are these
+	 *  weights times the pixels. */
 	struct PatchRow
 	{
 		std::array<std::int16_t, kPatchColumns> column{}, row{};
 	};
+	/** Rows 0 .. 15 from the centre of ORB's circular patch. */
+	static std::vector<PatchRow> patchRows();
 
-   private:
 	cv::Size levelSize(const cv::Size& full, std::size_t level) const;
 
 	/** FAST's corners of a level (with ORB's threshold and non-maximum
