@@ -105,10 +105,13 @@ FrameFeatures FeatureFrontend::extract(const cv::Mat& grey, const cv::Mat& depth
 	const int cells = o.grid_cols * o.grid_rows;
 	const std::size_t perCell = static_cast<std::size_t>((o.num_features + cells - 1) / cells);
 	std::vector<std::vector<int>> grid(cells);
+	std::vector<double> depthOf(detected.size(), 0);  // [m] of a candidate with a stable depth
 	for (int i = 0; i < int(detected.size()); ++i)
 	{
 		const cv::KeyPoint& kp = detected[std::size_t(i)];
-		if (!stableDepth(depth, cvRound(kp.pt.x), cvRound(kp.pt.y), o)) continue;
+		const auto d = stableDepth(depth, cvRound(kp.pt.x), cvRound(kp.pt.y), o);
+		if (!d) continue;
+		depthOf[std::size_t(i)] = *d;
 		const int c = std::min(o.grid_cols - 1, int(kp.pt.x * o.grid_cols / grey.cols));
 		const int r = std::min(o.grid_rows - 1, int(kp.pt.y * o.grid_rows / grey.rows));
 		grid[r * o.grid_cols + c].push_back(i);
@@ -143,10 +146,10 @@ FrameFeatures FeatureFrontend::extract(const cv::Mat& grey, const cv::Mat& depth
 		f.descriptors = m_orb.describe(pyramid, f.keypoints);
 	}
 	f.points.reserve(f.keypoints.size());
-	for (const auto& kp : f.keypoints)
+	for (int k : kept)
 	{
-		const double d = *stableDepth(depth, cvRound(kp.pt.x), cvRound(kp.pt.y), o);
-		f.points.push_back(K.opticalPointOf(kp.pt.x, kp.pt.y, d));
+		const cv::KeyPoint& kp = detected[std::size_t(k)];
+		f.points.push_back(K.opticalPointOf(kp.pt.x, kp.pt.y, depthOf[std::size_t(k)]));
 	}
 	return f;
 }
