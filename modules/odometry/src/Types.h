@@ -33,16 +33,35 @@ inline double reprojectionError(
 /** 256 bits, as ORB computes them. */
 using OrbDescriptor = std::array<std::uint8_t, 32>;
 
+/** Bits in which two descriptors differ, by the compiler's popcount: one
+ *  instruction a 64-bit word where the target has one (x86-64 with popcnt,
+ *  ARMv8's cnt), else a library call. */
+inline int hammingByPopcount(const std::uint8_t* a, const std::uint8_t* b)
+{
+	int bits = 0;
+	for (std::size_t i = 0; i < OrbDescriptor().size(); i += sizeof(std::uint64_t))
+	{
+		std::uint64_t x, y;
+		std::memcpy(&x, a + i, sizeof x);
+		std::memcpy(&y, b + i, sizeof y);
+		bits += __builtin_popcountll(x ^ y);
+	}
+	return bits;
+}
+
 /** Bits in which two descriptors differ: the same count as
  *  cv::hal::normHamming, without its per-call trace region (in the projection
- *  search's profile that cost as much as the count) and portable to builds
- *  without a popcount instruction: each byte's bits summed in parallel, in
- *  SSE2's two 128-bit registers where there are (every x86-64 processor; a
- *  third of the scalar version's instructions, the count of the projection
- *  search's inner loop), else in 64-bit words. */
+ *  search's profile that cost as much as the count). By popcount where the
+ *  build targets an instruction for it; else, as x86-64's baseline has none,
+ *  each byte's bits summed in parallel in SSE2's two 128-bit registers (a
+ *  third of the scalar version's instructions), else in 64-bit words. The
+ *  projection search picks the popcount instruction at run time
+ *  (FeatureFrontend.cpp). */
 inline int hamming(const std::uint8_t* a, const std::uint8_t* b)
 {
-#if defined(__SSE2__)
+#if defined(__POPCNT__) || defined(__aarch64__)
+	return hammingByPopcount(a, b);
+#elif defined(__SSE2__)
 	const __m128i m1 = _mm_set1_epi8(0x55), m2 = _mm_set1_epi8(0x33), m4 = _mm_set1_epi8(0x0F);
 	// Each byte's count (<= 8) of one register, the two registers' added (<= 16), then all bytes.
 	const auto bytes = [&](const std::uint8_t* p, const std::uint8_t* q)
