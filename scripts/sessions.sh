@@ -15,22 +15,24 @@
 #
 # Usage: scripts/sessions.sh [--out FILE] [INI]
 #          the doc's chains, into doc/sessions-results.md (or FILE)
-#        scripts/sessions.sh --chain FIRST:LAST FIRST:LAST [...] [--gt] [INI]
+#        scripts/sessions.sh --chain FIRST:LAST FIRST:LAST [...] [--gt | --no-cpu] [INI]
 #          one chain of cuts of the whole (trimmed) sequence, printed
 #          (--gt: at ground-truth poses, every cut with its ground truth,
-#          compared with one run of the same frames in the same order)
+#          compared with one run of the same frames in the same order;
+#          --no-cpu: placement and ATE only, without the CPU runs)
 # Needs the whole sequence in datasets/ (scripts/get-data.sh --whole-sequence).
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${AVM_BUILD_DIR:-$root/build}
 doc=$root/doc/sessions-results.md
 ini=ini/default.ini
-chain=() groundTruth=0 last="" placed=() loops=0 cpuCells=""
+chain=() groundTruth=0 cpu=1 last="" placed=() loops=0 cpuCells=""
 while [ $# -gt 0 ]; do
   case $1 in
     --out) doc=$2; shift 2 ;;
     --chain) shift; while [ $# -gt 0 ] && [[ $1 == *:* ]]; do chain+=("$1"); shift; done ;;
     --gt) groundTruth=1; shift ;;
+    --no-cpu) cpu=0; shift ;;
     -*) echo "sessions: unknown option $1 (see the header of $0)" >&2; exit 2 ;;
     *) ini=$1; shift ;;
   esac
@@ -225,9 +227,12 @@ if [ ${#chain[@]} -gt 0 ]; then
     run -c "$ini" -p gt -r "$whole" -o "$out/gt-whole"
     spaceHead
     spaceRow "${chain[@]}"
-  else
+  elif [ "$cpu" = 1 ]; then
     tableHead
     chainRow "${chain[@]}"
+  else
+    accuracyHead
+    accuracyRow "${chain[@]}"
   fi
   exit 0
 fi
