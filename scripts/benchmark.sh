@@ -14,7 +14,10 @@
 # frames) are left out of the runs printed; each run's avm-map.log has them.
 # Then the CPU a frame by stage (odometry, detector, map, the rest) on one core
 # and on two, the map stage against octomap's insertion in the same run, and
-# the odometry's own stages (avm-odometry --stage-times, one core).
+# the odometry's own stages (avm-odometry --stage-times, one core). Last,
+# ini/small-computer.ini against the default: CPU a frame by stage on one
+# core, the map against octomap's, and the ATE on six sequences
+# (scripts/odometry-sequences.sh --pipeline).
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${AVM_BUILD_DIR:-$root/build}
@@ -26,10 +29,17 @@ avm_prepare "$build" -DCMAKE_BUILD_TYPE=Release avm-map avm-odometry
 
 defaults=(default default-2 default-3 default-4 default-5)
 
-map_command() {  # map_command NAME [--rawlog FILE] ARGS... : sets cmd, the avm-map command of run NAME
-  local name=$1 input=datasets/bonn_crowd_sub300.rawlog; shift
+map_command() {  # map_command NAME [--rawlog FILE] [--ini FILE] ARGS... : sets cmd, the avm-map command of run NAME
+  local name=$1 input=datasets/bonn_crowd_sub300.rawlog ini=ini/default.ini; shift
   if [ "${1:-}" = --rawlog ]; then input=$2; shift 2; fi
-  cmd=(build/bin/avm-map -q -c ini/default.ini -r "$input" -o "output/benchmark/$name" "$@")
+  if [ "${1:-}" = --ini ]; then ini=$2; shift 2; fi
+  cmd=(build/bin/avm-map -q -c "$ini" -r "$input" -o "output/benchmark/$name" "$@")
+}
+one_core_run() {  # one_core_run NAME ARGS... : map_command's run on the first core, its command printed
+  map_command "$@"
+  cmd=(taskset -c 0 "${cmd[@]}")
+  echo "${cmd[*]}"
+  (cd "$root" && "${cmd[@]}" >/dev/null)
 }
 
 run() {  # run NAME [--rawlog FILE] ARGS... : prints the command and avm-map's summary
@@ -145,12 +155,7 @@ tmp=$(mktemp "$root/doc/.performance.XXXX")
     echo "All 926 frames of \`rgbd_bonn_crowd\` that the ground truth covers, every thread of avm-map on the first core (\`taskset -c 0\`), twice. Targets: at least 30 frames per second, odometry at most 20 ms a frame, and the two runs' trajectories the same bytes:"
     echo
     echo "\`\`\`"
-    for i in 1 2; do
-      map_command "whole-one-core-$i" --rawlog datasets/rgbd_bonn_crowd.rawlog
-      cmd=(taskset -c 0 "${cmd[@]}")
-      echo "${cmd[*]}"
-      (cd "$root" && "${cmd[@]}" >/dev/null)
-    done
+    for i in 1 2; do one_core_run "whole-one-core-$i" --rawlog datasets/rgbd_bonn_crowd.rawlog; done
     echo "\`\`\`"
     echo
     echo "The odometry's wall clock on one core also counts the detection and map threads that take the core meanwhile; its CPU time on its own thread (\`stages.odometry_cpu\`) is what one thread of odometry costs."
@@ -175,15 +180,11 @@ tmp=$(mktemp "$root/doc/.performance.XXXX")
   echo
   echo "\`\`\`"
   cpu_runs=("${defaults[0]}:2" sub300-one-core:1)
-  map_command sub300-one-core && cmd=(taskset -c 0 "${cmd[@]}") && echo "${cmd[*]}" && (cd "$root" && "${cmd[@]}" >/dev/null)
+  one_core_run sub300-one-core
   if [ -f "$root/datasets/rgbd_bonn_crowd.rawlog" ]; then
     quiet_run whole-two-cores --rawlog datasets/rgbd_bonn_crowd.rawlog && echo "${cmd[*]}"
-    map_command whole-one-core-on-change --rawlog datasets/rgbd_bonn_crowd.rawlog \
-      --set pipeline:detection_schedule=on_change && cmd=(taskset -c 0 "${cmd[@]}") && echo "${cmd[*]}" &&
-      (cd "$root" && "${cmd[@]}" >/dev/null)
-    map_command whole-one-core-exported-graph --rawlog datasets/rgbd_bonn_crowd.rawlog \
-      --set detection:simplify_graph=false && cmd=(taskset -c 0 "${cmd[@]}") && echo "${cmd[*]}" &&
-      (cd "$root" && "${cmd[@]}" >/dev/null)
+    one_core_run whole-one-core-on-change --rawlog datasets/rgbd_bonn_crowd.rawlog --set pipeline:detection_schedule=on_change
+    one_core_run whole-one-core-exported-graph --rawlog datasets/rgbd_bonn_crowd.rawlog --set detection:simplify_graph=false
     cpu_runs+=(whole-one-core-1:1 whole-two-cores:2 whole-one-core-on-change:1 whole-one-core-exported-graph:1)
   fi
   echo "\`\`\`"
@@ -223,6 +224,44 @@ tmp=$(mktemp "$root/doc/.performance.XXXX")
   echo
   echo "What each of the odometry's cost settings (features, refinement rounds, pyramid levels, the window ...) buys in CPU and costs in ATE on six sequences: [odometry-costs.md](odometry-costs.md) (\`scripts/odometry-costs.sh\`)."
   echo
+  if [ -f "$root/datasets/rgbd_bonn_crowd.rawlog" ]; then
+    small=ini/small-computer.ini
+    echo "## A small computer's setting: \`$small\`"
+    echo
+    echo "The default above is the accurate setting. \`$small\` is for a board that must keep up at 60 frames a second on one core (at most 16 ms of CPU a frame): the odometry keeps 700 features on a 3-level pyramid (\`num_features\`, \`pyramid_levels\`; 1000 on 4 in the default) and the detector runs where the view changed (\`detection_schedule = on_change\`, [detection-schedule.md](detection-schedule.md) has its walk-ins). The map's settings are the default's. Runs of the whole sequence on the first core, the default and the setting in turn (the machine's speed moves from minute to minute), CPU a frame by stage as in the table above:"
+    echo
+    echo "\`\`\`"
+    small_runs=()
+    for i in 1 2; do
+      one_core_run "whole-one-core-default-$i" --rawlog datasets/rgbd_bonn_crowd.rawlog
+      one_core_run "whole-one-core-small-computer-$i" --rawlog datasets/rgbd_bonn_crowd.rawlog --ini "$small"
+      small_runs+=("whole-one-core-default-$i" "whole-one-core-small-computer-$i")
+    done
+    one_core_run sub300-one-core-small-computer --ini "$small"
+    echo "\`\`\`"
+    echo
+    echo "| run | cores | fps | CPU [ms a frame, all threads] | odometry [ms CPU a frame] | detection [ms CPU a frame] | map [ms CPU a frame] | the rest [ms] | odometry ATE RMSE [m] |"
+    echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|"
+    for r in sub300-one-core sub300-one-core-small-computer "${small_runs[@]}"; do cpu_row "$r" 1; done
+    echo
+    echo "The map it makes, against octomap's single maps of the same frames at its poses, as \`whole-reference\` above does for the default ([results.md](results.md) explains the references): memory against the single 0.05 m map, the IoU of the occupied voxels outside the regions (against the single 0.20 m map) and inside the regions active at the end (against the single 0.05 m map whose moving persons' pixels are free-only), and the map stage against octomap's insertion:"
+    echo
+    echo "\`\`\`"
+    quiet_run whole-reference-small-computer --rawlog datasets/rgbd_bonn_crowd.rawlog --ini "$small" \
+      --set pipeline:reference_maps=true && echo "${cmd[*]}"
+    echo "\`\`\`"
+    echo
+    echo "| run | memory, share of the single 0.05 m map | IoU outside the regions | IoU inside (moving persons free-only) | map stage [ms CPU a frame] | octomap 0.05 m [ms a frame] | ratio |"
+    echo "|---|---:|---:|---:|---:|---:|---:|"
+    for r in whole-reference whole-reference-small-computer; do
+      echo "| $r | $(field "$r" memory_share_of_single_high_all_pixels | awk '{printf "%.3f", $1}') | $(field "$r" outside_regions_iou | awk '{printf "%.3f", $1}') | $(field "$r" inside_regions_iou_vs_single_high_moving_free_only | awk '{printf "%.3f", $1}') | $(stage "$r" map_cpu) | $(value_in "$r" single_high insert_mean_ms | awk '{printf "%.1f", $1}') | $(field "$r" map_cpu_speedup_vs_single_high | awk '{printf "%.1fx", $1}') |"
+    done
+    echo
+    echo "What it costs in pose accuracy, on six sequences (\`scripts/odometry-sequences.sh --pipeline\`, [odometry.md](odometry.md) says what each sequence is):"
+    echo
+    (cd "$root" && scripts/odometry-sequences.sh --pipeline ini/default.ini "$small")
+    echo
+  fi
   echo "## Long run: the sequence 10 times in one process (3000 frames), ground-truth poses"
   echo
   echo "Peak memory after each replay is in \`output/benchmark/long-run/stats.json\` (\`peak_memory_mb_per_replay\`):"

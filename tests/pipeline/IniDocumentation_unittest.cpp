@@ -167,6 +167,6 @@ TEST(IniDocumentation, DefaultIniHoldsTheBuiltInDefaults)
 
 TEST(IniDocumentation, TheOtherIniFilesHoldOnlyWhatDiffersFromTheDefaults)
 {
-	for (const char* name : {"paper.ini", "detect.ini", "odometry.ini"})
+	for (const char* name : {"paper.ini", "detect.ini", "detect-on-change.ini", "odometry.ini", "small-computer.ini"})
 		expectValuesOfEverySection(fs::path(AVM_SOURCE_DIR) / "ini" / name);
 }
