@@ -23,26 +23,12 @@ constexpr std::size_t kMinCoreSamples = 20;
 // Pixels the depth and the box are estimated from, at most.
 constexpr std::size_t kMaxSamples = 8000;
 
-/** Column and row of pixel indices in an image `cols` wide. A person's
- *  pixels come row by row: the row is kept, and divided out again only when
- *  an index leaves it (a division a pixel was most of the sighting's time). */
-class PixelGrid
+/** Column and row of the pixel of index i in an image `cols` wide. */
+std::array<int, 2> pixelAt(std::uint32_t i, int cols)
 {
-   public:
-	explicit PixelGrid(int cols) : m_cols(static_cast<std::uint32_t>(cols)) {}
-	std::array<int, 2> at(std::uint32_t i)
-	{
-		if (i - m_rowStart >= m_cols)  // unsigned: also an index before the row
-		{
-			m_row = i / m_cols;
-			m_rowStart = m_row * m_cols;
-		}
-		return {static_cast<int>(i - m_rowStart), static_cast<int>(m_row)};
-	}
-
-   private:
-	std::uint32_t m_cols, m_row = 0, m_rowStart = 0;
-};
+	return {
+		static_cast<int>(i % static_cast<std::uint32_t>(cols)), static_cast<int>(i / static_cast<std::uint32_t>(cols))};
+}
 
 /** Pixel (u, v) at depth d [m], in the world. */
 class WorldPointOf
@@ -95,10 +81,9 @@ float personDepth(const PixelSet& pixels, std::size_t step, int cols, const Metr
 	const double cu0 = u0 + w * kCoreX0, cu1 = u0 + w * kCoreX1, cv0 = v0 + h * kCoreY0, cv1 = v0 + h * kCoreY1;
 	std::vector<float> core, all;
 	all.reserve(pixels.size() / step + 1);
-	PixelGrid grid(cols);
 	for (std::size_t k = 0; k < pixels.size(); k += step)
 	{
-		const auto [u, v] = grid.at(pixels[k]);
+		const auto [u, v] = pixelAt(pixels[k], cols);
 		const float d = metresAt(u, v);
 		if (!(d > 0)) continue;
 		all.push_back(d);
@@ -133,10 +118,9 @@ SightingEstimate estimateSighting(const mrpt::obs::CObservation3DRangeScan& obs,
 
 	int u0 = cols, u1 = -1, v0 = camera.height, v1 = -1;
 	std::size_t withDepth = 0;
-	PixelGrid grid(cols);
 	for (const auto i : pixels)
 	{
-		const auto [u, v] = grid.at(i);
+		const auto [u, v] = pixelAt(i, cols);
 		u0 = std::min(u0, u), u1 = std::max(u1, u), v0 = std::min(v0, v), v1 = std::max(v1, v);
 		if (metresAt(u, v) > 0) ++withDepth;
 	}
@@ -172,7 +156,7 @@ SightingEstimate estimateSighting(const mrpt::obs::CObservation3DRangeScan& obs,
 	for (std::size_t k = 0, toNextSample = 0; k < pixels.size();
 		 ++k, toNextSample = toNextSample ? toNextSample - 1 : step - 1)
 	{
-		const auto [u, v] = grid.at(pixels[k]);
+		const auto [u, v] = pixelAt(pixels[k], cols);
 		const float d = metresAt(u, v);
 		if (!inPersonBand(d, depth, o)) continue;
 		++inBand;
@@ -195,7 +179,7 @@ SightingEstimate estimateSighting(const mrpt::obs::CObservation3DRangeScan& obs,
 		xs.clear(), ys.clear(), zs.clear();
 		for (const auto i : pixels)
 		{
-			const auto [u, v] = grid.at(i);
+			const auto [u, v] = pixelAt(i, cols);
 			if (const float d = metresAt(u, v); inPersonBand(d, depth, o)) take(pointOf(u, v, d));
 		}
 	}
