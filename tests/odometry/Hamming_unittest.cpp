@@ -1,7 +1,8 @@
-// The projection search's Hamming counts (the build's and the popcount one
-// it picks at run time where the processor has the instruction) against
-// OpenCV's, on the ORB descriptors of a real frame (every pair of the first
-// 300: distances from 0 to well over half the bits).
+// The Hamming counts against OpenCV's: the build's, and hammingByPopcount,
+// the code the projection search runs with the popcount instruction where the
+// processor has it (here built for the baseline, so the same expression by
+// the compiler's library), on the ORB descriptors of a real frame (every pair
+// of the first 300: distances from 0 to well over half the bits).
 #include <gtest/gtest.h>
 
 #include <opencv2/core.hpp>
