@@ -77,6 +77,9 @@ cpu_row() {  # cpu_row RUN CORES : a row of the table of CPU a frame by stage
       printf "| %s | %s | %.1f | %.1f | %.1f | %.1f (%.1f a run) | %.1f | %.1f | %.4f |\n", r, c, fps, t, o, d, dm, m, t - o - d - m, ate
     }'
 }
+octomap_cells() {  # octomap_cells RUN : "map stage | octomap's insertion | ratio" of a run with reference maps
+  echo "$(stage "$1" map_cpu) | $(value_in "$1" single_high insert_mean_ms | awk '{printf "%.1f", $1}') | $(field "$1" map_cpu_speedup_vs_single_high | awk '{printf "%.1fx", $1}')"
+}
 checkpoints() {  # checkpoints RUN : "N x M ms (P % of the run)" from stages.checkpoint and seconds
   tr -d '\n ' < "$out/$1/stats.json" |
     sed -nE 's/.*"seconds":([-0-9.eE+]+).*"checkpoint":\{"mean_ms":([-0-9.eE+]+),[^}]*"count":([0-9]+)\}.*/\1 \2 \3/p' |
@@ -209,7 +212,7 @@ tmp=$(mktemp "$root/doc/.performance.XXXX")
   echo "| run | map stage [ms CPU a frame] | octomap 0.05 m insertion [ms a frame] | ratio |"
   echo "|---|---:|---:|---:|"
   for r in "${reference_runs[@]}"; do
-    echo "| $r | $(stage "$r" map_cpu) | $(value_in "$r" single_high insert_mean_ms | awk '{printf "%.1f", $1}') | $(field "$r" map_cpu_speedup_vs_single_high | awk '{printf "%.1fx", $1}') |"
+    echo "| $r | $(octomap_cells "$r") |"
   done
   echo
   echo "Inside the odometry: \`avm-odometry\` alone on the first core, on the whole sequence where it is there (else sub300), with the detector on every frame between its stages. One thread: a stage's wall time is its CPU time. MRPT's CTimeLogger table of its stages (1.1 and 1.2 within 1: ORB's detection, that is the pyramid, FAST and the Harris score, and the orientation and description of the features the bucketing keeps; the rest of 1 is the person mask, the grid bucketing and the features' depth), and the odometry's own time a frame (all stages):"
@@ -254,7 +257,7 @@ tmp=$(mktemp "$root/doc/.performance.XXXX")
     echo "| run | memory, share of the single 0.05 m map | IoU outside the regions | IoU inside (moving persons free-only) | map stage [ms CPU a frame] | octomap 0.05 m [ms a frame] | ratio |"
     echo "|---|---:|---:|---:|---:|---:|---:|"
     for r in whole-reference whole-reference-small-computer; do
-      echo "| $r | $(field "$r" memory_share_of_single_high_all_pixels | awk '{printf "%.3f", $1}') | $(field "$r" outside_regions_iou | awk '{printf "%.3f", $1}') | $(field "$r" inside_regions_iou_vs_single_high_moving_free_only | awk '{printf "%.3f", $1}') | $(stage "$r" map_cpu) | $(value_in "$r" single_high insert_mean_ms | awk '{printf "%.1f", $1}') | $(field "$r" map_cpu_speedup_vs_single_high | awk '{printf "%.1fx", $1}') |"
+      echo "| $r | $(field "$r" memory_share_of_single_high_all_pixels | awk '{printf "%.3f", $1}') | $(field "$r" outside_regions_iou | awk '{printf "%.3f", $1}') | $(field "$r" inside_regions_iou_vs_single_high_moving_free_only | awk '{printf "%.3f", $1}') | $(octomap_cells "$r") |"
     done
     echo
     echo "What it costs in pose accuracy, on six sequences (\`scripts/odometry-sequences.sh --pipeline\`, [odometry.md](odometry.md) says what each sequence is):"
